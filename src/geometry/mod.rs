@@ -1,0 +1,7 @@
+//! The geometry stage (Garcia 1986, 004 sections 4.3-4.5): polygon planes,
+//! bounding-box tests against the view volume, back-face removal, clipping
+//! in homogeneous coordinates, perspective division and viewport mapping.
+
+pub mod clip;
+pub mod polygon;
+pub mod view;

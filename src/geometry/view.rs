@@ -1,0 +1,214 @@
+//! From world polygons to screen polygons (Garcia 1986, 004 sections 4.4
+//! and 4.5): objects' bounding boxes are tested against the view volume
+//! first (inside, outside, crossing); polygons of visible objects have back
+//! faces removed (unless the object is `type open`), are clipped only when
+//! their object crosses the volume, divided by w and mapped to the viewport.
+//!
+//! Screen coordinates: x and y in pixels with the origin at the lower left
+//! corner of the image, so that pixel `(i, j)` has its sample point (its
+//! centre) at `(i + 0.5, j + 0.5)`; z is the normalized depth in -1..1,
+//! growing away from the eye.
+
+use glam::{DVec3, DVec4};
+
+use super::clip::{self, ClipVertex, Containment};
+use crate::math::Matrix4;
+use crate::scene::model::{Object, Scene};
+
+/// A polygon ready for visibility and painting.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScreenPolygon {
+    /// Index of the object in `Scene::objects`.
+    pub object: u32,
+    /// Index of the polygon in the object's `polygons`.
+    pub polygon: u32,
+    /// Screen x, y in pixels (y up) and normalized depth z.
+    pub points: Vec<DVec3>,
+    /// World positions of the same vertices.
+    pub world: Vec<DVec3>,
+    /// Whether clipping changed the polygon.
+    pub clipped: bool,
+    /// Whether the viewer sees the polygon's back (only for `type open`).
+    pub back_facing: bool,
+}
+
+impl ScreenPolygon {
+    /// Smallest and largest depth of the vertices.
+    pub fn z_range(&self) -> (f64, f64) {
+        self.points
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p.z), hi.max(p.z))
+            })
+    }
+}
+
+/// The viewing set-up shared by all objects of one render.
+#[derive(Debug, Clone, Copy)]
+pub struct View {
+    /// World to clip coordinates.
+    pub projection: Matrix4,
+    /// The eye in homogeneous world coordinates (w = 0: at infinity).
+    pub eye: DVec4,
+    /// Image width and height in pixels.
+    pub width: f64,
+    /// Image height in pixels.
+    pub height: f64,
+    /// Clipping epsilon (`setmode e`).
+    pub epsilon: f64,
+    /// Minimum screen detail in normalized units (`setmode d`).
+    pub min_detail: f64,
+}
+
+impl View {
+    /// The view of `scene` rendered at `width` x `height`; `None` when the
+    /// scene's final CTM has no centre of projection (it is singular).
+    pub fn new(scene: &Scene, width: u32, height: u32) -> Option<View> {
+        Some(View {
+            projection: scene.projection,
+            eye: scene.projection.centre_of_projection()?,
+            width: width as f64,
+            height: height as f64,
+            epsilon: scene.modes.epsilon,
+            min_detail: scene.modes.min_detail,
+        })
+    }
+
+    /// Whether the front of the plane `[A B C D]` faces the eye.
+    pub fn faces_eye(&self, plane: DVec4) -> bool {
+        plane.dot(self.eye) > 0.0
+    }
+
+    /// Direction from world point `p` towards the eye (unit).
+    pub fn to_eye(&self, p: DVec3) -> DVec3 {
+        if self.eye.w.abs() > 0.0 {
+            (self.eye.truncate() / self.eye.w - p).normalize_or_zero()
+        } else {
+            self.eye.truncate().normalize_or_zero()
+        }
+    }
+
+    fn to_screen(&self, c: DVec4) -> DVec3 {
+        let inv = 1.0 / c.w;
+        DVec3::new(
+            (c.x * inv + 1.0) * 0.5 * self.width,
+            (c.y * inv + 1.0) * 0.5 * self.height,
+            c.z * inv,
+        )
+    }
+}
+
+/// Classifies an object's bounding box against the view volume.
+pub fn classify_object(object: &Object, view: &View) -> Containment {
+    clip::classify(
+        object
+            .bbox_corners
+            .iter()
+            .map(|c| clip::outcode(view.projection.transform_point4(*c))),
+    )
+}
+
+/// Counters of the geometry stage.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct GeometryStats {
+    /// Objects culled by their bounding box.
+    pub objects_culled: usize,
+    /// Polygons removed as back faces.
+    pub back_faces: usize,
+    /// Polygons wholly outside the view volume.
+    pub outside: usize,
+    /// Polygons that were clipped.
+    pub clipped: usize,
+    /// Polygons dropped for being smaller than the minimum detail.
+    pub too_small: usize,
+}
+
+/// Expands object `index` of `scene` into screen polygons appended to `out`.
+pub fn expand_object(
+    scene: &Scene,
+    index: usize,
+    view: &View,
+    out: &mut Vec<ScreenPolygon>,
+    stats: &mut GeometryStats,
+) {
+    let object = &scene.objects[index];
+    let containment = classify_object(object, view);
+    if containment == Containment::Outside {
+        stats.objects_culled += 1;
+        return;
+    }
+    let clip_coords: Vec<DVec4> = object
+        .vertices
+        .iter()
+        .map(|v| view.projection.transform_point4(*v))
+        .collect();
+    let codes: Vec<u8> = if containment == Containment::Crossing {
+        clip_coords.iter().map(|c| clip::outcode(*c)).collect()
+    } else {
+        Vec::new()
+    };
+    for (pi, polygon) in object.polygons.iter().enumerate() {
+        let front = view.faces_eye(polygon.plane);
+        if !front && !object.surface_type.open {
+            stats.back_faces += 1;
+            continue;
+        }
+        let mut clipped = false;
+        let points: Vec<ClipVertex> = polygon
+            .indices
+            .iter()
+            .map(|&i| ClipVertex {
+                clip: clip_coords[i as usize],
+                world: object.vertices[i as usize],
+            })
+            .collect();
+        let points = if containment == Containment::Crossing {
+            match clip::classify(polygon.indices.iter().map(|&i| codes[i as usize])) {
+                Containment::Inside => points,
+                Containment::Outside => {
+                    stats.outside += 1;
+                    continue;
+                }
+                Containment::Crossing => {
+                    clipped = true;
+                    stats.clipped += 1;
+                    let c = clip::clip_polygon(&points, view.epsilon);
+                    if c.is_empty() {
+                        stats.outside += 1;
+                        continue;
+                    }
+                    c
+                }
+            }
+        } else {
+            points
+        };
+        let screen: Vec<DVec3> = points.iter().map(|p| view.to_screen(p.clip)).collect();
+        if is_below_detail(&screen, view) {
+            stats.too_small += 1;
+            continue;
+        }
+        out.push(ScreenPolygon {
+            object: index as u32,
+            polygon: pi as u32,
+            points: screen,
+            world: points.iter().map(|p| p.world).collect(),
+            clipped,
+            back_facing: !front,
+        });
+    }
+}
+
+fn is_below_detail(points: &[DVec3], view: &View) -> bool {
+    if view.min_detail <= 0.0 {
+        return false;
+    }
+    let (lo, hi) = points.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    // Extents in normalized units (the image spans 2).
+    let dx = (hi.x - lo.x) * 2.0 / view.width;
+    let dy = (hi.y - lo.y) * 2.0 / view.height;
+    dx < view.min_detail && dy < view.min_detail
+}

@@ -1,0 +1,23 @@
+//! plytrace: a list-priority renderer after A. Garcia, *Efficient Rendering
+//! of Synthetic Images* (MIT 1986), with the visible-surface methods of
+//! Donovan (1973), Brown (1978) and Firebaugh.
+//!
+//! The modules follow the pipeline of Garcia's figure 3.2:
+//! [`scene`] (language, object files) -> [`geometry`] (transform, cull,
+//! clip, project) -> [`visibility`] (sorting) -> [`shading`] ->
+//! [`raster`] (scan conversion) -> [`output`]; [`render`] runs them in
+//! order. [`math`] and [`precision`] depend on nothing.
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod geometry;
+pub mod math;
+pub mod output;
+pub mod precision;
+pub mod raster;
+pub mod render;
+pub mod scene;
+pub mod shading;
+pub mod visibility;
+
+pub use error::{Error, Result};

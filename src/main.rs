@@ -1,0 +1,446 @@
+//! The `plytrace` program: the command interpreter and immediate mode of
+//! Garcia 1986 (004 appendix, plytrace manual page), and the `mkdet`,
+//! `mkpcl`, `mkvcl` converters. A thin layer over the library: argument
+//! parsing, terminal input, messages and exit codes.
+//!
+//! The arguments are parsed by hand because the manual's flags are unusual
+//! for an argument library: every `setmode` letter is a flag taking its
+//! value as the next word (`-n on`, `-l 3`), and the debugging level is a
+//! bare digit (`-3`).
+
+use std::io::{BufRead, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+use plytrace::error::{Error, Result};
+use plytrace::output;
+use plytrace::render::{self, RenderOptions};
+use plytrace::scene::commands::COMMANDS;
+use plytrace::scene::object_file::{self, ConvertKind};
+use plytrace::scene::{Flow, Host, Interpreter, Scene};
+
+const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+#[derive(Debug, Default)]
+struct Options {
+    immediate: bool,
+    scene: Option<PathBuf>,
+    modes: Vec<(char, String)>,
+    output: Option<PathBuf>,
+    size: Option<(u32, u32)>,
+    id_image: Option<PathBuf>,
+    quiet: bool,
+}
+
+fn usage() -> String {
+    let mut s = format!(
+        "plytrace {VERSION} - image rendering processor for 3-D polygonal environments
+
+USAGE:
+    plytrace                      interactive command interpreter (prompt `Command:`)
+    plytrace -i -f SCENE.des      immediate mode: read the scene, render it, exit
+    plytrace mkdet|mkpcl|mkvcl IN OUT
+                                  convert an ASCII object file to binary form
+
+FLAGS (the setmode letters of the manual, each taking its value as the next word):
+    -i                 immediate mode
+    -f FILE            scene descriptor file
+    -b on|off          pre-blend parent and child intensities
+    -d SIZE            minimum screen detail (default 0.0002)
+    -e EPS             clipping epsilon (default 1e-7)
+    -h on|off          explicit shadow shades
+    -l 1-14            maximum reflection/refraction level
+    -n on|off          Newell-Newell-Sancha sorting
+    -o on|off          write the virtual image tree
+    -p on|off          bounding boxes only
+    -s on|off          Phong highlight vectors
+    -v on|off          vertex shades
+    -x on|off          expand all objects into one list before sorting
+    -0 .. -9           debugging level
+Flags override the same setmode in the scene file.
+
+MODERN CONVENIENCES:
+    -o FILE.png|.ppm   output image (any value of -o other than on/off)
+    --output FILE      output image (default FNAME.png in the working directory)
+    --size WxH         image size overriding the scene's resolution/viewport
+    --id-image FILE    also write the polygon id of every pixel as a false-colour PNG
+    --quiet            print only errors and warnings
+    --help, --version
+
+COMMANDS of the scene descriptor language (shortest unique prefix accepted):
+"
+    );
+    for c in COMMANDS {
+        s.push_str(&format!("    {:<13} {:<38} {}\n", c.name, c.usage, c.help));
+    }
+    s.push_str(
+        "\nNot yet acted on: reflection/refraction tracing (depth, l), shadows (run y),\n\
+         NNS sorting (n), vertex/Phong shades (v, s), blending (b), tree output (o),\n\
+         bounding-box display (p), transparency; they are parsed, checked and kept.\n",
+    );
+    s
+}
+
+enum Parsed {
+    Run(Options),
+    Convert(ConvertKind, PathBuf, PathBuf),
+    Help,
+    Version,
+}
+
+fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
+    if let Some(first) = args.first() {
+        let kind = match first.as_str() {
+            "mkdet" => Some(ConvertKind::Det),
+            "mkpcl" => Some(ConvertKind::Pcl),
+            "mkvcl" => Some(ConvertKind::Vcl),
+            _ => None,
+        };
+        if let Some(kind) = kind {
+            return match args {
+                [_, input, out] => Ok(Parsed::Convert(kind, input.into(), out.into())),
+                _ => Err(format!(
+                    "usage: plytrace {first} <input_file> <output_file>"
+                )),
+            };
+        }
+    }
+    let mut o = Options::default();
+    let mut it = args.iter();
+    while let Some(arg) = it.next() {
+        let mut value = |what: &str| {
+            it.next()
+                .cloned()
+                .ok_or_else(|| format!("`{arg}` needs {what}"))
+        };
+        match arg.as_str() {
+            "--help" | "-help" => return Ok(Parsed::Help),
+            "--version" | "-V" => return Ok(Parsed::Version),
+            "-i" => o.immediate = true,
+            "-f" => o.scene = Some(value("a scene file")?.into()),
+            "--output" => o.output = Some(value("a file name")?.into()),
+            "--id-image" => o.id_image = Some(value("a file name")?.into()),
+            "--quiet" | "-q" => o.quiet = true,
+            "--size" => {
+                let v = value("a size WxH")?;
+                o.size = Some(parse_size(&v).ok_or_else(|| {
+                    format!("--size: expected WxH with 1 <= W, H <= 65536, found `{v}`")
+                })?);
+            }
+            "-o" => {
+                let v = value("`on`, `off` or an output file")?;
+                if matches!(v.to_ascii_lowercase().as_str(), "on" | "off") {
+                    o.modes.push(('o', v));
+                } else {
+                    o.output = Some(v.into());
+                }
+            }
+            a if a.len() == 2 && a.starts_with('-') => {
+                let letter = a.chars().nth(1).expect("two characters");
+                if letter.is_ascii_digit() {
+                    o.modes.push((letter, String::new()));
+                } else if "bdehlnpsvx".contains(letter) {
+                    o.modes.push((letter, value("a value")?));
+                } else {
+                    return Err(format!(
+                        "unknown flag `{a}`; `plytrace --help` lists the flags"
+                    ));
+                }
+            }
+            a => {
+                return Err(format!(
+                    "unexpected argument `{a}`; `plytrace --help` lists the flags"
+                ));
+            }
+        }
+    }
+    if o.immediate && o.scene.is_none() {
+        return Err("immediate mode (-i) needs a scene file: plytrace -i -f scene.des".into());
+    }
+    Ok(Parsed::Run(o))
+}
+
+fn parse_size(s: &str) -> Option<(u32, u32)> {
+    let (w, h) = s.split_once(['x', 'X'])?;
+    let (w, h): (u32, u32) = (w.trim().parse().ok()?, h.trim().parse().ok()?);
+    let ok = |v: u32| (1..=65536).contains(&v);
+    (ok(w) && ok(h) && (w as u64 * h as u64) <= 1 << 28).then_some((w, h))
+}
+
+fn hms(d: Duration) -> String {
+    let s = d.as_secs();
+    format!(
+        "Time (HR:MIN:SEC) = {:02}:{:02}:{:02} ({:.3} s)",
+        s / 3600,
+        s / 60 % 60,
+        s % 60,
+        d.as_secs_f64()
+    )
+}
+
+/// Renders on `run` and writes the image.
+struct CliHost {
+    output: Option<PathBuf>,
+    size: Option<(u32, u32)>,
+    id_image: Option<PathBuf>,
+    scene_stem: Option<String>,
+    quiet: bool,
+    interactive: bool,
+}
+
+impl CliHost {
+    fn say(&self, s: &str) {
+        if !self.quiet {
+            println!("{s}");
+        }
+    }
+
+    fn output_path(&self, scene: &Scene) -> PathBuf {
+        if let Some(p) = &self.output {
+            return p.clone();
+        }
+        let stem = scene
+            .fname
+            .clone()
+            .or_else(|| self.scene_stem.clone())
+            .unwrap_or_else(|| "plytrace".into());
+        PathBuf::from(format!("{stem}.png"))
+    }
+}
+
+impl Host for CliHost {
+    fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
+        let start = Instant::now();
+        self.say("Building image.");
+        if scene.objects.is_empty() {
+            eprintln!("warning: the scene has no objects; the image is the background only");
+        }
+        let rendered = render::render(
+            scene,
+            &RenderOptions {
+                size: self.size,
+                shadows,
+            },
+        )?;
+        if scene.display {
+            let path = self.output_path(scene);
+            output::write_image(&path, &rendered.frame, scene.outmode)?;
+            self.say(&format!(
+                "Wrote {} ({} x {})",
+                path.display(),
+                rendered.frame.width,
+                rendered.frame.height
+            ));
+        }
+        if let Some(p) = &self.id_image {
+            output::write_id_png(p, &rendered.frame)?;
+        }
+        let s = &rendered.stats;
+        self.say(&format!(
+            "{} Polygons tiled, Max depth = {}",
+            s.polygons_tiled, s.max_depth
+        ));
+        if scene.modes.debug > 0 {
+            self.say(&format!(
+                "  geometry {:?}, sort {:?}, shading {:?}, paint {:?}; {:?}",
+                s.geometry_time, s.sort_time, s.shading_time, s.paint_time, s.geometry
+            ));
+        }
+        self.say(&hms(start.elapsed()));
+        Ok(())
+    }
+
+    fn clear(&mut self, _scene: &Scene) {}
+
+    fn wait(&mut self) {
+        if self.interactive && std::io::stdin().is_terminal() {
+            print!("Press return to continue.");
+            let _ = std::io::stdout().flush();
+            let mut line = String::new();
+            let _ = std::io::stdin().lock().read_line(&mut line);
+        }
+    }
+}
+
+fn report(e: &Error) {
+    eprintln!("error: {e}");
+}
+
+fn print_warnings(interp: &mut Interpreter) {
+    for w in interp.take_warnings() {
+        eprintln!("{w}");
+    }
+}
+
+fn load_scene(interp: &mut Interpreter, host: &mut CliHost, path: &Path) -> Result<Flow> {
+    let start = Instant::now();
+    host.say(&format!("Scanning descriptor file {}", path.display()));
+    let flow = interp.execute_file(path, true, host);
+    print_warnings(interp);
+    let flow = flow?;
+    let scene = interp.scene();
+    host.say(&format!(
+        "{} objects, {} points, {} polygons",
+        scene.objects.len(),
+        scene.point_count(),
+        scene.polygon_count()
+    ));
+    host.say(&hms(start.elapsed()));
+    Ok(flow)
+}
+
+fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
+    let on_terminal = std::io::stdin().is_terminal();
+    let stdin_label = Path::new("<stdin>");
+    let mut line_no = 0usize;
+    let mut failed = false;
+    // Runs one line; errors are reported and remembered, the session goes on.
+    let mut execute =
+        |interp: &mut Interpreter, host: &mut CliHost, line: &str, line_no: usize| -> Flow {
+            // A `get` prints the counts as the manual's sample session does.
+            let words: Vec<&str> = line
+                .split([' ', '\t', ','])
+                .filter(|w| !w.is_empty())
+                .collect();
+            if words.len() == 2 && words[0].eq_ignore_ascii_case("get") {
+                return match load_scene(interp, host, Path::new(words[1])) {
+                    Ok(f) => f,
+                    Err(e) => {
+                        report(&e);
+                        failed = true;
+                        Flow::Continue
+                    }
+                };
+            }
+            let result = interp.execute_source(line, stdin_label, Path::new("."), host);
+            print_warnings(interp);
+            match result {
+                Ok(f) => f,
+                Err(Error::Input(mut d)) => {
+                    if d.location.file == stdin_label {
+                        d.location.line = line_no;
+                    }
+                    report(&Error::Input(d));
+                    failed = true;
+                    Flow::Continue
+                }
+                Err(e) => {
+                    report(&e);
+                    failed = true;
+                    Flow::Continue
+                }
+            }
+        };
+    if on_terminal {
+        host.say(&format!("plytrace - version {VERSION}"));
+        let Ok(mut editor) = rustyline::DefaultEditor::new() else {
+            eprintln!("error: cannot open the terminal for line editing");
+            return ExitCode::FAILURE;
+        };
+        loop {
+            match editor.readline("Command: ") {
+                Ok(line) => {
+                    line_no += 1;
+                    let _ = editor.add_history_entry(line.as_str());
+                    if execute(interp, host, &line, line_no) == Flow::Quit {
+                        break;
+                    }
+                }
+                Err(rustyline::error::ReadlineError::Interrupted) => continue,
+                Err(_) => break,
+            }
+        }
+    } else {
+        for line in std::io::stdin().lock().lines() {
+            let Ok(line) = line else {
+                eprintln!("error: standard input is not text");
+                return ExitCode::FAILURE;
+            };
+            line_no += 1;
+            if execute(interp, host, &line, line_no) == Flow::Quit {
+                break;
+            }
+        }
+    }
+    drop(execute);
+    if failed && !on_terminal {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let options = match parse_args(&args) {
+        Ok(Parsed::Help) => {
+            print!("{}", usage());
+            return ExitCode::SUCCESS;
+        }
+        Ok(Parsed::Version) => {
+            println!("plytrace {VERSION}");
+            return ExitCode::SUCCESS;
+        }
+        Ok(Parsed::Convert(kind, input, out)) => {
+            return match object_file::convert(kind, &input, &out) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    report(&e);
+                    ExitCode::FAILURE
+                }
+            };
+        }
+        Ok(Parsed::Run(o)) => o,
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            return ExitCode::from(2);
+        }
+    };
+
+    let mut interp = Interpreter::new();
+    for (letter, value) in &options.modes {
+        if let Err(e) = interp.force_mode(*letter, value) {
+            let msg = match e.diagnostic() {
+                Some(d) => d.message.clone(),
+                None => e.to_string(),
+            };
+            eprintln!("error: flag -{letter}: {msg}");
+            return ExitCode::from(2);
+        }
+    }
+    let mut host = CliHost {
+        output: options.output.clone(),
+        size: options.size,
+        id_image: options.id_image.clone(),
+        scene_stem: options
+            .scene
+            .as_ref()
+            .and_then(|p| p.file_stem())
+            .map(|s| s.to_string_lossy().into_owned()),
+        quiet: options.quiet,
+        interactive: !options.immediate,
+    };
+
+    if let Some(scene) = &options.scene {
+        match load_scene(&mut interp, &mut host, scene) {
+            Ok(Flow::Quit) => return ExitCode::SUCCESS,
+            Ok(Flow::Continue) => {}
+            Err(e) => {
+                report(&e);
+                return ExitCode::FAILURE;
+            }
+        }
+        if options.immediate {
+            let scene = interp.scene();
+            return match host.run(&scene, true) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    report(&e);
+                    ExitCode::FAILURE
+                }
+            };
+        }
+    }
+    interactive(&mut interp, &mut host)
+}

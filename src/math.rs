@@ -1,0 +1,414 @@
+//! 4x4 homogeneous matrices with the conventions of the plytrace manual page
+//! (Garcia 1986, 004_340543b92e50b70d.txt, appendix), which are IRIS GL's.
+//!
+//! * Points are **row vectors**: `P' = P * M`.
+//! * Every modelling command *pre-multiplies* the current matrix:
+//!   `CTM <- M * CTM`, so the transformation given last acts on the points
+//!   first.
+//! * Angles are in degrees, rotations follow the right-hand rule.
+//! * Projections (`perspective`, `ortho`, `ortho2`, `window`) map the
+//!   viewing volume onto the standard view box `-w <= x, y, z <= w`, with the
+//!   eye looking down the negative z axis and z growing away from the eye
+//!   after projection (004 section 4.5).
+//!
+//! This module depends on nothing else in the crate. ARCHITECTURE.md has a
+//! worked example.
+
+use glam::{DVec3, DVec4};
+
+/// A 4x4 matrix applied to row vectors (`P * M`); `m[row][column]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Matrix4 {
+    /// Entries by row, then column.
+    pub m: [[f64; 4]; 4],
+}
+
+impl Default for Matrix4 {
+    fn default() -> Self {
+        Matrix4::IDENTITY
+    }
+}
+
+impl Matrix4 {
+    /// The identity.
+    pub const IDENTITY: Matrix4 = Matrix4 {
+        m: [
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ],
+    };
+
+    /// A matrix from its rows.
+    pub const fn from_rows(m: [[f64; 4]; 4]) -> Self {
+        Matrix4 { m }
+    }
+
+    /// The product `self * rhs`: applied to a row vector, `self` acts first.
+    pub fn mul(&self, rhs: &Matrix4) -> Matrix4 {
+        let mut out = [[0.0; 4]; 4];
+        for (r, row) in out.iter_mut().enumerate() {
+            for (c, cell) in row.iter_mut().enumerate() {
+                *cell = (0..4).map(|k| self.m[r][k] * rhs.m[k][c]).sum();
+            }
+        }
+        Matrix4 { m: out }
+    }
+
+    /// `P * self` for a homogeneous row vector.
+    pub fn transform(&self, p: DVec4) -> DVec4 {
+        let v = [p.x, p.y, p.z, p.w];
+        let col = |c: usize| (0..4).map(|k| v[k] * self.m[k][c]).sum::<f64>();
+        DVec4::new(col(0), col(1), col(2), col(3))
+    }
+
+    /// `[x y z 1] * self`, without the division by w.
+    pub fn transform_point4(&self, p: DVec3) -> DVec4 {
+        self.transform(p.extend(1.0))
+    }
+
+    /// `[x y z 1] * self` divided by w (for affine matrices w stays 1).
+    pub fn transform_point(&self, p: DVec3) -> DVec3 {
+        let h = self.transform_point4(p);
+        h.truncate() / h.w
+    }
+
+    /// `[x y z 0] * self`: a direction, unaffected by translation.
+    pub fn transform_vector(&self, v: DVec3) -> DVec3 {
+        self.transform(v.extend(0.0)).truncate()
+    }
+
+    /// The transpose.
+    pub fn transpose(&self) -> Matrix4 {
+        let mut out = [[0.0; 4]; 4];
+        for (r, row) in out.iter_mut().enumerate() {
+            for (c, cell) in row.iter_mut().enumerate() {
+                *cell = self.m[c][r];
+            }
+        }
+        Matrix4 { m: out }
+    }
+
+    /// Column `c` as a vector.
+    pub fn column(&self, c: usize) -> DVec4 {
+        DVec4::new(self.m[0][c], self.m[1][c], self.m[2][c], self.m[3][c])
+    }
+
+    /// The determinant.
+    pub fn determinant(&self) -> f64 {
+        let m = &self.m;
+        let minor = |r0: usize, r1: usize, c0: usize, c1: usize| {
+            m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]
+        };
+        let s0 = minor(0, 1, 0, 1);
+        let s1 = minor(0, 1, 0, 2);
+        let s2 = minor(0, 1, 0, 3);
+        let s3 = minor(0, 1, 1, 2);
+        let s4 = minor(0, 1, 1, 3);
+        let s5 = minor(0, 1, 2, 3);
+        let c5 = minor(2, 3, 2, 3);
+        let c4 = minor(2, 3, 1, 3);
+        let c3 = minor(2, 3, 1, 2);
+        let c2 = minor(2, 3, 0, 3);
+        let c1 = minor(2, 3, 0, 2);
+        let c0 = minor(2, 3, 0, 1);
+        s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0
+    }
+
+    /// Whether every entry is finite.
+    pub fn is_finite(&self) -> bool {
+        self.m.iter().flatten().all(|v| v.is_finite())
+    }
+
+    /// The homogeneous point `E` (up to scale) that the matrix sends to
+    /// `x = y = w = 0`: the centre of projection of a projection matrix, in
+    /// the coordinates the matrix is applied to. `w = 0` means an eye at
+    /// infinity (orthographic). The sign is chosen so that `E` lies on the
+    /// near side (its projected z is negative). `None` when the matrix has no
+    /// single such point (it is not a projection of rank 3 or more).
+    pub fn centre_of_projection(&self) -> Option<DVec4> {
+        // E is orthogonal to columns 0, 1 and 3: the 4D cross product.
+        let a = self.column(0);
+        let b = self.column(1);
+        let c = self.column(3);
+        let det3 = |r: [usize; 3]| {
+            let g = |v: DVec4, i: usize| v.to_array()[i];
+            let (i, j, k) = (r[0], r[1], r[2]);
+            g(a, i) * (g(b, j) * g(c, k) - g(b, k) * g(c, j))
+                - g(a, j) * (g(b, i) * g(c, k) - g(b, k) * g(c, i))
+                + g(a, k) * (g(b, i) * g(c, j) - g(b, j) * g(c, i))
+        };
+        let e = DVec4::new(
+            det3([1, 2, 3]),
+            -det3([0, 2, 3]),
+            det3([0, 1, 3]),
+            -det3([0, 1, 2]),
+        );
+        let scale = e.abs().max_element();
+        if !(scale > 0.0) || !scale.is_finite() {
+            return None;
+        }
+        let mut e = e / scale;
+        if self.transform(e).z > 0.0 {
+            e = -e;
+        }
+        Some(e)
+    }
+}
+
+fn radians(deg: f64) -> f64 {
+    deg.to_radians()
+}
+
+/// `translate tx ty tz`.
+pub fn translate(t: DVec3) -> Matrix4 {
+    let mut m = Matrix4::IDENTITY;
+    m.m[3] = [t.x, t.y, t.z, 1.0];
+    m
+}
+
+/// `scale sx sy sz`.
+pub fn scale(s: DVec3) -> Matrix4 {
+    let mut m = Matrix4::IDENTITY;
+    m.m[0][0] = s.x;
+    m.m[1][1] = s.y;
+    m.m[2][2] = s.z;
+    m
+}
+
+/// An axis of `rotate`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axis {
+    /// The x axis.
+    X,
+    /// The y axis.
+    Y,
+    /// The z axis.
+    Z,
+}
+
+/// `rotate angle axis`: right-handed rotation by `degrees` about `axis`.
+/// For z: `x' = x cos - y sin`, `y' = x sin + y cos`.
+pub fn rotate(degrees: f64, axis: Axis) -> Matrix4 {
+    let (s, c) = radians(degrees).sin_cos();
+    let mut m = Matrix4::IDENTITY;
+    let (i, j) = match axis {
+        Axis::X => (1, 2),
+        Axis::Y => (2, 0),
+        Axis::Z => (0, 1),
+    };
+    // Row vectors: row i is the image of axis i.
+    m.m[i][i] = c;
+    m.m[i][j] = s;
+    m.m[j][i] = -s;
+    m.m[j][j] = c;
+    m
+}
+
+/// `polarview dist azim inc twist`, IRIS GL's: the product of
+/// `translate(0,0,-dist)`, `rotate(-twist,z)`, `rotate(-inc,x)`,
+/// `rotate(-azim,z)` given in that order, so azimuth acts first.
+pub fn polarview(dist: f64, azim: f64, inc: f64, twist: f64) -> Matrix4 {
+    rotate(-azim, Axis::Z)
+        .mul(&rotate(-inc, Axis::X))
+        .mul(&rotate(-twist, Axis::Z))
+        .mul(&translate(DVec3::new(0.0, 0.0, -dist)))
+}
+
+/// `lookat vx vy vz px py pz twist`: eye at `v` looking at `p`, world +y
+/// kept up on the screen (IRIS GL), then `rotate(-twist, z)` in eye space.
+/// When the line of sight is vertical (parallel to y) the world -z (looking
+/// up) or +z (looking down) axis is taken as up instead. `None` if `v == p`.
+pub fn lookat(v: DVec3, p: DVec3, twist: f64) -> Option<Matrix4> {
+    let f = (p - v).try_normalize()?;
+    let mut up = DVec3::Y;
+    if f.cross(up).length() < 1e-9 {
+        up = if f.y > 0.0 { -DVec3::Z } else { DVec3::Z };
+    }
+    let s = f.cross(up).normalize();
+    let u = s.cross(f);
+    // Rows of the rotation part are the images of the world axes: the world
+    // point q goes to (s.(q-v), u.(q-v), -f.(q-v)).
+    let rot = Matrix4::from_rows([
+        [s.x, u.x, -f.x, 0.0],
+        [s.y, u.y, -f.y, 0.0],
+        [s.z, u.z, -f.z, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]);
+    Some(translate(-v).mul(&rot).mul(&rotate(-twist, Axis::Z)))
+}
+
+/// `perspective fovy aspect near far` (fovy in degrees). Eye space
+/// `z = -near` goes to z = -1, `z = -far` to z = +1; `w = -z`.
+pub fn perspective(fovy: f64, aspect: f64, near: f64, far: f64) -> Matrix4 {
+    let f = 1.0 / (radians(fovy) / 2.0).tan();
+    let d = far - near;
+    Matrix4::from_rows([
+        [f / aspect, 0.0, 0.0, 0.0],
+        [0.0, f, 0.0, 0.0],
+        [0.0, 0.0, -(far + near) / d, -1.0],
+        [0.0, 0.0, -2.0 * far * near / d, 0.0],
+    ])
+}
+
+/// `window left right bottom top near far`: a perspective frustum whose
+/// near rectangle is given (OpenGL's glFrustum).
+pub fn window(l: f64, r: f64, b: f64, t: f64, n: f64, f: f64) -> Matrix4 {
+    Matrix4::from_rows([
+        [2.0 * n / (r - l), 0.0, 0.0, 0.0],
+        [0.0, 2.0 * n / (t - b), 0.0, 0.0],
+        [
+            (r + l) / (r - l),
+            (t + b) / (t - b),
+            -(f + n) / (f - n),
+            -1.0,
+        ],
+        [0.0, 0.0, -2.0 * f * n / (f - n), 0.0],
+    ])
+}
+
+/// `ortho left right bottom top near far`.
+pub fn ortho(l: f64, r: f64, b: f64, t: f64, n: f64, f: f64) -> Matrix4 {
+    Matrix4::from_rows([
+        [2.0 / (r - l), 0.0, 0.0, 0.0],
+        [0.0, 2.0 / (t - b), 0.0, 0.0],
+        [0.0, 0.0, -2.0 / (f - n), 0.0],
+        [
+            -(r + l) / (r - l),
+            -(t + b) / (t - b),
+            -(f + n) / (f - n),
+            1.0,
+        ],
+    ])
+}
+
+/// `ortho2 left right bottom top`: IRIS GL's, `ortho` with near -1 and far 1,
+/// so depth is kept as `-z` (larger z is nearer the eye, as for the others).
+pub fn ortho2(l: f64, r: f64, b: f64, t: f64) -> Matrix4 {
+    ortho(l, r, b, t, -1.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: DVec3, b: DVec3) -> bool {
+        (a - b).length() < 1e-12
+    }
+
+    #[test]
+    fn rotate_z_by_90_takes_x_to_y() {
+        let p = rotate(90.0, Axis::Z).transform_point(DVec3::X);
+        assert!(close(p, DVec3::Y), "{p}");
+        let p = rotate(90.0, Axis::X).transform_point(DVec3::Y);
+        assert!(close(p, DVec3::Z), "{p}");
+        let p = rotate(90.0, Axis::Y).transform_point(DVec3::Z);
+        assert!(close(p, DVec3::X), "{p}");
+    }
+
+    #[test]
+    fn premultiplied_transform_given_last_acts_first() {
+        // CTM <- T; CTM <- R * CTM: rotate first, then translate.
+        let ctm = rotate(90.0, Axis::Z).mul(&translate(DVec3::new(10.0, 0.0, 0.0)));
+        let p = ctm.transform_point(DVec3::X);
+        assert!(close(p, DVec3::new(10.0, 1.0, 0.0)), "{p}");
+    }
+
+    #[test]
+    fn polarview_hand_worked() {
+        // polarview 7 0 75 0: eye 7 units away, 15 degrees above the horizon,
+        // on the -y side of the origin. World up (0,0,1) goes to
+        // (0, sin 75, cos 75) before the translation by -7 in z.
+        let m = polarview(7.0, 0.0, 75.0, 0.0);
+        let up = m.transform_vector(DVec3::Z);
+        let (s, c) = 75f64.to_radians().sin_cos();
+        assert!(close(up, DVec3::new(0.0, s, c)), "{up}");
+        let origin = m.transform_point(DVec3::ZERO);
+        assert!(close(origin, DVec3::new(0.0, 0.0, -7.0)), "{origin}");
+        // The eye sits at world (0, -7 sin 75, 7 cos 75).
+        let eye = DVec3::new(0.0, -7.0 * s, 7.0 * c);
+        assert!(close(m.transform_point(eye), DVec3::ZERO));
+        // azim 90 puts the eye on the +x side: the world point (7,0,0) with
+        // inc 90 (horizontal view) lands on the eye.
+        let m = polarview(7.0, 90.0, 90.0, 0.0);
+        assert!(close(
+            m.transform_point(DVec3::new(7.0, 0.0, 0.0)),
+            DVec3::ZERO
+        ));
+    }
+
+    #[test]
+    fn perspective_maps_near_and_far_to_unit_depths() {
+        let m = perspective(90.0, 2.0, 1.0, 10.0);
+        let near = m.transform_point(DVec3::new(2.0, 1.0, -1.0));
+        assert!(close(near, DVec3::new(1.0, 1.0, -1.0)), "{near}");
+        let far = m.transform_point(DVec3::new(0.0, 0.0, -10.0));
+        assert!((far.z - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn window_equals_perspective_for_symmetric_frustum() {
+        let t = (22.5f64).to_radians().tan() * 0.5;
+        let a = window(-t * 1.5, t * 1.5, -t, t, 0.5, 50.0);
+        let b = perspective(45.0, 1.5, 0.5, 50.0);
+        for r in 0..4 {
+            for c in 0..4 {
+                assert!((a.m[r][c] - b.m[r][c]).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn ortho_maps_box_to_unit_cube() {
+        let m = ortho(-2.0, 4.0, -1.0, 1.0, 1.0, 3.0);
+        let p = m.transform_point(DVec3::new(4.0, -1.0, -3.0));
+        assert!(close(p, DVec3::new(1.0, -1.0, 1.0)), "{p}");
+    }
+
+    #[test]
+    fn centre_of_projection_of_perspective_is_origin() {
+        let e = perspective(45.0, 1.0, 0.01, 1000.0)
+            .centre_of_projection()
+            .unwrap();
+        assert!(e.x.abs() < 1e-12 && e.y.abs() < 1e-12 && e.z.abs() < 1e-12);
+        assert!(e.w > 0.0);
+        // Orthographic: at infinity towards +z (the viewer looks down -z).
+        let e = ortho(-1.0, 1.0, -1.0, 1.0, 1.0, 5.0)
+            .centre_of_projection()
+            .unwrap();
+        assert!(e.w.abs() < 1e-12 && e.z > 0.0, "{e}");
+        // A viewing transform followed by a perspective: the eye in world space.
+        let view = polarview(7.0, 0.0, 75.0, 0.0);
+        let e = view
+            .mul(&perspective(45.0, 1.0, 0.01, 1000.0))
+            .centre_of_projection()
+            .unwrap();
+        let e = e.truncate() / e.w;
+        let (s, c) = 75f64.to_radians().sin_cos();
+        assert!(
+            (e - DVec3::new(0.0, -7.0 * s, 7.0 * c)).length() < 1e-9,
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn lookat_puts_reference_point_on_negative_z() {
+        let v = DVec3::new(3.0, 4.0, 5.0);
+        let p = DVec3::new(-1.0, 2.0, 0.5);
+        let m = lookat(v, p, 0.0).unwrap();
+        assert!(close(m.transform_point(v), DVec3::ZERO));
+        let q = m.transform_point(p);
+        assert!(q.x.abs() < 1e-12 && q.y.abs() < 1e-12 && q.z < 0.0, "{q}");
+        assert!((q.z + (p - v).length()).abs() < 1e-12);
+        // World +y stays up on the screen.
+        assert!(m.transform_vector(DVec3::Y).y > 0.0);
+        assert!(lookat(v, v, 0.0).is_none());
+    }
+
+    #[test]
+    fn determinant_of_rotation_and_scale() {
+        assert!((rotate(33.0, Axis::Y).determinant() - 1.0).abs() < 1e-12);
+        assert!((scale(DVec3::new(2.0, 3.0, -1.0)).determinant() + 6.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,164 @@
+//! The frame buffer and the painter's loop: polygons are sampled in list
+//! order and either overwrite what is there (back to front, the
+//! "overwriting principle" of 004 appendix) or fill only pixels still empty
+//! (front to back). Rows are painted in parallel bands; every band sees the
+//! polygons in the same order, so the image does not depend on the number
+//! of threads.
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use super::tiler;
+
+/// How a polygon treats pixels already painted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PaintMode {
+    /// Later polygons hide earlier ones (back-to-front list).
+    Overwrite,
+    /// Earlier polygons hide later ones (front-to-back list).
+    FirstWins,
+}
+
+/// A polygon to paint: screen points (pixels, y up), a colour, an id.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PaintItem {
+    /// Screen coordinates in pixels, y up.
+    pub points: Vec<DVec2>,
+    /// Colour, components 0..1.
+    pub color: [f32; 3],
+    /// Identifier written to the id buffer (never 0, which is background).
+    pub id: u32,
+}
+
+/// An RGB frame buffer with an id per pixel. Row 0 is the top of the image.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameBuffer {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Colours, row-major from the top.
+    pub color: Vec<[f32; 3]>,
+    /// Id of the polygon painted last at each pixel, 0 for background.
+    pub ids: Vec<u32>,
+}
+
+/// Rows per parallel band.
+const BAND: u32 = 16;
+
+impl FrameBuffer {
+    /// A buffer cleared to `background`.
+    pub fn new(width: u32, height: u32, background: [f32; 3]) -> FrameBuffer {
+        let n = width as usize * height as usize;
+        FrameBuffer {
+            width,
+            height,
+            color: vec![background; n],
+            ids: vec![0; n],
+        }
+    }
+
+    /// Colour at pixel column `x`, row `y` from the top.
+    pub fn pixel(&self, x: u32, y: u32) -> [f32; 3] {
+        self.color[(y * self.width + x) as usize]
+    }
+
+    /// Id at pixel column `x`, row `y` from the top.
+    pub fn id(&self, x: u32, y: u32) -> u32 {
+        self.ids[(y * self.width + x) as usize]
+    }
+
+    /// Paints `items` in order. Returns how many covered at least one pixel.
+    pub fn paint(&mut self, items: &[PaintItem], mode: PaintMode) -> usize {
+        let (w, h) = (self.width, self.height);
+        let bounds: Vec<(f64, f64)> = items
+            .iter()
+            .map(|it| {
+                it.points
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                        (lo.min(p.y), hi.max(p.y))
+                    })
+            })
+            .collect();
+        let band_len = (BAND * w) as usize;
+        let touched: Vec<Vec<bool>> = self
+            .color
+            .par_chunks_mut(band_len)
+            .zip(self.ids.par_chunks_mut(band_len))
+            .enumerate()
+            .map(|(b, (colors, ids))| {
+                let top_row = b as u32 * BAND;
+                let rows_here = (colors.len() / w as usize) as u32;
+                // Screen rows (from the bottom) covered by this band.
+                let lo = h - (top_row + rows_here);
+                let hi = h - top_row;
+                let mut touched = vec![false; items.len()];
+                for (k, item) in items.iter().enumerate() {
+                    let (ymin, ymax) = bounds[k];
+                    if ymax < lo as f64 || ymin > hi as f64 + 1.0 {
+                        continue;
+                    }
+                    tiler::for_each_span(&item.points, lo..hi, w, |j, i0, i1| {
+                        let row = (hi - 1 - j) as usize;
+                        let start = row * w as usize;
+                        for i in i0 as usize..i1 as usize {
+                            let px = start + i;
+                            if mode == PaintMode::FirstWins && ids[px] != 0 {
+                                continue;
+                            }
+                            colors[px] = item.color;
+                            ids[px] = item.id;
+                            touched[k] = true;
+                        }
+                    });
+                }
+                touched
+            })
+            .collect();
+        (0..items.len())
+            .filter(|&k| touched.iter().any(|t| t[k]))
+            .count()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(x0: f64, y0: f64, x1: f64, y1: f64, id: u32) -> PaintItem {
+        PaintItem {
+            points: vec![
+                DVec2::new(x0, y0),
+                DVec2::new(x0, y1),
+                DVec2::new(x1, y1),
+                DVec2::new(x1, y0),
+            ],
+            color: [id as f32 / 10.0; 3],
+            id,
+        }
+    }
+
+    #[test]
+    fn overwrite_and_first_wins() {
+        let items = [
+            square(0.0, 0.0, 20.0, 40.0, 1),
+            square(10.0, 0.0, 30.0, 40.0, 2),
+        ];
+        let mut fb = FrameBuffer::new(30, 40, [0.0; 3]);
+        assert_eq!(fb.paint(&items, PaintMode::Overwrite), 2);
+        assert_eq!((fb.id(5, 0), fb.id(15, 39), fb.id(25, 20)), (1, 2, 2));
+        let mut fb = FrameBuffer::new(30, 40, [0.0; 3]);
+        fb.paint(&items, PaintMode::FirstWins);
+        assert_eq!((fb.id(5, 0), fb.id(15, 39), fb.id(25, 20)), (1, 1, 2));
+    }
+
+    #[test]
+    fn rows_are_stored_from_the_top() {
+        // A square in the bottom-left screen corner is at the last rows.
+        let mut fb = FrameBuffer::new(4, 40, [0.0; 3]);
+        fb.paint(&[square(0.0, 0.0, 1.0, 1.0, 7)], PaintMode::Overwrite);
+        assert_eq!(fb.id(0, 39), 7);
+        assert_eq!(fb.ids.iter().filter(|&&i| i == 7).count(), 1);
+    }
+}

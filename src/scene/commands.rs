@@ -1,0 +1,166 @@
+//! The command table of the scene descriptor language (Garcia 1986, 004
+//! appendix, plytrace manual page): names, arguments and one-line help.
+//! Commands are case-insensitive and recognized by their shortest unique
+//! prefix; an exact name always wins (`ortho` versus `ortho2`).
+
+/// A command of the language.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CommandSpec {
+    /// The full name.
+    pub name: &'static str,
+    /// Its arguments, as the manual writes them.
+    pub usage: &'static str,
+    /// What it does.
+    pub help: &'static str,
+}
+
+macro_rules! commands {
+    ($( $name:literal, $usage:literal, $help:literal; )*) => {
+        /// Every command, in the manual's (alphabetical) order.
+        pub const COMMANDS: &[CommandSpec] = &[
+            $( CommandSpec { name: $name, usage: $usage, help: $help }, )*
+        ];
+    };
+}
+
+commands! {
+    "ambient", "r g b", "ambient illumination colour (default 1 1 1)";
+    "background", "r g b", "background colour (default 0 0 0)";
+    "call", "file", "read commands from a file without initializing";
+    "callobj", "obj-number", "copy geometry and colours of an existing object";
+    "clear", "", "clear the frame buffer to the background colour";
+    "color", "r g b", "global or active object colour (default 1 1 1)";
+    "defobj", "name [number]", "begin an object read from name.det in the detail directory";
+    "delobj", "number...", "delete objects";
+    "depth", "1-14", "maximum reflection/refraction recursion depth (default 1)";
+    "det_dir", "path", "detail directory for .det/.pcl/.vcl files (default det/)";
+    "diffuse", "k", "diffuse coefficient (default 0.6)";
+    "disp", "[on|off]", "display (write) the image when rendering (default on)";
+    "endobj", "", "end the object: read its files and transform it by the CTM";
+    "fname", "name", "output file name (name.png, name.out)";
+    "get", "file", "initialize, then read commands from a file";
+    "getobj", "name", "defobj name followed by endobj";
+    "ident", "", "load the identity on the CTM";
+    "index", "n", "index of refraction (default 1)";
+    "init", "", "reset all parameters, objects and lights to their defaults";
+    "light", "x y z r g b range [Point|Diffuse]", "add a light (Point casts shadows)";
+    "lookat", "vx vy vz px py pz twist", "view from v towards p (pre-multiplies the CTM)";
+    "nolight", "", "delete all lights";
+    "ortho", "left right bottom top near far", "load an orthographic projection";
+    "ortho2", "left right bottom top", "load a 2D orthographic projection";
+    "outmode", "c|r|g|b|y|a bits", "colour output mode (default c)";
+    "pcolors", "file", "polygon colours of the active object (file.pcl)";
+    "perspective", "fovy aspect near far", "load a perspective projection";
+    "polarview", "dist azim inc twist", "view in polar coordinates (pre-multiplies the CTM)";
+    "popmatrix", "", "pop the CTM from the matrix stack";
+    "pushmatrix", "", "push a copy of the CTM on the matrix stack";
+    "quit", "", "end the program";
+    "reflectance", "k", "reflection coefficient (default 0)";
+    "resolution", "hres vres", "image size; loads perspective 45 hres/vres 0.01 10000";
+    "rotate", "angle x|y|z", "rotation (pre-multiplies the CTM)";
+    "run", "[y]", "render the scene (y: with shadows)";
+    "scale", "sx sy sz", "scaling (pre-multiplies the CTM)";
+    "setmode", "mode [value]", "set a run-time mode (see MODES)";
+    "shininess", "n", "Phong exponent of highlights";
+    "sort", "[btf|ftb]", "polygon order: back to front (default) or front to back";
+    "specular", "k", "specular coefficient (default 0)";
+    "threshold", "k", "smallest coefficient worth tracing (default 0)";
+    "translate", "tx ty tz", "translation (pre-multiplies the CTM)";
+    "transmittance", "k", "transmission coefficient (default 0)";
+    "transparency", "t rolloff", "linear transparency and its roll-off (default 0 0)";
+    "type", "polygon [open curved concave hidden ltsrc]", "surface type attributes";
+    "vcolors", "file", "vertex colours of the active object (file.vcl)";
+    "viewport", "left right bottom top", "image region in pixels";
+    "wait", "", "wait for return (terminal only)";
+    "window", "left right bottom top near far", "load a perspective frustum";
+}
+
+/// The result of looking a word up in the table.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Lookup {
+    /// Exactly one command.
+    Found(&'static CommandSpec),
+    /// No command starts with the word; the closest name, if any is close.
+    Unknown(Option<&'static str>),
+    /// Several commands start with the word.
+    Ambiguous(Vec<&'static str>),
+}
+
+/// Finds the command `word` names (case-insensitive, unique prefix).
+pub fn lookup(word: &str) -> Lookup {
+    let w = word.to_ascii_lowercase();
+    if let Some(c) = COMMANDS.iter().find(|c| c.name == w) {
+        return Lookup::Found(c);
+    }
+    let matches: Vec<&'static CommandSpec> =
+        COMMANDS.iter().filter(|c| c.name.starts_with(&w)).collect();
+    match matches.len() {
+        0 => Lookup::Unknown(closest(&w)),
+        1 => Lookup::Found(matches[0]),
+        _ => Lookup::Ambiguous(matches.iter().map(|c| c.name).collect()),
+    }
+}
+
+fn closest(word: &str) -> Option<&'static str> {
+    COMMANDS
+        .iter()
+        .map(|c| (edit_distance(word, c.name), c.name))
+        .filter(|(d, name)| *d <= 2.max(name.len() / 4))
+        .min()
+        .map(|(_, n)| n)
+}
+
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = if ca == *cb {
+                prev
+            } else {
+                1 + prev.min(cur).min(row[j])
+            };
+            prev = cur;
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prefixes_and_exact_names() {
+        assert_eq!(lookup("TRANSL"), Lookup::Found(&COMMANDS[41]));
+        assert_eq!(lookup("ortho").clone(), lookup("ORTHO"));
+        match lookup("ortho") {
+            Lookup::Found(c) => assert_eq!(c.name, "ortho"),
+            other => panic!("{other:?}"),
+        }
+        match lookup("ortho2") {
+            Lookup::Found(c) => assert_eq!(c.name, "ortho2"),
+            other => panic!("{other:?}"),
+        }
+        match lookup("po") {
+            Lookup::Ambiguous(v) => assert_eq!(v, ["polarview", "popmatrix"]),
+            other => panic!("{other:?}"),
+        }
+        match lookup("pol") {
+            Lookup::Found(c) => assert_eq!(c.name, "polarview"),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(lookup("tranlate"), Lookup::Unknown(Some("translate")));
+        assert_eq!(lookup("zzzz"), Lookup::Unknown(None));
+    }
+
+    #[test]
+    fn table_is_sorted_and_unique() {
+        for w in COMMANDS.windows(2) {
+            assert!(w[0].name < w[1].name, "{} {}", w[0].name, w[1].name);
+        }
+    }
+}

@@ -1,0 +1,261 @@
+//! Wavefront OBJ, PLY and STL meshes as object geometry, read into the same
+//! [`Mesh`] as a `.det` file (Garcia 1986, 004 appendix, `mkdet`).
+//!
+//! These formats list a face's vertices counter-clockwise seen from outside;
+//! a [`Mesh`] lists them clockwise, as `.det` files do, so every polygon's
+//! index order is reversed on import. Polygons are kept as given (no
+//! triangulation); OBJ points and lines are not surfaces and are skipped.
+
+use std::io::Cursor;
+use std::path::Path;
+
+use glam::DVec3;
+use ply_rs_bw::parser::Parser;
+use ply_rs_bw::ply::{DefaultElement, Property};
+
+use super::object_file::Mesh;
+use crate::error::{Error, Location, Result};
+
+/// File extensions [`read_mesh`] understands, lower case.
+pub const MESH_EXTENSIONS: &[&str] = &["obj", "ply", "stl"];
+
+/// Reads a Wavefront OBJ, PLY (ASCII or binary) or STL (ASCII or binary)
+/// mesh, chosen by the file's extension in any case. All OBJ objects and
+/// groups are merged into one mesh. Polygons come out clockwise seen from
+/// outside, with 0-based indices.
+pub fn read_mesh(path: &Path) -> Result<Mesh> {
+    let extension = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let mesh = match extension.as_str() {
+        "obj" => read_obj(&bytes, path)?,
+        "ply" => read_ply(&bytes, path)?,
+        "stl" => read_stl(&bytes, path)?,
+        _ => {
+            return Err(Error::at(
+                Location::file(path),
+                format!(
+                    "unknown mesh format `.{extension}`: expected one of {}",
+                    MESH_EXTENSIONS.join(", ")
+                ),
+            ));
+        }
+    };
+    check_mesh(&mesh, path)?;
+    Ok(mesh)
+}
+
+/// An error about `path` as a whole, from one of the mesh crates.
+fn format_error(path: &Path, format: &str, message: impl std::fmt::Display) -> Error {
+    Error::at(
+        Location::file(path),
+        format!("cannot read {format}: {message}"),
+    )
+}
+
+/// Checks what the crates do not: finite coordinates, indices in range and
+/// at least 3 vertices per polygon.
+fn check_mesh(mesh: &Mesh, path: &Path) -> Result<()> {
+    if let Some(i) = mesh.vertices.iter().position(|v| !v.is_finite()) {
+        return Err(Error::at(
+            Location::file(path),
+            format!("non-finite number in vertex {}", i + 1),
+        ));
+    }
+    let count = mesh.vertices.len();
+    for (number, polygon) in mesh.polygons.iter().enumerate() {
+        if polygon.len() < 3 {
+            return Err(Error::at(
+                Location::file(path),
+                format!(
+                    "polygon {} has {} vertices; a polygon needs at least 3",
+                    number + 1,
+                    polygon.len()
+                ),
+            ));
+        }
+        if let Some(&index) = polygon.iter().find(|&&i| i as usize >= count) {
+            return Err(Error::at(
+                Location::file(path),
+                format!(
+                    "vertex index {index} (0-based) out of range in polygon {}: \
+                     the mesh has {count} vertices",
+                    number + 1
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A counter-clockwise face turned into a clockwise polygon.
+fn clockwise(mut face: Vec<u32>) -> Vec<u32> {
+    face.reverse();
+    face
+}
+
+// ---------------------------------------------------------------------------
+// Wavefront OBJ
+
+fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh> {
+    let options = tobj::LoadOptions {
+        single_index: false,
+        triangulate: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    // Materials do not matter for geometry: referenced .mtl files are not read.
+    let no_materials = |_: &Path| Err(tobj::LoadError::OpenFileFailed);
+    let (models, _) = tobj::load_obj_buf(&mut Cursor::new(bytes), &options, no_materials)
+        .map_err(|e| format_error(path, "Wavefront OBJ", e))?;
+    let mut mesh = Mesh::default();
+    for model in &models {
+        append_obj_mesh(&mut mesh, &model.mesh, path)?;
+    }
+    Ok(mesh)
+}
+
+/// Appends one OBJ model, whose indices refer to its own positions.
+fn append_obj_mesh(mesh: &mut Mesh, model: &tobj::Mesh, path: &Path) -> Result<()> {
+    let offset = u32::try_from(mesh.vertices.len())
+        .map_err(|_| format_error(path, "Wavefront OBJ", "too many vertices"))?;
+    mesh.vertices.extend(
+        model
+            .positions
+            .chunks_exact(3)
+            .map(|p| DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))),
+    );
+    // An empty list of arities means that every face is a triangle.
+    let triangles = vec![3; model.indices.len() / 3];
+    let arities = if model.face_arities.is_empty() {
+        &triangles
+    } else {
+        &model.face_arities
+    };
+    let mut rest = model.indices.as_slice();
+    for &arity in arities {
+        let (face, tail) = rest.split_at_checked(arity as usize).ok_or_else(|| {
+            format_error(path, "Wavefront OBJ", "face sizes do not match the indices")
+        })?;
+        mesh.polygons
+            .push(clockwise(face.iter().map(|&i| i + offset).collect()));
+        rest = tail;
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------
+// PLY
+
+fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh> {
+    let ply = Parser::<DefaultElement>::new()
+        .read_ply(&mut Cursor::new(bytes))
+        .map_err(|e| match e.line() {
+            Some(line) => Error::at(
+                Location::new(path, line, 0),
+                format!("cannot read PLY: {e}"),
+            ),
+            None => format_error(path, "PLY", e),
+        })?;
+    let no_elements = Vec::new();
+    let vertices = ply.payload.get("vertex").unwrap_or(&no_elements);
+    let faces = ply.payload.get("face").unwrap_or(&no_elements);
+    Ok(Mesh {
+        vertices: vertices
+            .iter()
+            .enumerate()
+            .map(|(i, v)| ply_vertex(v, i + 1, path))
+            .collect::<Result<_>>()?,
+        polygons: faces
+            .iter()
+            .enumerate()
+            .map(|(i, f)| ply_face(f, i + 1, path))
+            .collect::<Result<_>>()?,
+    })
+}
+
+/// The `x`, `y`, `z` (float or double) of PLY vertex `number`.
+fn ply_vertex(element: &DefaultElement, number: usize, path: &Path) -> Result<DVec3> {
+    let mut xyz = [0.0; 3];
+    for (value, name) in xyz.iter_mut().zip(["x", "y", "z"]) {
+        *value = match element.get(name) {
+            Some(Property::Float(v)) => f64::from(*v),
+            Some(Property::Double(v)) => *v,
+            Some(_) => {
+                return Err(format_error(
+                    path,
+                    "PLY",
+                    format!("vertex {number}: property `{name}` must be a float or double"),
+                ));
+            }
+            None => {
+                return Err(format_error(
+                    path,
+                    "PLY",
+                    format!("vertex {number} has no property `{name}`"),
+                ));
+            }
+        };
+    }
+    Ok(DVec3::from_array(xyz))
+}
+
+/// The clockwise polygon of PLY face `number`, from its `vertex_indices`
+/// (or `vertex_index`) list of any integer type.
+fn ply_face(element: &DefaultElement, number: usize, path: &Path) -> Result<Vec<u32>> {
+    let list = element
+        .get("vertex_indices")
+        .or_else(|| element.get("vertex_index"))
+        .ok_or_else(|| {
+            format_error(
+                path,
+                "PLY",
+                format!("face {number} has no list property `vertex_indices`"),
+            )
+        })?;
+    let indices = list.to_u32_list().ok_or_else(|| {
+        format_error(
+            path,
+            "PLY",
+            format!("face {number}: the vertex indices must be a list of non-negative integers"),
+        )
+    })?;
+    Ok(clockwise(indices))
+}
+
+// ---------------------------------------------------------------------------
+// STL
+
+fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh> {
+    let stl =
+        stl_io::read_stl(&mut Cursor::new(bytes)).map_err(|e| format_error(path, "STL", e))?;
+    let vertices = stl
+        .vertices
+        .iter()
+        .map(|v| DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2])))
+        .collect();
+    let polygons = stl
+        .faces
+        .iter()
+        .map(|face| {
+            let indices = face.vertices.iter().map(|&i| u32::try_from(i));
+            indices
+                .collect::<std::result::Result<Vec<u32>, _>>()
+                .map(clockwise)
+                .map_err(|_| format_error(path, "STL", "too many vertices"))
+        })
+        .collect::<Result<_>>()?;
+    Ok(Mesh { vertices, polygons })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clockwise_reverses_the_order() {
+        assert_eq!(clockwise(vec![0, 1, 2, 3]), vec![3, 2, 1, 0]);
+    }
+}

@@ -1,0 +1,25 @@
+//! Scene description (Garcia 1986, 004 section 4.3 and appendix): the
+//! scene descriptor language, object files and the scene model it builds.
+
+pub mod commands;
+pub mod interpreter;
+pub mod lexer;
+pub mod mesh_import;
+pub mod model;
+pub mod object_file;
+
+pub use interpreter::{Flow, Host, Interpreter, NoHost};
+pub use model::Scene;
+
+use std::path::Path;
+
+use crate::error::Result;
+
+/// Reads a scene file as `get file` would, ignoring `run`, `clear` and
+/// `wait`; returns the scene and the warnings.
+pub fn load(path: &Path) -> Result<(Scene, Vec<crate::error::Diagnostic>)> {
+    let mut interp = Interpreter::new();
+    interp.execute_file(path, true, &mut NoHost)?;
+    let warnings = interp.take_warnings();
+    Ok((interp.scene(), warnings))
+}

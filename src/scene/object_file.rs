@@ -1,0 +1,1110 @@
+//! Object files of the `mkdet`/`mkpcl`/`mkvcl` manual page (Garcia 1986,
+//! 004 appendix): ASCII and binary geometry (`.det`, `DET`) and polygon or
+//! vertex colour tables (`.pcl`/`PCL`, `.vcl`/`VCL`).
+
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+use crate::error::{Diagnostic, Error, Location, Result};
+
+/// Geometry of one object in its own coordinates, as read from a file.
+/// Polygons are lists of 0-based vertex indices, clockwise seen from outside
+/// (right-handed coordinates), as in a `.det` file.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Mesh {
+    /// Vertex coordinates.
+    pub vertices: Vec<DVec3>,
+    /// Polygons: 0-based indices into `vertices`, clockwise from outside.
+    pub polygons: Vec<Vec<u32>>,
+}
+
+/// One entry of a polygon or vertex colour file: `r g b dif ref trn`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColorEntry {
+    /// Red, green, blue in 0..=1.
+    pub color: DVec3,
+    /// Diffuse coefficient.
+    pub diffuse: f64,
+    /// Reflection coefficient.
+    pub reflectance: f64,
+    /// Transmission coefficient.
+    pub transmittance: f64,
+}
+
+/// Which colour table a `PCL`/`VCL` file holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ColorKind {
+    /// One entry per polygon (`.pcl`, binary tag `PCL`).
+    Polygon,
+    /// One entry per vertex (`.vcl`, binary tag `VCL`).
+    Vertex,
+}
+
+impl ColorKind {
+    /// The 3-byte tag that starts the binary file: `PCL` or `VCL`.
+    pub fn tag(self) -> &'static [u8; 3] {
+        match self {
+            ColorKind::Polygon => b"PCL",
+            ColorKind::Vertex => b"VCL",
+        }
+    }
+
+    fn description(self) -> &'static str {
+        match self {
+            ColorKind::Polygon => "polygon colour file",
+            ColorKind::Vertex => "vertex colour file",
+        }
+    }
+}
+
+/// What `convert` does: the `mkdet`, `mkpcl` and `mkvcl` commands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ConvertKind {
+    /// `mkdet`: geometry to a binary `DET` file.
+    Det,
+    /// `mkpcl`: polygon colours to a binary `PCL` file.
+    Pcl,
+    /// `mkvcl`: vertex colours to a binary `VCL` file.
+    Vcl,
+}
+
+/// Tag of a binary geometry file.
+const DET_TAG: &[u8; 3] = b"DET";
+
+/// The largest count a binary file can hold (its counts are 16-bit).
+const BINARY_LIMIT: usize = u16::MAX as usize;
+
+/// Names of the six numbers of a colour entry, in file order.
+const COLOR_FIELDS: [&str; 6] = [
+    "red",
+    "green",
+    "blue",
+    "diffuse coefficient",
+    "reflection coefficient",
+    "transmission coefficient",
+];
+
+// ---------------------------------------------------------------------------
+// ASCII scanning
+
+/// A token of an ASCII object file: a run of characters other than
+/// whitespace and commas.
+#[derive(Debug, Clone, Copy)]
+struct Token<'a> {
+    text: &'a str,
+    /// Byte offset of the token in the file.
+    start: usize,
+    /// 1-based line of the token.
+    line: usize,
+    /// Byte offset where that line starts.
+    line_start: usize,
+}
+
+fn is_separator(c: char) -> bool {
+    c.is_whitespace() || c == ','
+}
+
+/// Reads the tokens that follow the `data` keyword, keeping track of lines so
+/// that errors can name a line and column.
+struct Scanner<'a> {
+    file: &'a Path,
+    text: &'a str,
+    /// Byte offset of the next unread character.
+    pos: usize,
+    /// 1-based line at `pos`.
+    line: usize,
+    /// Byte offset where the line at `pos` starts.
+    line_start: usize,
+    /// Where the last token (or the `data` keyword) ended: offset, line, line start.
+    last_end: (usize, usize, usize),
+}
+
+impl<'a> Scanner<'a> {
+    /// A scanner positioned just after the `data` keyword: the first token of
+    /// a line, in any case. Lines before it (the `title` line) are free text.
+    fn after_data(text: &'a str, file: &'a Path) -> Result<Self> {
+        let mut offset = 0;
+        for (index, line) in text.split_inclusive('\n').enumerate() {
+            let rest = line.trim_start_matches(is_separator);
+            let keyword_len = rest.find(is_separator).unwrap_or(rest.len());
+            if rest[..keyword_len].eq_ignore_ascii_case("data") {
+                let end = offset + (line.len() - rest.len()) + keyword_len;
+                return Ok(Scanner {
+                    file,
+                    text,
+                    pos: end,
+                    line: index + 1,
+                    line_start: offset,
+                    last_end: (end, index + 1, offset),
+                });
+            }
+            offset += line.len();
+        }
+        let line_count = text.lines().count().max(1);
+        Err(Error::at(
+            Location::new(file, line_count, 0),
+            "expected the keyword `data` at the start of a line, file ended without it",
+        ))
+    }
+
+    /// The next token, or `None` at the end of the file.
+    fn next(&mut self) -> Option<Token<'a>> {
+        let rest = &self.text[self.pos..];
+        let skipped = rest.len() - rest.trim_start_matches(is_separator).len();
+        for (i, c) in rest[..skipped].char_indices() {
+            if c == '\n' {
+                self.line += 1;
+                self.line_start = self.pos + i + 1;
+            }
+        }
+        self.pos += skipped;
+        let rest = &self.text[self.pos..];
+        if rest.is_empty() {
+            return None;
+        }
+        let len = rest.find(is_separator).unwrap_or(rest.len());
+        let token = Token {
+            text: &rest[..len],
+            start: self.pos,
+            line: self.line,
+            line_start: self.line_start,
+        };
+        self.pos += len;
+        self.last_end = (self.pos, self.line, self.line_start);
+        Some(token)
+    }
+
+    /// The next token; at the end of the file an error saying `ended()`.
+    fn next_or(&mut self, ended: impl FnOnce() -> String) -> Result<Token<'a>> {
+        match self.next() {
+            Some(token) => Ok(token),
+            None => Err(self.error_at_end(ended())),
+        }
+    }
+
+    /// At most `count` items of `tokens` tokens each: what the unread text
+    /// could hold (each token takes at least one character and a separator).
+    fn capacity(&self, count: u64, tokens: usize) -> usize {
+        let room = (self.text.len() - self.pos) / (2 * tokens) + 1;
+        usize::try_from(count).unwrap_or(usize::MAX).min(room)
+    }
+
+    fn diagnostic(
+        &self,
+        offset: usize,
+        line: usize,
+        line_start: usize,
+        width: usize,
+    ) -> Diagnostic {
+        let column = self.text[line_start..offset].chars().count() + 1;
+        let line_text = self.text[line_start..].split('\n').next().unwrap_or("");
+        Diagnostic::new(Location::new(self.file, line, column), "")
+            .with_source(line_text.trim_end_matches('\r'), width)
+    }
+
+    /// An error pointing at `token`.
+    fn error(&self, token: &Token, message: impl Into<String>) -> Error {
+        let width = token.text.chars().count();
+        let mut d = self.diagnostic(token.start, token.line, token.line_start, width);
+        d.message = message.into();
+        d.into()
+    }
+
+    /// An error pointing just after the last token read.
+    fn error_at_end(&self, message: impl Into<String>) -> Error {
+        let (offset, line, line_start) = self.last_end;
+        let mut d = self.diagnostic(offset, line, line_start, 1);
+        d.message = message.into();
+        d.into()
+    }
+
+    /// Fails with `message` if anything but whitespace (or commas) is left.
+    fn expect_end(&mut self, message: &str) -> Result<()> {
+        match self.next() {
+            Some(token) => Err(self.error(&token, message)),
+            None => Ok(()),
+        }
+    }
+
+    /// A count: a non-negative integer.
+    fn count(&mut self, what: &str) -> Result<u64> {
+        let token = self.next_or(|| format!("expected {what}, file ended"))?;
+        token.text.parse().map_err(|_| {
+            self.error(
+                &token,
+                format!(
+                    "expected {what} (a non-negative integer), found `{}`",
+                    token.text
+                ),
+            )
+        })
+    }
+
+    /// A finite number, read from `token`.
+    fn number(&self, token: &Token, what: &str) -> Result<f64> {
+        let value: f64 = token.text.parse().map_err(|_| {
+            self.error(
+                token,
+                format!("expected {what} (a number), found `{}`", token.text),
+            )
+        })?;
+        if !value.is_finite() {
+            return Err(self.error(
+                token,
+                format!(
+                    "non-finite number `{}` where {what} was expected",
+                    token.text
+                ),
+            ));
+        }
+        Ok(value)
+    }
+}
+
+// ---------------------------------------------------------------------------
+// ASCII geometry
+
+/// Parses an ASCII geometry file (`.det`): free text up to the keyword
+/// `data` (the first word of a line, any case), then `num_vtx num_polys`,
+/// `num_vtx` vertices `x y z`, and `num_polys` polygons `n i1 .. in` with
+/// 1-based vertex indices, clockwise seen from outside. Words are separated by
+/// whitespace or commas. The indices of the returned mesh are 0-based.
+///
+/// Errors name the line and column of the offending word.
+pub fn parse_det_ascii(text: &str, file: &Path) -> Result<Mesh> {
+    let mut scanner = Scanner::after_data(text, file)?;
+    let num_vtx = scanner.count("the number of vertices")?;
+    if num_vtx > u64::from(u32::MAX) {
+        return Err(scanner.error_at_end(format!(
+            "{num_vtx} vertices is too many: at most {} are supported",
+            u32::MAX
+        )));
+    }
+    let num_polys = scanner.count("the number of polygons")?;
+    let vertices = read_vertices(&mut scanner, num_vtx)?;
+    let polygons = read_polygons(&mut scanner, num_polys, num_vtx)?;
+    scanner.expect_end("unexpected text after the last polygon")?;
+    Ok(Mesh { vertices, polygons })
+}
+
+fn read_vertices(scanner: &mut Scanner, count: u64) -> Result<Vec<DVec3>> {
+    let mut vertices = Vec::with_capacity(scanner.capacity(count, 3));
+    for _ in 0..count {
+        let mut xyz = [0.0; 3];
+        for coordinate in &mut xyz {
+            let done = vertices.len();
+            let token = scanner
+                .next_or(|| format!("expected {count} vertices, file ended after {done}"))?;
+            *coordinate = scanner.number(&token, "a vertex coordinate")?;
+        }
+        vertices.push(DVec3::from_array(xyz));
+    }
+    Ok(vertices)
+}
+
+fn read_polygons(scanner: &mut Scanner, count: u64, num_vtx: u64) -> Result<Vec<Vec<u32>>> {
+    let mut polygons = Vec::with_capacity(scanner.capacity(count, 4));
+    for number in 1..=count {
+        let ended = || format!("expected {count} polygons, file ended after {}", number - 1);
+        let token = scanner.next_or(ended)?;
+        let size: u64 = token.text.parse().map_err(|_| {
+            scanner.error(
+                &token,
+                format!(
+                    "expected the number of vertices of polygon {number} (an integer), found `{}`",
+                    token.text
+                ),
+            )
+        })?;
+        if size < 3 {
+            return Err(scanner.error(
+                &token,
+                format!("polygon {number} has {size} vertices; a polygon needs at least 3"),
+            ));
+        }
+        let mut polygon = Vec::with_capacity(scanner.capacity(size, 1));
+        for _ in 0..size {
+            let token = scanner.next_or(ended)?;
+            polygon.push(vertex_index(scanner, &token, number, num_vtx)?);
+        }
+        polygons.push(polygon);
+    }
+    Ok(polygons)
+}
+
+/// A 1-based vertex index of polygon `polygon`, returned 0-based.
+fn vertex_index(scanner: &Scanner, token: &Token, polygon: u64, num_vtx: u64) -> Result<u32> {
+    let index: u64 = token.text.parse().map_err(|_| {
+        scanner.error(
+            token,
+            format!(
+                "expected a vertex index (an integer in 1..={num_vtx}), found `{}`",
+                token.text
+            ),
+        )
+    })?;
+    if index == 0 || index > num_vtx {
+        return Err(scanner.error(
+            token,
+            format!("vertex index {index} out of range 1..={num_vtx} in polygon {polygon}"),
+        ));
+    }
+    // num_vtx <= u32::MAX was checked, so index - 1 fits.
+    Ok((index - 1) as u32)
+}
+
+/// Writes `mesh` as an ASCII geometry file like the manual's examples, with
+/// a `title` line, `data`, the counts, the vertices and 1-based polygons.
+/// Numbers are printed so that [`parse_det_ascii`] reads them back exactly.
+pub fn write_det_ascii(mesh: &Mesh, title: &str) -> String {
+    let mut out = title_lines(title);
+    out.push_str(&format!(
+        "data\n{} {}\n",
+        mesh.vertices.len(),
+        mesh.polygons.len()
+    ));
+    for v in &mesh.vertices {
+        out.push_str(&format!("{} {} {}\n", v.x, v.y, v.z));
+    }
+    for polygon in &mesh.polygons {
+        out.push_str(&polygon.len().to_string());
+        for index in polygon {
+            out.push_str(&format!(" {}", u64::from(*index) + 1));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// The `title` line, kept on one line so that the file stays readable.
+fn title_lines(title: &str) -> String {
+    let title = title.replace(['\n', '\r'], " ");
+    if title.is_empty() {
+        "title\n".to_string()
+    } else {
+        format!("title    {title}\n")
+    }
+}
+
+// ---------------------------------------------------------------------------
+// ASCII colours
+
+/// Parses an ASCII polygon or vertex colour file (`.pcl`, `.vcl`): free
+/// text up to the keyword `data`, the number of entries (on the `data` line
+/// or after it), then that many entries `r g b dif ref trn`, each in 0..=1.
+pub fn parse_color_ascii(text: &str, file: &Path) -> Result<Vec<ColorEntry>> {
+    let mut scanner = Scanner::after_data(text, file)?;
+    let count = scanner.count("the number of colour entries")?;
+    let mut entries = Vec::with_capacity(scanner.capacity(count, 6));
+    for number in 1..=count {
+        let mut values = [0.0; 6];
+        for (value, name) in values.iter_mut().zip(COLOR_FIELDS) {
+            *value = color_value(&mut scanner, name, number, count)?;
+        }
+        entries.push(color_entry(values));
+    }
+    scanner.expect_end("unexpected text after the last colour entry")?;
+    Ok(entries)
+}
+
+/// One value of colour entry `number`, checked to lie in 0..=1.
+fn color_value(scanner: &mut Scanner, name: &str, number: u64, count: u64) -> Result<f64> {
+    let token = scanner.next_or(|| {
+        format!(
+            "expected {count} colour entries, file ended after {}",
+            number - 1
+        )
+    })?;
+    let value = scanner.number(&token, &format!("the {name}"))?;
+    if !(0.0..=1.0).contains(&value) {
+        return Err(scanner.error(
+            &token,
+            format!("{name} {value} out of range 0..=1 in colour entry {number}"),
+        ));
+    }
+    Ok(value)
+}
+
+fn color_entry(v: [f64; 6]) -> ColorEntry {
+    ColorEntry {
+        color: DVec3::new(v[0], v[1], v[2]),
+        diffuse: v[3],
+        reflectance: v[4],
+        transmittance: v[5],
+    }
+}
+
+fn color_values(entry: &ColorEntry) -> [f64; 6] {
+    [
+        entry.color.x,
+        entry.color.y,
+        entry.color.z,
+        entry.diffuse,
+        entry.reflectance,
+        entry.transmittance,
+    ]
+}
+
+/// Writes colour entries as an ASCII colour file like the manual's
+/// examples: a `title` line, `data <count>`, one entry per line.
+pub fn write_color_ascii(entries: &[ColorEntry], title: &str) -> String {
+    let mut out = title_lines(title);
+    out.push_str(&format!("data {}\n", entries.len()));
+    for entry in entries {
+        let [r, g, b, dif, refl, trn] = color_values(entry);
+        out.push_str(&format!("{r} {g} {b} {dif} {refl} {trn}\n"));
+    }
+    out
+}
+
+// ---------------------------------------------------------------------------
+// Binary files
+
+/// Reads little-endian values from a binary file, failing cleanly (with the
+/// byte offset) when the file is too short.
+struct ByteReader<'a> {
+    file: &'a Path,
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> ByteReader<'a> {
+    fn new(bytes: &'a [u8], file: &'a Path) -> Self {
+        ByteReader {
+            file,
+            bytes,
+            pos: 0,
+        }
+    }
+
+    fn remaining(&self) -> usize {
+        self.bytes.len() - self.pos
+    }
+
+    /// An error about the data at byte `offset`.
+    fn error(&self, offset: usize, message: impl std::fmt::Display) -> Error {
+        Error::at(
+            Location::file(self.file),
+            format!("at byte offset {offset}: {message}"),
+        )
+    }
+
+    /// Fails unless `len` more bytes (holding `what`) are present.
+    fn need(&self, len: usize, what: &str) -> Result<()> {
+        if self.remaining() < len {
+            return Err(Error::at(
+                Location::file(self.file),
+                format!(
+                    "truncated file: expected {what} ({len} bytes) at byte offset {}, \
+                     but only {} bytes remain",
+                    self.pos,
+                    self.remaining()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    fn take<const N: usize>(&mut self, what: &str) -> Result<[u8; N]> {
+        self.need(N, what)?;
+        let mut out = [0; N];
+        out.copy_from_slice(&self.bytes[self.pos..self.pos + N]);
+        self.pos += N;
+        Ok(out)
+    }
+
+    fn u8(&mut self, what: &str) -> Result<u8> {
+        Ok(self.take::<1>(what)?[0])
+    }
+
+    fn u16(&mut self, what: &str) -> Result<u16> {
+        Ok(u16::from_le_bytes(self.take(what)?))
+    }
+
+    fn f32(&mut self, what: &str) -> Result<f32> {
+        Ok(f32::from_le_bytes(self.take(what)?))
+    }
+
+    /// Checks the 3-byte file tag.
+    fn tag(&mut self, tag: &[u8; 3]) -> Result<()> {
+        let found = self.take::<3>(&format!("the tag `{}`", String::from_utf8_lossy(tag)))?;
+        if &found != tag {
+            return Err(self.error(
+                0,
+                format!(
+                    "expected the tag `{}`, found `{}`",
+                    String::from_utf8_lossy(tag),
+                    String::from_utf8_lossy(&found).escape_debug()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Fails if bytes are left after `what`.
+    fn expect_end(&self, what: &str) -> Result<()> {
+        if self.remaining() > 0 {
+            return Err(self.error(
+                self.pos,
+                format!("{} unexpected bytes after {what}", self.remaining()),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Parses a binary geometry file: `DET`, `u16 num_vtx`, `u16 num_polys`, a
+/// bounding box of 6 `f32` (ignored: it is recomputed by whoever needs it),
+/// `num_vtx` x 3 `f32`, then per polygon `u16 nvtx` and `nvtx` 1-based `u16`
+/// indices; all little-endian and packed. The returned indices are 0-based.
+///
+/// Errors name the byte offset.
+pub fn parse_det_binary(bytes: &[u8], file: &Path) -> Result<Mesh> {
+    let mut reader = ByteReader::new(bytes, file);
+    reader.tag(DET_TAG)?;
+    let num_vtx = reader.u16("the number of vertices")?;
+    let num_polys = reader.u16("the number of polygons")?;
+    reader.take::<24>("the bounding box (6 floats)")?;
+    let vertices = read_binary_vertices(&mut reader, num_vtx)?;
+    let polygons = read_binary_polygons(&mut reader, num_polys, num_vtx)?;
+    reader.expect_end("the last polygon")?;
+    Ok(Mesh { vertices, polygons })
+}
+
+fn read_binary_vertices(reader: &mut ByteReader, count: u16) -> Result<Vec<DVec3>> {
+    let count = usize::from(count);
+    reader.need(count * 12, &format!("{count} vertices of 3 floats"))?;
+    let mut vertices = Vec::with_capacity(count);
+    for number in 1..=count {
+        let offset = reader.pos;
+        let mut xyz = [0.0; 3];
+        for coordinate in &mut xyz {
+            *coordinate = f64::from(reader.f32("a vertex coordinate")?);
+        }
+        if !xyz.iter().all(|c| c.is_finite()) {
+            return Err(reader.error(offset, format!("non-finite number in vertex {number}")));
+        }
+        vertices.push(DVec3::from_array(xyz));
+    }
+    Ok(vertices)
+}
+
+fn read_binary_polygons(
+    reader: &mut ByteReader,
+    count: u16,
+    num_vtx: u16,
+) -> Result<Vec<Vec<u32>>> {
+    // A polygon takes at least 8 bytes: its size and 3 indices.
+    let mut polygons = Vec::with_capacity(usize::from(count).min(reader.remaining() / 8));
+    for number in 1..=count {
+        let offset = reader.pos;
+        let size = usize::from(reader.u16(&format!("the vertex count of polygon {number}"))?);
+        if size < 3 {
+            return Err(reader.error(
+                offset,
+                format!("polygon {number} has {size} vertices; a polygon needs at least 3"),
+            ));
+        }
+        reader.need(
+            2 * size,
+            &format!("the {size} vertex indices of polygon {number}"),
+        )?;
+        let mut polygon = Vec::with_capacity(size);
+        for _ in 0..size {
+            let offset = reader.pos;
+            let index = reader.u16("a vertex index")?;
+            if index == 0 || index > num_vtx {
+                return Err(reader.error(
+                    offset,
+                    format!("vertex index {index} out of range 1..={num_vtx} in polygon {number}"),
+                ));
+            }
+            polygon.push(u32::from(index) - 1);
+        }
+        polygons.push(polygon);
+    }
+    Ok(polygons)
+}
+
+/// A count as the 16-bit number of a binary file, or an error naming the
+/// format's limit.
+fn binary_count(count: usize, what: &str) -> Result<u16> {
+    u16::try_from(count).map_err(|_| {
+        Error::Invalid(format!(
+            "{count} {what}: the binary format holds at most {BINARY_LIMIT}"
+        ))
+    })
+}
+
+/// Writes `mesh` as a binary geometry file (see [`parse_det_binary`]), with
+/// its bounding box. Coordinates are stored as `f32`.
+///
+/// Fails if the mesh exceeds the binary format's limit of 65535 vertices,
+/// polygons or vertices per polygon, has an index out of range, or has a
+/// coordinate that is not a finite `f32`.
+pub fn write_det_binary(mesh: &Mesh) -> Result<Vec<u8>> {
+    let num_vtx = binary_count(mesh.vertices.len(), "vertices")?;
+    let num_polys = binary_count(mesh.polygons.len(), "polygons")?;
+    let coordinates = binary_coordinates(&mesh.vertices)?;
+    let index_count: usize = mesh.polygons.iter().map(|p| p.len() + 1).sum();
+    let mut out = Vec::with_capacity(7 + 24 + 4 * coordinates.len() + 2 * index_count);
+    out.extend_from_slice(DET_TAG);
+    out.extend_from_slice(&num_vtx.to_le_bytes());
+    out.extend_from_slice(&num_polys.to_le_bytes());
+    for value in bounding_box(&coordinates) {
+        out.extend_from_slice(&value.to_le_bytes());
+    }
+    for value in &coordinates {
+        out.extend_from_slice(&value.to_le_bytes());
+    }
+    for (number, polygon) in mesh.polygons.iter().enumerate() {
+        let what = format!("vertices in polygon {}", number + 1);
+        out.extend_from_slice(&binary_count(polygon.len(), &what)?.to_le_bytes());
+        for &index in polygon {
+            if index >= u32::from(num_vtx) {
+                return Err(Error::Invalid(format!(
+                    "vertex index {index} (0-based) out of range in polygon {}: \
+                     the mesh has {num_vtx} vertices",
+                    number + 1
+                )));
+            }
+            // index < num_vtx <= 65535, so index + 1 fits in 16 bits.
+            out.extend_from_slice(&(index as u16 + 1).to_le_bytes());
+        }
+    }
+    Ok(out)
+}
+
+/// The vertices as `f32` x, y, z triples, all finite.
+fn binary_coordinates(vertices: &[DVec3]) -> Result<Vec<f32>> {
+    let mut out = Vec::with_capacity(3 * vertices.len());
+    for (number, v) in vertices.iter().enumerate() {
+        for c in v.to_array() {
+            let single = c as f32;
+            if !single.is_finite() {
+                return Err(Error::Invalid(format!(
+                    "vertex {} has coordinate {c}, which is not a finite 32-bit float",
+                    number + 1
+                )));
+            }
+            out.push(single);
+        }
+    }
+    Ok(out)
+}
+
+/// `xmin ymin zmin xmax ymax zmax` of packed x, y, z triples (zeros if none).
+fn bounding_box(coordinates: &[f32]) -> [f32; 6] {
+    if coordinates.is_empty() {
+        return [0.0; 6];
+    }
+    let mut bbox = [
+        f32::INFINITY,
+        f32::INFINITY,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NEG_INFINITY,
+        f32::NEG_INFINITY,
+    ];
+    for xyz in coordinates.chunks_exact(3) {
+        for axis in 0..3 {
+            bbox[axis] = bbox[axis].min(xyz[axis]);
+            bbox[axis + 3] = bbox[axis + 3].max(xyz[axis]);
+        }
+    }
+    bbox
+}
+
+/// Parses a binary colour file: the tag of `tag` (`PCL` or `VCL`), `u16
+/// num_clr`, then per entry 6 bytes `r g b dif ref trn` scaled to 0..=255.
+pub fn parse_color_binary(bytes: &[u8], file: &Path, tag: ColorKind) -> Result<Vec<ColorEntry>> {
+    let mut reader = ByteReader::new(bytes, file);
+    reader.tag(tag.tag())?;
+    let count = usize::from(reader.u16("the number of colour entries")?);
+    reader.need(6 * count, &format!("{count} colour entries of 6 bytes"))?;
+    let mut entries = Vec::with_capacity(count);
+    for _ in 0..count {
+        let mut values = [0.0; 6];
+        for value in &mut values {
+            *value = f64::from(reader.u8("a colour value")?) / 255.0;
+        }
+        entries.push(color_entry(values));
+    }
+    reader.expect_end("the last colour entry")?;
+    Ok(entries)
+}
+
+/// Writes colour entries as a binary colour file tagged for `tag` (see
+/// [`parse_color_binary`]); each value is stored as `round(v * 255)`.
+///
+/// Fails if there are more than 65535 entries or a value is outside 0..=1.
+pub fn write_color_binary(entries: &[ColorEntry], tag: ColorKind) -> Result<Vec<u8>> {
+    let count = binary_count(entries.len(), "colour entries")?;
+    let mut out = Vec::with_capacity(5 + 6 * entries.len());
+    out.extend_from_slice(tag.tag());
+    out.extend_from_slice(&count.to_le_bytes());
+    for (number, entry) in entries.iter().enumerate() {
+        for (value, name) in color_values(entry).into_iter().zip(COLOR_FIELDS) {
+            if !(0.0..=1.0).contains(&value) {
+                return Err(Error::Invalid(format!(
+                    "{name} {value} out of range 0..=1 in colour entry {}",
+                    number + 1
+                )));
+            }
+            // 0 <= value * 255 <= 255, so the cast is exact after rounding.
+            out.push((value * 255.0).round() as u8);
+        }
+    }
+    Ok(out)
+}
+
+// ---------------------------------------------------------------------------
+// Files
+
+/// Whether `bytes` is a binary file with one of `tags`: it starts with the
+/// tag and is not plain text (binary counts and floats hold control bytes).
+fn is_binary(bytes: &[u8], tags: &[&[u8; 3]]) -> bool {
+    tags.iter().any(|tag| bytes.starts_with(*tag)) && !is_plain_text(bytes)
+}
+
+fn is_plain_text(bytes: &[u8]) -> bool {
+    match std::str::from_utf8(bytes) {
+        Ok(text) => text
+            .chars()
+            .all(|c| !c.is_control() || matches!(c, '\t' | '\n' | '\r' | '\x0c')),
+        Err(_) => false,
+    }
+}
+
+fn read_file(path: &Path) -> Result<Vec<u8>> {
+    fs::read(path).map_err(|e| Error::io(path, e))
+}
+
+/// The file as UTF-8 text, or an error at the first invalid byte.
+fn as_text<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let valid = &bytes[..e.valid_up_to()];
+        // The prefix is valid UTF-8 by definition.
+        let valid = std::str::from_utf8(valid).unwrap_or_default();
+        let line = valid.matches('\n').count() + 1;
+        let column = valid.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+        Error::at(
+            Location::new(path, line, column),
+            format!(
+                "invalid UTF-8 at byte offset {}: expected a text object file \
+                 or a binary one",
+                e.valid_up_to()
+            ),
+        )
+    })
+}
+
+/// Reads a geometry file, binary (starting with `DET`) or ASCII.
+pub fn read_det(path: &Path) -> Result<Mesh> {
+    let bytes = read_file(path)?;
+    if is_binary(&bytes, &[DET_TAG]) {
+        parse_det_binary(&bytes, path)
+    } else {
+        parse_det_ascii(as_text(&bytes, path)?, path)
+    }
+}
+
+/// Reads a polygon or vertex colour file, binary (starting with `PCL` or
+/// `VCL`; the tag must match `kind`) or ASCII.
+pub fn read_colors(path: &Path, kind: ColorKind) -> Result<Vec<ColorEntry>> {
+    let bytes = read_file(path)?;
+    let tags = [ColorKind::Polygon.tag(), ColorKind::Vertex.tag()];
+    if is_binary(&bytes, &tags) {
+        parse_color_binary(&bytes, path, kind).map_err(|e| {
+            if bytes.starts_with(kind.tag()) {
+                e
+            } else {
+                Error::at(
+                    Location::file(path),
+                    format!(
+                        "expected a binary {} (tag `{}`), found the tag `{}`",
+                        kind.description(),
+                        String::from_utf8_lossy(kind.tag()),
+                        String::from_utf8_lossy(&bytes[..3])
+                    ),
+                )
+            }
+        })
+    } else {
+        parse_color_ascii(as_text(&bytes, path)?, path)
+    }
+}
+
+/// The `mkdet`, `mkpcl` and `mkvcl` commands: reads `input` (ASCII or
+/// binary) and writes its binary form to `output`. The output is written to
+/// a temporary file in the same directory and renamed into place, so that
+/// an error never leaves a partial output.
+pub fn convert(kind: ConvertKind, input: &Path, output: &Path) -> Result<()> {
+    let bytes = match kind {
+        ConvertKind::Det => write_det_binary(&read_det(input)?),
+        ConvertKind::Pcl => {
+            write_color_binary(&read_colors(input, ColorKind::Polygon)?, ColorKind::Polygon)
+        }
+        ConvertKind::Vcl => {
+            write_color_binary(&read_colors(input, ColorKind::Vertex)?, ColorKind::Vertex)
+        }
+    };
+    let bytes = bytes.map_err(|e| match e {
+        Error::Invalid(message) => Error::at(Location::file(input), message),
+        other => other,
+    })?;
+    write_atomically(output, &bytes)
+}
+
+/// Writes `bytes` to `output` through a temporary file and a rename; on
+/// error the temporary file is removed and `output` is left untouched.
+fn write_atomically(output: &Path, bytes: &[u8]) -> Result<()> {
+    let (temp, mut file) = create_temp_beside(output).map_err(|e| Error::io(output, e))?;
+    let written = file.write_all(bytes).and_then(|()| file.sync_all());
+    drop(file);
+    if let Err(e) = written.and_then(|()| fs::rename(&temp, output)) {
+        // Best effort: the temporary file may already be gone.
+        let _ = fs::remove_file(&temp);
+        return Err(Error::io(output, e));
+    }
+    Ok(())
+}
+
+/// A new, uniquely named file in the directory of `output`.
+fn create_temp_beside(output: &Path) -> io::Result<(PathBuf, File)> {
+    let dir = match output.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    let name = output
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file name"))?
+        .to_string_lossy();
+    let mut attempt = 0;
+    loop {
+        let temp = dir.join(format!(".{name}.{}.{attempt}.tmp", std::process::id()));
+        match OpenOptions::new().write(true).create_new(true).open(&temp) {
+            Ok(file) => return Ok((temp, file)),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists && attempt < 100 => attempt += 1,
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn det(text: &str) -> Result<Mesh> {
+        parse_det_ascii(text, Path::new("t.det"))
+    }
+
+    /// The diagnostic of an input error: (line, column, message).
+    fn place(error: Error) -> (usize, usize, String) {
+        let d = error.diagnostic().expect("an input error").clone();
+        (d.location.line, d.location.column, d.message)
+    }
+
+    #[test]
+    fn data_keyword_must_start_a_line() {
+        // The manual's own example has the word `data` in its title.
+        let mesh =
+            det("title geometric data file\nDATA 3 1\n0 0 0 1 0 0 0 1 0\n3 1 2 3\n").unwrap();
+        assert_eq!(mesh.vertices[1], DVec3::X);
+        assert_eq!(mesh.polygons, vec![vec![0, 1, 2]]);
+    }
+
+    #[test]
+    fn commas_and_tabs_separate_words() {
+        let mesh = det("data\n3,1\n0,0,0\n\t1, 0 ,0\n0 2 0\n3,3,2,1,\n").unwrap();
+        assert_eq!(mesh.vertices[2], DVec3::new(0.0, 2.0, 0.0));
+        assert_eq!(mesh.polygons, vec![vec![2, 1, 0]]);
+    }
+
+    #[test]
+    fn missing_data_keyword_is_an_error() {
+        let (line, _, message) = place(det("title nothing\n3 1\n").unwrap_err());
+        assert_eq!(line, 2);
+        assert!(message.contains("`data`"), "{message}");
+    }
+
+    #[test]
+    fn error_shows_the_source_line_and_width() {
+        let err = det("data\n3 1\n0 0 0\n1 0 0\n0 1.5x 0\n3 1 2 3\n").unwrap_err();
+        let d = err.diagnostic().unwrap();
+        assert_eq!((d.location.line, d.location.column), (5, 3));
+        assert_eq!(d.source_line.as_deref(), Some("0 1.5x 0"));
+        assert_eq!(d.width, 4);
+        assert_eq!(
+            d.message,
+            "expected a vertex coordinate (a number), found `1.5x`"
+        );
+    }
+
+    #[test]
+    fn columns_count_characters_not_bytes() {
+        // A no-break space (2 bytes in UTF-8) separates words too.
+        let (line, column, _) = place(det("data\n1 0\n0\u{a0}x 0\n").unwrap_err());
+        assert_eq!((line, column), (3, 3));
+        let (line, column, _) = place(det("data\n1 0 0 0 0\u{a0}é\n").unwrap_err());
+        assert_eq!((line, column), (2, 11));
+    }
+
+    #[test]
+    fn end_of_file_error_points_after_the_last_word() {
+        let (line, column, message) = place(det("data\n2 1\n0 0 0\n1 1 \n\n").unwrap_err());
+        assert_eq!((line, column), (4, 4));
+        assert_eq!(message, "expected 2 vertices, file ended after 1");
+    }
+
+    #[test]
+    fn polygon_size_and_counts_must_be_integers() {
+        let (_, _, message) = place(det("data\n3.0 1\n").unwrap_err());
+        assert_eq!(
+            message,
+            "expected the number of vertices (a non-negative integer), found `3.0`"
+        );
+        let (_, _, message) = place(det("data\n3 -1\n").unwrap_err());
+        assert!(message.contains("found `-1`"), "{message}");
+        let (line, column, message) =
+            place(det("data\n3 1\n0 0 0 1 0 0 0 1 0\n3.5 1 2 3\n").unwrap_err());
+        assert_eq!((line, column), (4, 1));
+        assert!(message.contains("polygon 1"), "{message}");
+    }
+
+    #[test]
+    fn vertex_count_above_u32_is_refused_before_reading() {
+        let (_, _, message) = place(det("data\n5000000000 1\n").unwrap_err());
+        assert!(message.contains("too many"), "{message}");
+    }
+
+    #[test]
+    fn capacity_is_bounded_by_the_text() {
+        let scanner = Scanner::after_data("data\n1 2 3 4 5 6", Path::new("x")).unwrap();
+        assert!(scanner.capacity(1 << 40, 3) <= 3);
+        assert_eq!(scanner.capacity(1, 3), 1);
+    }
+
+    #[test]
+    fn colour_count_may_follow_data_on_the_next_line() {
+        let entries = parse_color_ascii("data\n1\n1 0 0 .5 .25 0\n", Path::new("c.pcl")).unwrap();
+        assert_eq!(entries[0].color, DVec3::X);
+        assert_eq!(entries[0].diffuse, 0.5);
+        assert_eq!(entries[0].reflectance, 0.25);
+    }
+
+    #[test]
+    fn colour_value_out_of_range_is_located() {
+        let err = parse_color_ascii("data 1\n1 0 0 .5 1.25 0\n", Path::new("c.pcl")).unwrap_err();
+        assert_eq!(
+            place(err),
+            (
+                2,
+                10,
+                "reflection coefficient 1.25 out of range 0..=1 in colour entry 1".to_string()
+            )
+        );
+    }
+
+    #[test]
+    fn byte_reader_reports_offsets() {
+        let mut reader = ByteReader::new(&[1, 0, 2], Path::new("b"));
+        assert_eq!(reader.u16("a").unwrap(), 1);
+        let (_, _, message) = place(reader.u16("the second number").unwrap_err());
+        assert_eq!(
+            message,
+            "truncated file: expected the second number (2 bytes) at byte offset 2, \
+             but only 1 bytes remain"
+        );
+    }
+
+    #[test]
+    fn bounding_box_is_computed_from_the_vertices() {
+        let bbox = bounding_box(&[1.0, -2.0, 3.0, -1.0, 5.0, 0.0]);
+        assert_eq!(bbox, [-1.0, -2.0, 0.0, 1.0, 5.0, 3.0]);
+        assert_eq!(bounding_box(&[]), [0.0; 6]);
+    }
+
+    #[test]
+    fn binary_bounding_box_is_written_but_not_trusted() {
+        let mesh = det("data\n3 1\n0 0 0 2 0 0 0 3 -1\n3 1 2 3\n").unwrap();
+        let mut bytes = write_det_binary(&mesh).unwrap();
+        let bbox: Vec<f32> = bytes[7..31]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect();
+        assert_eq!(bbox, [0.0, 0.0, -1.0, 2.0, 3.0, 0.0]);
+        bytes[7..31].fill(0xff); // NaN bounding box
+        assert_eq!(parse_det_binary(&bytes, Path::new("b")).unwrap(), mesh);
+    }
+
+    #[test]
+    fn binary_detection_needs_tag_and_non_text() {
+        assert!(is_binary(b"DET\x08\x00\x06\x00", &[DET_TAG]));
+        assert!(!is_binary(b"DETAILS\ndata\n", &[DET_TAG]));
+        assert!(!is_binary(b"title\n", &[DET_TAG]));
+    }
+
+    #[test]
+    fn invalid_utf8_is_located() {
+        let err = as_text(b"title\nab\xff", Path::new("x")).unwrap_err();
+        let (line, column, message) = place(err);
+        assert_eq!((line, column), (2, 3));
+        assert!(message.contains("byte offset 8"), "{message}");
+    }
+
+    #[test]
+    fn binary_limits_are_named() {
+        let mesh = Mesh {
+            vertices: vec![DVec3::ZERO; 3],
+            polygons: vec![vec![0; 70_000]],
+        };
+        let err = write_det_binary(&mesh).unwrap_err();
+        assert!(err.to_string().contains("at most 65535"), "{err}");
+        let mesh = Mesh {
+            vertices: vec![DVec3::ZERO; 65_536],
+            polygons: vec![],
+        };
+        let err = write_det_binary(&mesh).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "65536 vertices: the binary format holds at most 65535"
+        );
+    }
+
+    #[test]
+    fn coordinates_must_fit_f32() {
+        let mesh = Mesh {
+            vertices: vec![DVec3::new(0.0, 1e300, 0.0)],
+            polygons: vec![],
+        };
+        assert!(write_det_binary(&mesh).is_err());
+    }
+
+    #[test]
+    fn colour_bytes_round_to_nearest() {
+        let entry = color_entry([0.9, 0.0, 1.0, 0.5, 0.002, 0.998]);
+        let bytes = write_color_binary(&[entry], ColorKind::Vertex).unwrap();
+        assert_eq!(bytes, b"VCL\x01\x00\xe6\x00\xff\x80\x01\xfe");
+    }
+
+    #[test]
+    fn atomic_write_leaves_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("o.det");
+        write_atomically(&out, b"abc").unwrap();
+        assert_eq!(fs::read(&out).unwrap(), b"abc");
+        let names: Vec<_> = fs::read_dir(dir.path()).unwrap().collect();
+        assert_eq!(names.len(), 1);
+        // A directory in the way: the rename fails and the temporary goes.
+        let blocked = dir.path().join("sub");
+        fs::create_dir(&blocked).unwrap();
+        fs::write(blocked.join("f"), b"x").unwrap();
+        assert!(write_atomically(&blocked, b"abc").is_err());
+        let names: Vec<_> = fs::read_dir(dir.path()).unwrap().collect();
+        assert_eq!(names.len(), 2);
+    }
+}

@@ -1,0 +1,112 @@
+//! The simple depth sort of Garcia 1986 (004 section 4.4): "the sorting
+//! order is simply determined by either the minimum or maximum vertex
+//! Z-coordinate of the polygon, depending on the sorting order", by
+//! insertion sort for fewer than 64 polygons and bucket sort otherwise.
+//!
+//! Back to front sorts by the maximum z (farthest vertex) descending, front
+//! to back by the minimum z ascending. Both sorts are stable, so equal keys
+//! keep their input order and the result is deterministic.
+//!
+//! Preconditions: keys are finite. The order is wrong whenever polygons
+//! overlap in depth and on the screen; that is the NNS sorter's job.
+
+use crate::scene::model::SortOrder;
+
+/// Below this many items, insertion sort (004 section 4.4).
+pub const INSERTION_SORT_LIMIT: usize = 64;
+
+/// The sort key of a polygon with depth range `(min_z, max_z)`, such that
+/// painting in ascending key order is the requested order.
+pub fn sort_key(z_range: (f64, f64), order: SortOrder) -> f64 {
+    match order {
+        SortOrder::BackToFront => -z_range.1,
+        SortOrder::FrontToBack => z_range.0,
+    }
+}
+
+/// The permutation that sorts `keys` ascending, stably.
+pub fn sorted_order(keys: &[f64]) -> Vec<usize> {
+    if keys.len() < INSERTION_SORT_LIMIT {
+        insertion_sort(keys)
+    } else {
+        bucket_sort(keys)
+    }
+}
+
+fn insertion_sort(keys: &[f64]) -> Vec<usize> {
+    let mut order: Vec<usize> = Vec::with_capacity(keys.len());
+    for i in 0..keys.len() {
+        let mut j = order.len();
+        while j > 0 && keys[order[j - 1]] > keys[i] {
+            j -= 1;
+        }
+        order.insert(j, i);
+    }
+    order
+}
+
+/// One bucket per item over the key range; items are appended in input
+/// order and each bucket is insertion sorted, so the sort is stable.
+fn bucket_sort(keys: &[f64]) -> Vec<usize> {
+    let n = keys.len();
+    let (lo, hi) = keys
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &k| {
+            (lo.min(k), hi.max(k))
+        });
+    if !(hi > lo) {
+        return (0..n).collect();
+    }
+    let scale = n as f64 / (hi - lo);
+    let mut buckets: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (i, &k) in keys.iter().enumerate() {
+        let b = (((k - lo) * scale) as usize).min(n - 1);
+        buckets[b].push(i);
+    }
+    let mut order = Vec::with_capacity(n);
+    for bucket in &buckets {
+        let start = order.len();
+        for &i in bucket {
+            let mut j = order.len();
+            while j > start && keys[order[j - 1]] > keys[i] {
+                j -= 1;
+            }
+            order.insert(j, i);
+        }
+    }
+    order
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn reference(keys: &[f64]) -> Vec<usize> {
+        let mut v: Vec<usize> = (0..keys.len()).collect();
+        v.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
+        v
+    }
+
+    #[test]
+    fn keys_follow_the_order() {
+        assert_eq!(sort_key((0.2, 0.7), SortOrder::BackToFront), -0.7);
+        assert_eq!(sort_key((0.2, 0.7), SortOrder::FrontToBack), 0.2);
+    }
+
+    #[test]
+    fn equal_keys_keep_input_order() {
+        let keys = vec![1.0; 100];
+        assert_eq!(sorted_order(&keys), (0..100).collect::<Vec<_>>());
+        let keys = [2.0, 1.0, 2.0, 1.0];
+        assert_eq!(sorted_order(&keys), vec![1, 3, 0, 2]);
+    }
+
+    proptest! {
+        #[test]
+        fn agrees_with_a_stable_library_sort(keys in prop::collection::vec(-1000i32..1000, 0..300)) {
+            let keys: Vec<f64> = keys.into_iter().map(|k| k as f64 / 7.0).collect();
+            prop_assert_eq!(sorted_order(&keys), reference(&keys));
+        }
+    }
+}
