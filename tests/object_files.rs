@@ -133,17 +133,45 @@ fn manual_colour_files_parse() {
     assert_eq!(vcl[3].color, DVec3::new(0.9, 0.2, 0.8));
 }
 
+/// The shared scenes' `cube.det`, for tests that must run without them.
+const CUBE_DET: &str = "\
+title    cube with corners at (+-1, +-1, +-1); polygons clockwise seen from outside
+data
+8 6
+-1. -1. -1.
+ 1. -1. -1.
+ 1.  1. -1.
+-1.  1. -1.
+-1. -1.  1.
+ 1. -1.  1.
+ 1.  1.  1.
+-1.  1.  1.
+4 5 8 7 6
+4 1 2 3 4
+4 1 5 6 2
+4 4 3 7 8
+4 2 6 7 3
+4 1 4 8 5
+";
+
+#[test]
+fn cube_parses_clockwise_from_outside() {
+    let mesh = det(CUBE_DET).unwrap();
+    assert_eq!((mesh.vertices.len(), mesh.polygons.len()), (8, 6));
+    assert_eq!(mesh.vertices[0], DVec3::splat(-1.0));
+    assert_eq!(mesh.vertices[6], DVec3::splat(1.0));
+    assert_eq!(mesh.polygons[0], vec![4, 7, 6, 5]);
+    assert_eq!(mesh.polygons[5], vec![0, 3, 7, 4]);
+    assert_clockwise_from_outside(&mesh);
+}
+
 #[test]
 fn shared_cube_parses_clockwise_from_outside() {
     let Some(path) = shared_det("cube.det") else {
         return;
     };
     let mesh = read_det(&path).unwrap();
-    assert_eq!((mesh.vertices.len(), mesh.polygons.len()), (8, 6));
-    assert_eq!(mesh.vertices[0], DVec3::splat(-1.0));
-    assert_eq!(mesh.vertices[6], DVec3::splat(1.0));
-    assert_eq!(mesh.polygons[0], vec![4, 7, 6, 5]);
-    assert_eq!(mesh.polygons[5], vec![0, 3, 7, 4]);
+    assert_eq!(mesh, det(CUBE_DET).unwrap());
     assert_clockwise_from_outside(&mesh);
 }
 
@@ -374,12 +402,8 @@ fn wrong_token_is_located_exactly() {
 
 #[test]
 fn index_out_of_range_is_located() {
-    let Some(path) = shared_det("cube.det") else {
-        return;
-    };
-    let text = fs::read_to_string(path).unwrap();
     // The third polygon is line 14: `4 1 5 6 2`.
-    let text = text.replace("4 1 5 6 2", "4 1 5 9 2");
+    let text = CUBE_DET.replace("4 1 5 6 2", "4 1 5 9 2");
     assert_eq!(
         place(det(&text).unwrap_err()),
         (
@@ -591,13 +615,24 @@ fn unit_cube_in_obj_ply_and_stl_is_clockwise_after_import() {
 
 #[test]
 fn obj_and_ply_faces_are_reversed_but_kept_whole() {
-    // The files list the bottom face as 1 4 3 2 (OBJ) / 0 3 2 1 (PLY).
+    // Both files list the bottom face as (0,0,0) (0,1,0) (1,1,0) (1,0,0).
+    let bottom_clockwise = [DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y, DVec3::ZERO];
     for name in ["cube.obj", "cube.ply"] {
         let mesh = read_mesh(&fixture(name)).unwrap();
-        assert_eq!(mesh.vertices[6], DVec3::ONE, "{name}");
-        assert_eq!(mesh.polygons[0], vec![1, 2, 3, 0], "{name}");
-        assert_eq!(mesh.polygons[5], vec![5, 6, 2, 1], "{name}");
+        let bottom: Vec<DVec3> = mesh.polygons[0]
+            .iter()
+            .map(|&i| mesh.vertices[i as usize])
+            .collect();
+        assert_eq!(bottom, bottom_clockwise, "{name}");
     }
+    // PLY keeps the file's vertex order; tobj numbers OBJ vertices in the
+    // order of their first use.
+    let ply = read_mesh(&fixture("cube.ply")).unwrap();
+    assert_eq!(ply.polygons[0], vec![1, 2, 3, 0]);
+    assert_eq!(ply.polygons[5], vec![5, 6, 2, 1]);
+    let obj = read_mesh(&fixture("cube.obj")).unwrap();
+    assert_eq!(obj.polygons[0], vec![3, 2, 1, 0]);
+    assert_eq!(obj.vertices[1], DVec3::Y);
 }
 
 #[test]

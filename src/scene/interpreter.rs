@@ -478,7 +478,7 @@ impl Interpreter {
                     Some(_) => return Err(ctx.error(&args[7], "expected `Point` or `Diffuse`")),
                 };
                 if !position.is_finite() {
-                    return Err(ctx.error(cmd, "the light's transformed position is not finite"));
+                    return Err(ctx.error(cmd, "the light's position is not finite after transformation by the CTM (a projection is still on the CTM, or a number overflowed)"));
                 }
                 self.scene.lights.push(Light {
                     position,
@@ -1125,7 +1125,7 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
         .collect();
     if let Some(i) = vertices.iter().position(|v| !v.is_finite()) {
         return Err(format!(
-            "object `{name}`: vertex {} is not finite after transformation (overflow or a singular projection)",
+            "object `{name}`: vertex {} is not finite after transformation by the CTM (a projection is still on the CTM, or a number overflowed; scenes usually `pushmatrix` and `ident` before defining objects)",
             i + 1
         ));
     }

@@ -5,6 +5,11 @@
 //! a [`Mesh`] lists them clockwise, as `.det` files do, so every polygon's
 //! index order is reversed on import. Polygons are kept as given (no
 //! triangulation); OBJ points and lines are not surfaces and are skipped.
+//!
+//! PLY and STL vertices keep the file's order (STL shares equal corners).
+//! OBJ vertices are numbered by tobj in the order of their first use in each
+//! object, and unused ones are dropped: a vertex colour table for an OBJ
+//! mesh must follow that order.
 
 use std::io::Cursor;
 use std::path::Path;
@@ -257,5 +262,59 @@ mod tests {
     #[test]
     fn clockwise_reverses_the_order() {
         assert_eq!(clockwise(vec![0, 1, 2, 3]), vec![3, 2, 1, 0]);
+    }
+
+    #[test]
+    fn obj_objects_are_merged_with_offsets() {
+        let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
+            o a\nf 1 2 3\no b\nf 1 3 4 2\np 1\nl 1 2\n";
+        let mesh = read_obj(text, Path::new("m.obj")).unwrap();
+        assert_eq!(mesh.vertices.len(), 7);
+        assert_eq!(mesh.polygons, vec![vec![2, 1, 0], vec![6, 5, 4, 3]]);
+        assert_eq!(mesh.vertices[5], DVec3::Z);
+        assert_eq!(mesh.vertices[6], DVec3::X);
+    }
+
+    #[test]
+    fn obj_triangles_only_have_no_arities() {
+        let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n";
+        let mesh = read_obj(text, Path::new("m.obj")).unwrap();
+        assert_eq!(mesh.polygons, vec![vec![2, 1, 0], vec![2, 3, 1]]);
+    }
+
+    #[test]
+    fn check_mesh_refuses_what_the_crates_allow() {
+        let path = Path::new("m.stl");
+        let mut mesh = Mesh {
+            vertices: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+            polygons: vec![vec![0, 1, 2]],
+        };
+        assert!(check_mesh(&mesh, path).is_ok());
+        mesh.polygons[0][2] = 3;
+        let err = check_mesh(&mesh, path).unwrap_err();
+        assert!(err.to_string().contains("vertex index 3"), "{err}");
+        mesh.polygons[0] = vec![0, 1];
+        assert!(check_mesh(&mesh, path).is_err());
+        mesh.polygons.clear();
+        mesh.vertices[1].y = f64::INFINITY;
+        let err = check_mesh(&mesh, path).unwrap_err();
+        assert_eq!(err.to_string(), "m.stl: non-finite number in vertex 2");
+    }
+
+    #[test]
+    fn binary_stl_is_read() {
+        let triangle = stl_io::Triangle {
+            normal: stl_io::Normal::new([0.0, 0.0, 1.0]),
+            vertices: [
+                stl_io::Vertex::new([0.0, 0.0, 0.0]),
+                stl_io::Vertex::new([1.0, 0.0, 0.0]),
+                stl_io::Vertex::new([0.0, 1.0, 0.0]),
+            ],
+        };
+        let mut bytes = Vec::new();
+        stl_io::write_stl(&mut bytes, [triangle].iter()).unwrap();
+        let mesh = read_stl(&bytes, Path::new("t.stl")).unwrap();
+        assert_eq!(mesh.vertices[1], DVec3::X);
+        assert_eq!(mesh.polygons, vec![vec![2, 1, 0]]);
     }
 }

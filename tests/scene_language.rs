@@ -1,0 +1,321 @@
+//! The effect of every command of the scene descriptor language on the
+//! scene model (004 appendix, plytrace manual page), and the IRIS GL matrix
+//! conventions checked against hand-worked numbers.
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use plytrace::error::Result;
+use plytrace::math::Matrix4;
+use plytrace::scene::model::*;
+use plytrace::scene::{Flow, Host, Interpreter, NoHost, Scene};
+
+const SQUARE: &str = "title square facing +z\ndata\n4 1\n-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n4 4 3 2 1\n";
+const TRIANGLE: &str = "title triangle\ndata\n3 1\n0 0 0\n0 1 0\n1 0 0\n3 1 2 3\n";
+
+struct Fixture {
+    dir: tempfile::TempDir,
+}
+
+impl Fixture {
+    fn new() -> Fixture {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("det")).unwrap();
+        std::fs::write(dir.path().join("det/square.det"), SQUARE).unwrap();
+        std::fs::write(dir.path().join("det/tri.det"), TRIANGLE).unwrap();
+        let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/det/cube.det");
+        std::fs::copy(cube, dir.path().join("det/cube.det")).unwrap();
+        Fixture { dir }
+    }
+
+    fn write(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    fn run(&self, text: &str) -> Result<Interpreter> {
+        let mut i = Interpreter::new();
+        self.run_with(&mut i, text, &mut NoHost)?;
+        Ok(i)
+    }
+
+    /// Runs `text` after an `ident`, so that objects are not transformed by
+    /// the default perspective that `init` leaves on the CTM.
+    fn run_with(&self, i: &mut Interpreter, text: &str, host: &mut dyn Host) -> Result<Flow> {
+        let p = self.write("t.des", &format!("ident\n{text}"));
+        i.execute_file(&p, false, host)
+    }
+
+    fn scene(&self, text: &str) -> Scene {
+        self.run(text).unwrap().scene()
+    }
+}
+
+fn close(a: DVec3, b: DVec3) -> bool {
+    (a - b).length() < 1e-9
+}
+
+fn mat_close(a: &Matrix4, b: &Matrix4) -> bool {
+    (0..4).all(|r| (0..4).all(|c| (a.m[r][c] - b.m[r][c]).abs() < 1e-12))
+}
+
+#[test]
+fn global_and_object_attributes() {
+    let f = Fixture::new();
+    let s = f.scene(
+        "ambient 0.1 0.2 0.3\nbackground 0.4 0.5 0.6\ncolor 0.5 0.5 0\ndiffuse 0.3\nspecular 0.2\n\
+         shininess 120\nreflectance 0.25\ntransmittance 0.125\nindex 1.5\ntransparency 0.5 2\n\
+         type polygon open concave\n\
+         defobj square\n  color 0 0 1\n  diffuse 0.9\n  type polygon curved hidden ltsrc\nendobj\n\
+         getobj tri\n",
+    );
+    assert_eq!(s.ambient, DVec3::new(0.1, 0.2, 0.3));
+    assert_eq!(s.background, DVec3::new(0.4, 0.5, 0.6));
+    let sq = &s.objects[0];
+    assert_eq!(sq.surface.color, DVec3::new(0.0, 0.0, 1.0));
+    assert_eq!(sq.surface.diffuse, 0.9);
+    assert_eq!(sq.surface.specular, 0.2, "inherited from the globals");
+    assert_eq!(
+        sq.surface_type,
+        SurfaceType {
+            open: false,
+            curved: true,
+            concave: false,
+            hidden: true,
+            ltsrc: true
+        }
+    );
+    assert!(sq.vertex_normals.is_some(), "type curved computes vertex normals");
+    let tri = &s.objects[1];
+    assert_eq!(
+        tri.surface,
+        Surface {
+            color: DVec3::new(0.5, 0.5, 0.0),
+            diffuse: 0.3,
+            specular: 0.2,
+            shininess: 120.0,
+            reflectance: 0.25,
+            transmittance: 0.125,
+            index: 1.5,
+            transparency: (0.5, 2.0),
+        },
+        "the object attributes did not leak into the globals"
+    );
+    assert!(tri.surface_type.open && tri.surface_type.concave && !tri.surface_type.curved);
+    assert!(tri.vertex_normals.is_none());
+}
+
+#[test]
+fn object_numbers_callobj_and_delobj() {
+    let f = Fixture::new();
+    let s = f.scene(
+        "defobj square 7\nendobj\ngetobj tri\ngetobj tri\n\
+         defobj anything\n  callobj 7\n  translate 10 0 0\nendobj\ncallobj 1\ndelobj 0, 2\n",
+    );
+    let numbers: Vec<u32> = s.objects.iter().map(|o| o.number).collect();
+    // 7 given; then the lowest free numbers 0, 1, 2, 3; 0 and 2 deleted.
+    assert_eq!(numbers, vec![7, 1, 3]);
+    let copy = &s.objects[2];
+    assert_eq!(copy.mesh.vertices.len(), 3, "callobj 1 copied the triangle");
+    // `anything` (number 2) copied the square and was moved; it is deleted,
+    // but the copy relation is visible through the mesh being shared.
+    let f2 = Fixture::new();
+    let s2 = f2.scene("defobj square 7\nendobj\ndefobj nofile\n callobj 7\n translate 10 0 0\nendobj\n");
+    assert!(std::sync::Arc::ptr_eq(&s2.objects[0].mesh, &s2.objects[1].mesh));
+    assert!(close(s2.objects[1].vertices[0], DVec3::new(9.0, -1.0, 0.0)));
+}
+
+#[test]
+fn matrix_commands_premultiply_and_projections_load() {
+    let f = Fixture::new();
+    let i = f.run("ident\ntranslate 1 2 3\nrotate 90 z\nscale 2 2 2\n").unwrap();
+    // Points: scale first, then rotate, then translate.
+    let p = i.ctm().transform_point(DVec3::new(1.0, 0.0, 0.0));
+    assert!(close(p, DVec3::new(1.0, 4.0, 3.0)), "{p}");
+    let i = f.run("translate 5 5 5\nperspective 60 2 1 10\n").unwrap();
+    assert!(mat_close(&i.ctm(), &plytrace::math::perspective(60.0, 2.0, 1.0, 10.0)));
+    let i = f.run("translate 5 5 5\northo -1 1 -2 2 0 10\n").unwrap();
+    assert!(mat_close(&i.ctm(), &plytrace::math::ortho(-1.0, 1.0, -2.0, 2.0, 0.0, 10.0)));
+    let i = f.run("translate 5 5 5\northo2 -1 1 -2 2\n").unwrap();
+    assert!(mat_close(&i.ctm(), &plytrace::math::ortho2(-1.0, 1.0, -2.0, 2.0)));
+    let i = f.run("translate 5 5 5\nwindow -1 1 -1 1 1 10\n").unwrap();
+    assert!(mat_close(&i.ctm(), &plytrace::math::window(-1.0, 1.0, -1.0, 1.0, 1.0, 10.0)));
+    let i = f.run("translate 5 5 5\nresolution 640 480\n").unwrap();
+    assert!(mat_close(&i.ctm(), &plytrace::math::perspective(45.0, 640.0 / 480.0, 0.01, 10000.0)));
+    let s = i.scene();
+    assert_eq!((s.viewport.width(), s.viewport.height()), (640, 480));
+    assert_eq!((s.viewport.left, s.viewport.bottom), (192, 272), "centred on 1024 x 1024");
+    let s = f.scene("viewport 10 109 20 69\n");
+    assert_eq!((s.viewport.width(), s.viewport.height()), (100, 50));
+    // pushmatrix duplicates, popmatrix restores; defobj saves and restores.
+    let i = f.run("ident\npushmatrix\ntranslate 1 0 0\npopmatrix\ndefobj square\nscale 3 3 3\nendobj\n").unwrap();
+    assert!(mat_close(&i.ctm(), &Matrix4::IDENTITY));
+    assert_eq!(i.stack_depth(), 0);
+    // lookat: the viewpoint goes to the origin.
+    let i = f.run("ident\nlookat 0 -10 0 0 0 0 0\n").unwrap();
+    assert!(close(i.ctm().transform_point(DVec3::new(0.0, -10.0, 0.0)), DVec3::ZERO));
+    assert!(close(i.ctm().transform_point(DVec3::ZERO), DVec3::new(0.0, 0.0, -10.0)));
+}
+
+/// The manual's ccube: the cut cube's corner (1,-1,-1) worked by hand
+/// through `rotate 30 z`, `translate 0 0 1.05` (the object's CTM), then
+/// `translate 0 0 -1` and `polarview 7 0 75 0` (the view).
+#[test]
+fn ccube_vertex_hand_worked() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ccube.des");
+    let (s, warnings) = plytrace::scene::load(&path).unwrap();
+    assert!(warnings.is_empty());
+    let (s30, c30) = 30f64.to_radians().sin_cos();
+    // rotate 30 z, then translate (0, 0, 1.05), then translate (0, 0, -1):
+    let p = DVec3::new(c30 + s30, s30 - c30, -1.0 + 1.05 - 1.0);
+    // polarview: rotate -75 about x (y' = y cos - z sin, z' = y sin + z cos
+    // with the angle -75), then translate (0, 0, -7).
+    let (s75, c75) = (-75f64).to_radians().sin_cos();
+    let expected = DVec3::new(p.x, p.y * c75 - p.z * s75, p.y * s75 + p.z * c75 - 7.0);
+    let cutcube = &s.objects[1];
+    assert!(close(cutcube.vertices[1], expected), "{} vs {expected}", cutcube.vertices[1]);
+    // The light (-4,-2,6) is transformed by the view when read.
+    let q = DVec3::new(-4.0, -2.0, 6.0 - 1.0);
+    let light = DVec3::new(q.x, q.y * c75 - q.z * s75, q.y * s75 + q.z * c75 - 7.0);
+    assert!(close(s.lights[0].position, light));
+    assert_eq!(s.lights[0].kind, LightKind::Point);
+    assert_eq!(s.lights[1].kind, LightKind::Diffuse);
+    assert_eq!((s.lights[1].range, s.lights[1].color), (50.0, DVec3::splat(0.5)));
+    // The projection left at the end is the perspective.
+    assert!(mat_close(&s.projection, &plytrace::math::perspective(45.0, 1.0, 0.01, 1000.0)));
+    assert_eq!(s.fname.as_deref(), Some("ccube"));
+}
+
+#[test]
+fn lights_modes_and_settings() {
+    let f = Fixture::new();
+    let s = f.scene(
+        "light 1 2 3 1 1 1 10\nlight 0 0 0 0.5 0.5 0.5 5 d\nnolight\nlight 0 0 1 1 0 0 9 Diffuse\n\
+         depth 5\nthreshold 0.25\nsort ftb\nfname pic\ndisp off\noutmode a 3\n\
+         setmode b on\nsetmode d 0.01\nsetmode e 1e-5\nsetmode h on\nsetmode n on\nsetmode o on\n\
+         setmode p on\nsetmode s on\nsetmode v on\nsetmode x on\nsetmode 7\n",
+    );
+    assert_eq!(s.lights.len(), 1);
+    assert_eq!(s.lights[0].kind, LightKind::Diffuse);
+    assert_eq!(s.modes.max_level, 5);
+    assert_eq!(s.threshold, 0.25);
+    assert_eq!(s.sort_order, SortOrder::FrontToBack);
+    assert_eq!(s.fname.as_deref(), Some("pic"));
+    assert!(!s.display);
+    assert_eq!(s.outmode, OutMode::Quantized(3));
+    let m = s.modes;
+    assert!(m.blend && m.shadow_shades && m.nns && m.output_tree && m.boxes_only && m.phong && m.vertex_shades && m.expand);
+    assert_eq!((m.min_detail, m.epsilon, m.debug), (0.01, 1e-5, 7));
+    let s = f.scene("setmode l 9\nsetmode n on\nsetmode n off\n");
+    assert_eq!(s.modes.max_level, 9);
+    assert!(!s.modes.nns);
+}
+
+#[test]
+fn command_line_modes_override_the_file() {
+    let f = Fixture::new();
+    let mut i = Interpreter::new();
+    i.force_mode('n', "on").unwrap();
+    i.force_mode('l', "3").unwrap();
+    f.run_with(&mut i, "setmode n off\ndepth 7\ninit\n", &mut NoHost).unwrap();
+    let s = i.scene();
+    assert!(s.modes.nns);
+    assert_eq!(s.modes.max_level, 3);
+    assert!(i.force_mode('n', "maybe").is_err());
+    assert!(i.force_mode('l', "15").is_err());
+}
+
+#[derive(Default)]
+struct Recorder {
+    runs: Vec<(usize, bool)>,
+    clears: usize,
+    waits: usize,
+}
+
+impl Host for Recorder {
+    fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
+        self.runs.push((scene.objects.len(), shadows));
+        Ok(())
+    }
+    fn clear(&mut self, _: &Scene) {
+        self.clears += 1;
+    }
+    fn wait(&mut self) {
+        self.waits += 1;
+    }
+}
+
+#[test]
+fn run_clear_wait_and_quit_reach_the_host() {
+    let f = Fixture::new();
+    let mut i = Interpreter::new();
+    let mut h = Recorder::default();
+    let flow = f
+        .run_with(&mut i, "getobj tri\nrun\nclear\nrun y\nwait\nquit\ngetobj tri\n", &mut h)
+        .unwrap();
+    assert_eq!(flow, Flow::Quit);
+    assert_eq!(h.runs, vec![(1, false), (1, true)]);
+    assert_eq!((h.clears, h.waits), (1, 1));
+    assert_eq!(i.scene().objects.len(), 1, "nothing after quit is read");
+}
+
+#[test]
+fn get_initializes_and_call_does_not() {
+    let f = Fixture::new();
+    f.write("sub.des", "ident\ngetobj tri\n");
+    let s = f.scene("getobj square\ncolor 0 1 0\ncall sub.des\n");
+    assert_eq!(s.objects.len(), 2);
+    assert_eq!(s.objects[1].surface.color, DVec3::new(0.0, 1.0, 0.0));
+    let s = f.scene("getobj square\ncolor 0 1 0\nget sub.des\n");
+    assert_eq!(s.objects.len(), 1, "get begins with init");
+    assert_eq!(s.objects[0].surface.color, DVec3::ONE);
+    let s = f.scene("getobj square\nbackground 1 1 1\ninit\n");
+    assert!(s.objects.is_empty() && s.background == DVec3::ZERO);
+}
+
+#[test]
+fn det_dir_pcolors_and_vcolors() {
+    let f = Fixture::new();
+    std::fs::create_dir(f.dir.path().join("other")).unwrap();
+    std::fs::write(f.dir.path().join("other/sq.det"), SQUARE).unwrap();
+    std::fs::write(f.dir.path().join("other/sq.pcl"), "title p\ndata 1\n0.1 0.2 0.3 0.4 0.5 0.25\n").unwrap();
+    std::fs::write(
+        f.dir.path().join("other/sq.vcl"),
+        "title v\ndata 4\n1 0 0 0 0 0\n0 1 0 0 0 0\n0 0 1 0 0 0\n1 1 1 0 0 0\n",
+    )
+    .unwrap();
+    let s = f.scene("det_dir other\ndefobj sq\npcolors sq\nvcolors sq\nendobj\n");
+    let o = &s.objects[0];
+    let p = o.polygon_colors.as_ref().unwrap();
+    assert_eq!(p[0].color, DVec3::new(0.1, 0.2, 0.3));
+    assert_eq!((p[0].diffuse, p[0].reflectance, p[0].transmittance), (0.4, 0.5, 0.25));
+    assert_eq!(o.vertex_colors.as_ref().unwrap().len(), 4);
+    // The material of the polygon follows its .pcl entry.
+    let m = plytrace::render::polygon_material(o, 0);
+    assert_eq!(m.color, DVec3::new(0.1, 0.2, 0.3));
+    assert!((m.ambient_coefficient() - 0.0).abs() < 1e-12);
+}
+
+#[test]
+fn prefixes_case_and_separators() {
+    let f = Fixture::new();
+    let s = f.scene("BACKGR 0.5,0.25,0 # comment\n/* block\n comment */ TRANSL 1 2 3\nGETO tri\n");
+    assert_eq!(s.background, DVec3::new(0.5, 0.25, 0.0));
+    assert!(close(s.objects[0].vertices[0], DVec3::new(1.0, 2.0, 3.0)));
+}
+
+#[test]
+fn clockwise_polygons_face_outward_and_mirrors_keep_them_so() {
+    let f = Fixture::new();
+    let s = f.scene("getobj cube\ndefobj cube\nscale -1 1 1\nendobj\n");
+    for o in &s.objects {
+        for p in &o.polygons {
+            let centroid: DVec3 =
+                p.indices.iter().map(|&i| o.vertices[i as usize]).sum::<DVec3>() / p.indices.len() as f64;
+            assert!(p.normal().dot(centroid) > 0.0, "outward normal for the cube centred at 0");
+            assert!((p.normal().length() - 1.0).abs() < 1e-12);
+            assert!((p.plane.truncate().dot(centroid) + p.plane.w).abs() < 1e-12, "centroid on the plane");
+        }
+    }
+}

@@ -1,0 +1,158 @@
+//! Test support: an independent ray-cast oracle. For each pixel centre it
+//! casts the ray between the near and far planes (found by inverting the
+//! projection with Gauss-Jordan elimination, not through the renderer's
+//! clipper or viewport code) and returns the nearest polygon hit. Brute
+//! force over all polygons: small scenes and images only.
+#![allow(dead_code)]
+
+use glam::{DVec3, DVec4};
+use plytrace::math::Matrix4;
+use plytrace::scene::Scene;
+
+/// Inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting.
+pub fn invert(m: &Matrix4) -> Option<Matrix4> {
+    let mut a = m.m;
+    let mut inv = Matrix4::IDENTITY.m;
+    for col in 0..4 {
+        let pivot = (col..4).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        if a[pivot][col].abs() < 1e-300 {
+            return None;
+        }
+        a.swap(col, pivot);
+        inv.swap(col, pivot);
+        let p = a[col][col];
+        for k in 0..4 {
+            a[col][k] /= p;
+            inv[col][k] /= p;
+        }
+        for r in 0..4 {
+            if r != col {
+                let f = a[r][col];
+                for k in 0..4 {
+                    a[r][k] -= f * a[col][k];
+                    inv[r][k] -= f * inv[col][k];
+                }
+            }
+        }
+    }
+    Some(Matrix4::from_rows(inv))
+}
+
+fn unproject(inv: &Matrix4, x: f64, y: f64, z: f64) -> DVec3 {
+    let p = inv.transform(DVec4::new(x, y, z, 1.0));
+    p.truncate() / p.w
+}
+
+/// Whether `p` (on the polygon's plane) is inside the polygon, by the
+/// even-odd rule in the projection that drops the normal's largest axis.
+fn inside(points: &[DVec3], normal: DVec3, p: DVec3) -> bool {
+    let a = normal.abs();
+    let (u, v) = if a.x >= a.y && a.x >= a.z {
+        (1, 2)
+    } else if a.y >= a.z {
+        (2, 0)
+    } else {
+        (0, 1)
+    };
+    let g = |q: DVec3| (q.to_array()[u], q.to_array()[v]);
+    let (px, py) = g(p);
+    let mut odd = false;
+    for i in 0..points.len() {
+        let (ax, ay) = g(points[i]);
+        let (bx, by) = g(points[(i + 1) % points.len()]);
+        if (ay > py) != (by > py) && px < ax + (py - ay) * (bx - ax) / (by - ay) {
+            odd = !odd;
+        }
+    }
+    odd
+}
+
+/// The nearest (object index, polygon index) at each pixel centre, rows from
+/// the top. Polygons seen from behind are skipped unless the object is
+/// `type open`, as in the renderer.
+pub fn oracle_ids(scene: &Scene, width: u32, height: u32) -> Vec<Option<(u32, u32)>> {
+    let inv = invert(&scene.projection).expect("invertible projection");
+    let mut out = Vec::with_capacity((width * height) as usize);
+    for row in 0..height {
+        for col in 0..width {
+            let x = (col as f64 + 0.5) / width as f64 * 2.0 - 1.0;
+            let y = 1.0 - (row as f64 + 0.5) / height as f64 * 2.0;
+            let o = unproject(&inv, x, y, -1.0);
+            let d = unproject(&inv, x, y, 1.0) - o;
+            let mut best: Option<(f64, (u32, u32))> = None;
+            for (oi, obj) in scene.objects.iter().enumerate() {
+                if obj.surface_type.hidden {
+                    continue;
+                }
+                for (pi, poly) in obj.polygons.iter().enumerate() {
+                    let n = poly.normal();
+                    let denom = n.dot(d);
+                    if denom == 0.0 || (denom > 0.0 && !obj.surface_type.open) {
+                        continue;
+                    }
+                    let t = -(n.dot(o) + poly.plane.w) / denom;
+                    if !(0.0..=1.0).contains(&t) || best.is_some_and(|(bt, _)| bt <= t) {
+                        continue;
+                    }
+                    let pts: Vec<DVec3> = poly.indices.iter().map(|&i| obj.vertices[i as usize]).collect();
+                    if inside(&pts, n, o + d * t) {
+                        best = Some((t, (oi as u32, pi as u32)));
+                    }
+                }
+            }
+            out.push(best.map(|b| b.1));
+        }
+    }
+    out
+}
+
+/// Pixels (x, y from the top) whose 3x3 neighbourhood in `oracle` holds one
+/// single value, where `painted` differs from it.
+pub fn mismatches(
+    oracle: &[Option<(u32, u32)>],
+    painted: &[Option<(u32, u32)>],
+    width: u32,
+    height: u32,
+) -> (usize, Vec<(u32, u32)>) {
+    let mut checked = 0;
+    let mut bad = Vec::new();
+    for y in 0..height {
+        for x in 0..width {
+            let here = oracle[(y * width + x) as usize];
+            let uniform = (-1i64..=1).all(|dy| {
+                (-1i64..=1).all(|dx| {
+                    let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                    if nx < 0 || ny < 0 || nx >= width as i64 || ny >= height as i64 {
+                        return true;
+                    }
+                    oracle[(ny as u32 * width + nx as u32) as usize] == here
+                })
+            });
+            if !uniform {
+                continue;
+            }
+            checked += 1;
+            if painted[(y * width + x) as usize] != here {
+                bad.push((x, y));
+            }
+        }
+    }
+    (checked, bad)
+}
+
+/// The renderer's id image as (object index, polygon index) per pixel.
+pub fn painted_ids(r: &plytrace::render::Rendered) -> Vec<Option<(u32, u32)>> {
+    let f = &r.frame;
+    (0..f.height)
+        .flat_map(|y| (0..f.width).map(move |x| (x, y)))
+        .map(|(x, y)| r.polygon_at(x, y))
+        .collect()
+}
+
+/// Path of a scene in `../shared/scenes`, if that folder exists.
+pub fn shared_scene(name: &str) -> Option<std::path::PathBuf> {
+    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/scenes")
+        .join(name);
+    p.is_file().then_some(p)
+}
