@@ -363,7 +363,6 @@ fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
             }
         }
     }
-    drop(execute);
     if failed && !on_terminal {
         ExitCode::FAILURE
     } else {

@@ -146,7 +146,7 @@ impl Matrix4 {
             -det3([0, 1, 2]),
         );
         let scale = e.abs().max_element();
-        if !(scale > 0.0) || !scale.is_finite() {
+        if !scale.is_finite() || scale <= 0.0 || scale.is_nan() {
             return None;
         }
         let mut e = e / scale;

@@ -122,7 +122,7 @@ fn front_to_back_and_back_to_front_agree_on_separated_polygons() {
     assert_eq!(differing, 0);
     // The centre pixel shows the near (red) square, object 0.
     assert_eq!(a.polygon_at(32, 32), Some((0, 0)));
-    assert_eq!(a.frame.color == b.frame.color, true);
+    assert!(a.frame.color == b.frame.color);
     let oracle = support::oracle_ids(&scene, 64, 64);
     let (_, bad) = support::mismatches(&oracle, &ia, 64, 64);
     assert_eq!(bad.len(), 0);

@@ -70,7 +70,8 @@ pub fn outward_plane(points: &[DVec3]) -> Result<DVec4, PolygonDefect> {
     // Clockwise from outside: reverse for the right-hand rule.
     let n = newell_vector(points.iter().rev().copied());
     let len = n.length();
-    if !(len > precision::DEGENERATE_AREA * diam * diam) {
+    // Written so that NaN counts as degenerate.
+    if len.partial_cmp(&(precision::DEGENERATE_AREA * diam * diam)) != Some(std::cmp::Ordering::Greater) {
         return Err(PolygonDefect::ZeroArea);
     }
     let normal = n / len;

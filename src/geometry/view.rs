@@ -88,7 +88,7 @@ impl View {
         }
     }
 
-    fn to_screen(&self, c: DVec4) -> DVec3 {
+    fn screen_point(&self, c: DVec4) -> DVec3 {
         let inv = 1.0 / c.w;
         DVec3::new(
             (c.x * inv + 1.0) * 0.5 * self.width,
@@ -183,7 +183,7 @@ pub fn expand_object(
         } else {
             points
         };
-        let screen: Vec<DVec3> = points.iter().map(|p| view.to_screen(p.clip)).collect();
+        let screen: Vec<DVec3> = points.iter().map(|p| view.screen_point(p.clip)).collect();
         if is_below_detail(&screen, view) {
             stats.too_small += 1;
             continue;

@@ -924,7 +924,7 @@ impl Interpreter {
                 )
             }
             None => {
-                let path = self.find_object_file(&active, cmd, ctx)?;
+                let path = self.find_object_file(&active)?;
                 let mesh = if path
                     .extension()
                     .is_some_and(|e| e.eq_ignore_ascii_case("det"))
@@ -1026,12 +1026,7 @@ impl Interpreter {
         dirs
     }
 
-    fn find_object_file(
-        &self,
-        active: &ActiveObject,
-        cmd: &Token,
-        ctx: &Context,
-    ) -> Result<PathBuf> {
+fn find_object_file(&self, active: &ActiveObject) -> Result<PathBuf> {
         let mut tried = Vec::new();
         for dir in self.det_dirs(active) {
             for ext in std::iter::once("det").chain(mesh_import::MESH_EXTENSIONS.iter().copied()) {
@@ -1051,10 +1046,6 @@ impl Interpreter {
                 tried.join(", ")
             ),
         ))
-        .map_err(|e| {
-            let _ = (cmd, ctx);
-            e
-        })
     }
 
     fn read_colors(

@@ -54,7 +54,7 @@ fn bucket_sort(keys: &[f64]) -> Vec<usize> {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &k| {
             (lo.min(k), hi.max(k))
         });
-    if !(hi > lo) {
+    if hi <= lo || hi.is_nan() || lo.is_nan() {
         return (0..n).collect();
     }
     let scale = n as f64 / (hi - lo);
