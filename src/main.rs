@@ -253,6 +253,21 @@ impl Host for CliHost {
 
     fn clear(&mut self, _scene: &Scene) {}
 
+    fn scanning(&mut self, file: &Path) {
+        self.say(&format!("Scanning descriptor file {}", file.display()));
+        self.scene_stem = file.file_stem().map(|s| s.to_string_lossy().into_owned());
+    }
+
+    fn scanned(&mut self, _file: &Path, scene: &Scene, elapsed: Duration) {
+        self.say(&format!(
+            "{} objects, {} points, {} polygons",
+            scene.objects.len(),
+            scene.point_count(),
+            scene.polygon_count()
+        ));
+        self.say(&hms(elapsed));
+    }
+
     fn wait(&mut self) {
         if self.interactive && std::io::stdin().is_terminal() {
             print!("Press return to continue.");
@@ -275,18 +290,11 @@ fn print_warnings(interp: &mut Interpreter) {
 
 fn load_scene(interp: &mut Interpreter, host: &mut CliHost, path: &Path) -> Result<Flow> {
     let start = Instant::now();
-    host.say(&format!("Scanning descriptor file {}", path.display()));
+    host.scanning(path);
     let flow = interp.execute_file(path, true, host);
     print_warnings(interp);
     let flow = flow?;
-    let scene = interp.scene();
-    host.say(&format!(
-        "{} objects, {} points, {} polygons",
-        scene.objects.len(),
-        scene.point_count(),
-        scene.polygon_count()
-    ));
-    host.say(&hms(start.elapsed()));
+    host.scanned(path, &interp.scene(), start.elapsed());
     Ok(flow)
 }
 
@@ -298,28 +306,15 @@ fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
     // Runs one line; errors are reported and remembered, the session goes on.
     let mut execute =
         |interp: &mut Interpreter, host: &mut CliHost, line: &str, line_no: usize| -> Flow {
-            // A `get` prints the counts as the manual's sample session does.
-            let words: Vec<&str> = line
-                .split([' ', '\t', ','])
-                .filter(|w| !w.is_empty())
-                .collect();
-            if words.len() == 2 && words[0].eq_ignore_ascii_case("get") {
-                return match load_scene(interp, host, Path::new(words[1])) {
-                    Ok(f) => f,
-                    Err(e) => {
-                        report(&e);
-                        failed = true;
-                        Flow::Continue
-                    }
-                };
-            }
             let result = interp.execute_source(line, stdin_label, Path::new("."), host);
             print_warnings(interp);
             match result {
                 Ok(f) => f,
                 Err(Error::Input(mut d)) => {
-                    if d.location.file == stdin_label {
-                        d.location.line = line_no;
+                    for loc in std::iter::once(&mut d.location).chain(d.included_from.iter_mut()) {
+                        if loc.file == stdin_label {
+                            loc.line = line_no;
+                        }
                     }
                     report(&Error::Input(d));
                     failed = true;

@@ -41,6 +41,10 @@ pub trait Host {
     fn clear(&mut self, _scene: &Scene) {}
     /// `wait`.
     fn wait(&mut self) {}
+    /// A `get` is about to read `file`.
+    fn scanning(&mut self, _file: &Path) {}
+    /// A `get` of `file` finished; `scene` is the result.
+    fn scanned(&mut self, _file: &Path, _scene: &Scene, _elapsed: std::time::Duration) {}
 }
 
 /// A host that ignores `run`, `clear` and `wait` (for building scenes).
@@ -357,8 +361,24 @@ impl Interpreter {
             "call" | "get" => {
                 a.count(1, 1)?;
                 let path = resolve(&ctx.dir, &args[0].text);
-                let result = self.execute_file(&path, spec.name == "get", host);
-                return result.map_err(|e| included_from(e, ctx.location(&args[0]), &args[0], ctx));
+                let canonical = path.canonicalize().unwrap_or_else(|_| path.clone());
+                if self.files.contains(&canonical) {
+                    return Err(ctx.error(
+                        &args[0],
+                        format!("`{}` is already being read: a `get`/`call` cycle", args[0].text),
+                    ));
+                }
+                let get = spec.name == "get";
+                let start = std::time::Instant::now();
+                if get {
+                    host.scanning(&path);
+                }
+                let result = self.execute_file(&path, get, host);
+                let flow = result.map_err(|e| included_from(e, ctx.location(&args[0]), &args[0], ctx))?;
+                if get {
+                    host.scanned(&path, &self.scene(), start.elapsed());
+                }
+                return Ok(flow);
             }
             "callobj" => {
                 a.count(1, 1)?;
@@ -1213,6 +1233,9 @@ fn linear_determinant(m: &Matrix4) -> f64 {
 fn resolve(dir: &Path, name: &str) -> PathBuf {
     let p = PathBuf::from(name);
     if p.is_absolute() {
+        return p;
+    }
+    if dir == Path::new(".") {
         return p;
     }
     let beside = dir.join(&p);
