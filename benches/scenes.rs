@@ -36,7 +36,9 @@ fn bench(c: &mut Criterion) {
         );
         let mut group = c.benchmark_group(name);
         group.sample_size(20);
-        group.bench_function("parse", |b| b.iter(|| plytrace::scene::load(&path).unwrap()));
+        group.bench_function("parse", |b| {
+            b.iter(|| plytrace::scene::load(&path).unwrap())
+        });
         let scene = plytrace::scene::load(&path).unwrap().0;
         group.bench_function("render", |b| {
             b.iter(|| render(&scene, &RenderOptions::default()).unwrap())

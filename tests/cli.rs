@@ -439,10 +439,7 @@ fn get_cycle() {
         "`a.des` is already being read: a `get`/`call` cycle",
     );
     // Then the chain back to the top.
-    for place in [
-        "included from a.des:2:6",
-        "included from scene.des:1:6",
-    ] {
+    for place in ["included from a.des:2:6", "included from scene.des:1:6"] {
         assert_stream_contains(&run, "stderr", place);
     }
 }

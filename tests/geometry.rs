@@ -67,7 +67,11 @@ proptest! {
 fn near_plane_clipping_keeps_w_positive() {
     // A triangle reaching behind the eye under a real perspective.
     let m = plytrace::math::perspective(60.0, 1.0, 0.5, 50.0);
-    let tri = [DVec3::new(0.0, 0.0, -10.0), DVec3::new(1.0, 0.0, 5.0), DVec3::new(-1.0, 0.5, 5.0)];
+    let tri = [
+        DVec3::new(0.0, 0.0, -10.0),
+        DVec3::new(1.0, 0.0, 5.0),
+        DVec3::new(-1.0, 0.5, 5.0),
+    ];
     let poly: Vec<ClipVertex> = tri
         .iter()
         .map(|&p| ClipVertex {

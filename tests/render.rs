@@ -47,7 +47,11 @@ fn ccube_pixels_match_hand_worked_shades() {
         + 0.8 * 0.6 * (6.0 / l1) * (1.0 - l1 / 100.0).powi(2)
         + 0.5 * 0.6 * (10.0 / l2) * (1.0 - l2 / 50.0).powi(2);
     assert_eq!(rgb(&r, 256, 500), [byte(table); 3]);
-    assert_eq!(r.polygon_at(256, 500), Some((0, 0)), "the table's top (polygon 1 of cube.det)");
+    assert_eq!(
+        r.polygon_at(256, 500),
+        Some((0, 0)),
+        "the table's top (polygon 1 of cube.det)"
+    );
 
     // The cut cube's face x = -1 (polygon 6 of cutcube.det) after
     // `rotate 30 z`, `translate 0 0 1.05`: normal (-cos 30, -sin 30, 0),
@@ -60,7 +64,8 @@ fn ccube_pixels_match_hand_worked_shades() {
         let d = v.length();
         intensity * 0.6 * n.dot(v / d).max(0.0) * (1.0 - d / range).powi(2)
     };
-    let green = 0.4 + term(glam::DVec3::new(-4.0, -2.0, 6.0), 0.8, 100.0)
+    let green = 0.4
+        + term(glam::DVec3::new(-4.0, -2.0, 6.0), 0.8, 100.0)
         + term(glam::DVec3::new(0.0, -10.0, 10.0), 0.5, 50.0);
     assert_eq!(r.polygon_at(175, 280), Some((1, 5)));
     assert_eq!(rgb(&r, 175, 280), [0, byte(green), 0]);
@@ -70,14 +75,29 @@ fn ccube_pixels_match_hand_worked_shades() {
 }
 
 fn assert_matches_oracle(scene: &Scene, size: u32) {
-    let r = render(scene, &RenderOptions { size: Some((size, size)), shadows: false }).unwrap();
+    let r = render(
+        scene,
+        &RenderOptions {
+            size: Some((size, size)),
+            shadows: false,
+        },
+    )
+    .unwrap();
     let mut scene = scene.clone();
     scene.viewport = plytrace::scene::model::Viewport::of_size(size, size);
     let oracle = support::oracle_ids(&scene, size, size);
     let painted = support::painted_ids(&r);
     let (checked, bad) = support::mismatches(&oracle, &painted, size, size);
-    assert!(checked > size as usize * size as usize / 2, "only {checked} pixels checked");
-    assert!(bad.is_empty(), "{} of {checked} pixels differ from the oracle, e.g. {:?}", bad.len(), &bad[..bad.len().min(5)]);
+    assert!(
+        checked > size as usize * size as usize / 2,
+        "only {checked} pixels checked"
+    );
+    assert!(
+        bad.is_empty(),
+        "{} of {checked} pixels differ from the oracle, e.g. {:?}",
+        bad.len(),
+        &bad[..bad.len().min(5)]
+    );
 }
 
 #[test]

@@ -10,7 +10,8 @@ use plytrace::math::Matrix4;
 use plytrace::scene::model::*;
 use plytrace::scene::{Flow, Host, Interpreter, NoHost, Scene};
 
-const SQUARE: &str = "title square facing +z\ndata\n4 1\n-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n4 4 3 2 1\n";
+const SQUARE: &str =
+    "title square facing +z\ndata\n4 1\n-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n4 4 3 2 1\n";
 const TRIANGLE: &str = "title triangle\ndata\n3 1\n0 0 0\n0 1 0\n1 0 0\n3 1 2 3\n";
 
 struct Fixture {
@@ -86,7 +87,10 @@ fn global_and_object_attributes() {
             ltsrc: true
         }
     );
-    assert!(sq.vertex_normals.is_some(), "type curved computes vertex normals");
+    assert!(
+        sq.vertex_normals.is_some(),
+        "type curved computes vertex normals"
+    );
     let tri = &s.objects[1];
     assert_eq!(
         tri.surface,
@@ -121,41 +125,74 @@ fn object_numbers_callobj_and_delobj() {
     // `anything` (number 2) copied the square and was moved; it is deleted,
     // but the copy relation is visible through the mesh being shared.
     let f2 = Fixture::new();
-    let s2 = f2.scene("defobj square 7\nendobj\ndefobj nofile\n callobj 7\n translate 10 0 0\nendobj\n");
-    assert!(std::sync::Arc::ptr_eq(&s2.objects[0].mesh, &s2.objects[1].mesh));
+    let s2 =
+        f2.scene("defobj square 7\nendobj\ndefobj nofile\n callobj 7\n translate 10 0 0\nendobj\n");
+    assert!(std::sync::Arc::ptr_eq(
+        &s2.objects[0].mesh,
+        &s2.objects[1].mesh
+    ));
     assert!(close(s2.objects[1].vertices[0], DVec3::new(9.0, -1.0, 0.0)));
 }
 
 #[test]
 fn matrix_commands_premultiply_and_projections_load() {
     let f = Fixture::new();
-    let i = f.run("ident\ntranslate 1 2 3\nrotate 90 z\nscale 2 2 2\n").unwrap();
+    let i = f
+        .run("ident\ntranslate 1 2 3\nrotate 90 z\nscale 2 2 2\n")
+        .unwrap();
     // Points: scale first, then rotate, then translate.
     let p = i.ctm().transform_point(DVec3::new(1.0, 0.0, 0.0));
     assert!(close(p, DVec3::new(1.0, 4.0, 3.0)), "{p}");
     let i = f.run("translate 5 5 5\nperspective 60 2 1 10\n").unwrap();
-    assert!(mat_close(&i.ctm(), &plytrace::math::perspective(60.0, 2.0, 1.0, 10.0)));
+    assert!(mat_close(
+        &i.ctm(),
+        &plytrace::math::perspective(60.0, 2.0, 1.0, 10.0)
+    ));
     let i = f.run("translate 5 5 5\northo -1 1 -2 2 0 10\n").unwrap();
-    assert!(mat_close(&i.ctm(), &plytrace::math::ortho(-1.0, 1.0, -2.0, 2.0, 0.0, 10.0)));
+    assert!(mat_close(
+        &i.ctm(),
+        &plytrace::math::ortho(-1.0, 1.0, -2.0, 2.0, 0.0, 10.0)
+    ));
     let i = f.run("translate 5 5 5\northo2 -1 1 -2 2\n").unwrap();
-    assert!(mat_close(&i.ctm(), &plytrace::math::ortho2(-1.0, 1.0, -2.0, 2.0)));
+    assert!(mat_close(
+        &i.ctm(),
+        &plytrace::math::ortho2(-1.0, 1.0, -2.0, 2.0)
+    ));
     let i = f.run("translate 5 5 5\nwindow -1 1 -1 1 1 10\n").unwrap();
-    assert!(mat_close(&i.ctm(), &plytrace::math::window(-1.0, 1.0, -1.0, 1.0, 1.0, 10.0)));
+    assert!(mat_close(
+        &i.ctm(),
+        &plytrace::math::window(-1.0, 1.0, -1.0, 1.0, 1.0, 10.0)
+    ));
     let i = f.run("translate 5 5 5\nresolution 640 480\n").unwrap();
-    assert!(mat_close(&i.ctm(), &plytrace::math::perspective(45.0, 640.0 / 480.0, 0.01, 10000.0)));
+    assert!(mat_close(
+        &i.ctm(),
+        &plytrace::math::perspective(45.0, 640.0 / 480.0, 0.01, 10000.0)
+    ));
     let s = i.scene();
     assert_eq!((s.viewport.width(), s.viewport.height()), (640, 480));
-    assert_eq!((s.viewport.left, s.viewport.bottom), (192, 272), "centred on 1024 x 1024");
+    assert_eq!(
+        (s.viewport.left, s.viewport.bottom),
+        (192, 272),
+        "centred on 1024 x 1024"
+    );
     let s = f.scene("viewport 10 109 20 69\n");
     assert_eq!((s.viewport.width(), s.viewport.height()), (100, 50));
     // pushmatrix duplicates, popmatrix restores; defobj saves and restores.
-    let i = f.run("ident\npushmatrix\ntranslate 1 0 0\npopmatrix\ndefobj square\nscale 3 3 3\nendobj\n").unwrap();
+    let i = f
+        .run("ident\npushmatrix\ntranslate 1 0 0\npopmatrix\ndefobj square\nscale 3 3 3\nendobj\n")
+        .unwrap();
     assert!(mat_close(&i.ctm(), &Matrix4::IDENTITY));
     assert_eq!(i.stack_depth(), 0);
     // lookat: the viewpoint goes to the origin.
     let i = f.run("ident\nlookat 0 -10 0 0 0 0 0\n").unwrap();
-    assert!(close(i.ctm().transform_point(DVec3::new(0.0, -10.0, 0.0)), DVec3::ZERO));
-    assert!(close(i.ctm().transform_point(DVec3::ZERO), DVec3::new(0.0, 0.0, -10.0)));
+    assert!(close(
+        i.ctm().transform_point(DVec3::new(0.0, -10.0, 0.0)),
+        DVec3::ZERO
+    ));
+    assert!(close(
+        i.ctm().transform_point(DVec3::ZERO),
+        DVec3::new(0.0, 0.0, -10.0)
+    ));
 }
 
 /// The manual's ccube: the cut cube's corner (1,-1,-1) worked by hand
@@ -174,16 +211,26 @@ fn ccube_vertex_hand_worked() {
     let (s75, c75) = (-75f64).to_radians().sin_cos();
     let expected = DVec3::new(p.x, p.y * c75 - p.z * s75, p.y * s75 + p.z * c75 - 7.0);
     let cutcube = &s.objects[1];
-    assert!(close(cutcube.vertices[1], expected), "{} vs {expected}", cutcube.vertices[1]);
+    assert!(
+        close(cutcube.vertices[1], expected),
+        "{} vs {expected}",
+        cutcube.vertices[1]
+    );
     // The light (-4,-2,6) is transformed by the view when read.
     let q = DVec3::new(-4.0, -2.0, 6.0 - 1.0);
     let light = DVec3::new(q.x, q.y * c75 - q.z * s75, q.y * s75 + q.z * c75 - 7.0);
     assert!(close(s.lights[0].position, light));
     assert_eq!(s.lights[0].kind, LightKind::Point);
     assert_eq!(s.lights[1].kind, LightKind::Diffuse);
-    assert_eq!((s.lights[1].range, s.lights[1].color), (50.0, DVec3::splat(0.5)));
+    assert_eq!(
+        (s.lights[1].range, s.lights[1].color),
+        (50.0, DVec3::splat(0.5))
+    );
     // The projection left at the end is the perspective.
-    assert!(mat_close(&s.projection, &plytrace::math::perspective(45.0, 1.0, 0.01, 1000.0)));
+    assert!(mat_close(
+        &s.projection,
+        &plytrace::math::perspective(45.0, 1.0, 0.01, 1000.0)
+    ));
     assert_eq!(s.fname.as_deref(), Some("ccube"));
 }
 
@@ -205,7 +252,16 @@ fn lights_modes_and_settings() {
     assert!(!s.display);
     assert_eq!(s.outmode, OutMode::Quantized(3));
     let m = s.modes;
-    assert!(m.blend && m.shadow_shades && m.nns && m.output_tree && m.boxes_only && m.phong && m.vertex_shades && m.expand);
+    assert!(
+        m.blend
+            && m.shadow_shades
+            && m.nns
+            && m.output_tree
+            && m.boxes_only
+            && m.phong
+            && m.vertex_shades
+            && m.expand
+    );
     assert_eq!((m.min_detail, m.epsilon, m.debug), (0.01, 1e-5, 7));
     let s = f.scene("setmode l 9\nsetmode n on\nsetmode n off\n");
     assert_eq!(s.modes.max_level, 9);
@@ -218,7 +274,8 @@ fn command_line_modes_override_the_file() {
     let mut i = Interpreter::new();
     i.force_mode('n', "on").unwrap();
     i.force_mode('l', "3").unwrap();
-    f.run_with(&mut i, "setmode n off\ndepth 7\ninit\n", &mut NoHost).unwrap();
+    f.run_with(&mut i, "setmode n off\ndepth 7\ninit\n", &mut NoHost)
+        .unwrap();
     let s = i.scene();
     assert!(s.modes.nns);
     assert_eq!(s.modes.max_level, 3);
@@ -252,7 +309,11 @@ fn run_clear_wait_and_quit_reach_the_host() {
     let mut i = Interpreter::new();
     let mut h = Recorder::default();
     let flow = f
-        .run_with(&mut i, "getobj tri\nrun\nclear\nrun y\nwait\nquit\ngetobj tri\n", &mut h)
+        .run_with(
+            &mut i,
+            "getobj tri\nrun\nclear\nrun y\nwait\nquit\ngetobj tri\n",
+            &mut h,
+        )
         .unwrap();
     assert_eq!(flow, Flow::Quit);
     assert_eq!(h.runs, vec![(1, false), (1, true)]);
@@ -279,7 +340,11 @@ fn det_dir_pcolors_and_vcolors() {
     let f = Fixture::new();
     std::fs::create_dir(f.dir.path().join("other")).unwrap();
     std::fs::write(f.dir.path().join("other/sq.det"), SQUARE).unwrap();
-    std::fs::write(f.dir.path().join("other/sq.pcl"), "title p\ndata 1\n0.1 0.2 0.3 0.4 0.5 0.25\n").unwrap();
+    std::fs::write(
+        f.dir.path().join("other/sq.pcl"),
+        "title p\ndata 1\n0.1 0.2 0.3 0.4 0.5 0.25\n",
+    )
+    .unwrap();
     std::fs::write(
         f.dir.path().join("other/sq.vcl"),
         "title v\ndata 4\n1 0 0 0 0 0\n0 1 0 0 0 0\n0 0 1 0 0 0\n1 1 1 0 0 0\n",
@@ -289,7 +354,10 @@ fn det_dir_pcolors_and_vcolors() {
     let o = &s.objects[0];
     let p = o.polygon_colors.as_ref().unwrap();
     assert_eq!(p[0].color, DVec3::new(0.1, 0.2, 0.3));
-    assert_eq!((p[0].diffuse, p[0].reflectance, p[0].transmittance), (0.4, 0.5, 0.25));
+    assert_eq!(
+        (p[0].diffuse, p[0].reflectance, p[0].transmittance),
+        (0.4, 0.5, 0.25)
+    );
     assert_eq!(o.vertex_colors.as_ref().unwrap().len(), 4);
     // The material of the polygon follows its .pcl entry.
     let m = plytrace::render::polygon_material(o, 0);
@@ -311,11 +379,21 @@ fn clockwise_polygons_face_outward_and_mirrors_keep_them_so() {
     let s = f.scene("getobj cube\ndefobj cube\nscale -1 1 1\nendobj\n");
     for o in &s.objects {
         for p in &o.polygons {
-            let centroid: DVec3 =
-                p.indices.iter().map(|&i| o.vertices[i as usize]).sum::<DVec3>() / p.indices.len() as f64;
-            assert!(p.normal().dot(centroid) > 0.0, "outward normal for the cube centred at 0");
+            let centroid: DVec3 = p
+                .indices
+                .iter()
+                .map(|&i| o.vertices[i as usize])
+                .sum::<DVec3>()
+                / p.indices.len() as f64;
+            assert!(
+                p.normal().dot(centroid) > 0.0,
+                "outward normal for the cube centred at 0"
+            );
             assert!((p.normal().length() - 1.0).abs() < 1e-12);
-            assert!((p.plane.truncate().dot(centroid) + p.plane.w).abs() < 1e-12, "centroid on the plane");
+            assert!(
+                (p.plane.truncate().dot(centroid) + p.plane.w).abs() < 1e-12,
+                "centroid on the plane"
+            );
         }
     }
 }

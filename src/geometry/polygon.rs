@@ -71,7 +71,9 @@ pub fn outward_plane(points: &[DVec3]) -> Result<DVec4, PolygonDefect> {
     let n = newell_vector(points.iter().rev().copied());
     let len = n.length();
     // Written so that NaN counts as degenerate.
-    if len.partial_cmp(&(precision::DEGENERATE_AREA * diam * diam)) != Some(std::cmp::Ordering::Greater) {
+    if len.partial_cmp(&(precision::DEGENERATE_AREA * diam * diam))
+        != Some(std::cmp::Ordering::Greater)
+    {
         return Err(PolygonDefect::ZeroArea);
     }
     let normal = n / len;

@@ -365,7 +365,10 @@ impl Interpreter {
                 if self.files.contains(&canonical) {
                     return Err(ctx.error(
                         &args[0],
-                        format!("`{}` is already being read: a `get`/`call` cycle", args[0].text),
+                        format!(
+                            "`{}` is already being read: a `get`/`call` cycle",
+                            args[0].text
+                        ),
                     ));
                 }
                 let get = spec.name == "get";
@@ -374,7 +377,8 @@ impl Interpreter {
                     host.scanning(&path);
                 }
                 let result = self.execute_file(&path, get, host);
-                let flow = result.map_err(|e| included_from(e, ctx.location(&args[0]), &args[0], ctx))?;
+                let flow =
+                    result.map_err(|e| included_from(e, ctx.location(&args[0]), &args[0], ctx))?;
                 if get {
                     host.scanned(&path, &self.scene(), start.elapsed());
                 }
@@ -1046,7 +1050,7 @@ impl Interpreter {
         dirs
     }
 
-fn find_object_file(&self, active: &ActiveObject) -> Result<PathBuf> {
+    fn find_object_file(&self, active: &ActiveObject) -> Result<PathBuf> {
         let mut tried = Vec::new();
         for dir in self.det_dirs(active) {
             for ext in std::iter::once("det").chain(mesh_import::MESH_EXTENSIONS.iter().copied()) {

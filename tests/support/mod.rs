@@ -94,7 +94,11 @@ pub fn oracle_ids(scene: &Scene, width: u32, height: u32) -> Vec<Option<(u32, u3
                     if !(0.0..=1.0).contains(&t) || best.is_some_and(|(bt, _)| bt <= t) {
                         continue;
                     }
-                    let pts: Vec<DVec3> = poly.indices.iter().map(|&i| obj.vertices[i as usize]).collect();
+                    let pts: Vec<DVec3> = poly
+                        .indices
+                        .iter()
+                        .map(|&i| obj.vertices[i as usize])
+                        .collect();
                     if inside(&pts, n, o + d * t) {
                         best = Some((t, (oi as u32, pi as u32)));
                     }
