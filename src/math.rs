@@ -116,6 +116,42 @@ impl Matrix4 {
         s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0
     }
 
+    /// The inverse, by Gauss-Jordan elimination with partial pivoting;
+    /// `None` when the matrix is singular (or too close to it to invert).
+    pub fn inverse(&self) -> Option<Matrix4> {
+        let mut a = self.m;
+        let mut inv = Matrix4::IDENTITY.m;
+        let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        if scale == 0.0 || !scale.is_finite() {
+            return None;
+        }
+        for col in 0..4 {
+            let pivot = (col..4).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+            if a[pivot][col].abs() <= 1e-14 * scale {
+                return None;
+            }
+            a.swap(col, pivot);
+            inv.swap(col, pivot);
+            let p = a[col][col];
+            for k in 0..4 {
+                a[col][k] /= p;
+                inv[col][k] /= p;
+            }
+            for r in 0..4 {
+                if r != col {
+                    let f = a[r][col];
+                    if f != 0.0 {
+                        for k in 0..4 {
+                            a[r][k] -= f * a[col][k];
+                            inv[r][k] -= f * inv[col][k];
+                        }
+                    }
+                }
+            }
+        }
+        Some(Matrix4 { m: inv })
+    }
+
     /// Whether every entry is finite.
     pub fn is_finite(&self) -> bool {
         self.m.iter().flatten().all(|v| v.is_finite())
@@ -404,6 +440,20 @@ mod tests {
         // World +y stays up on the screen.
         assert!(m.transform_vector(DVec3::Y).y > 0.0);
         assert!(lookat(v, v, 0.0).is_none());
+    }
+
+    #[test]
+    fn inverse_undoes_the_matrix() {
+        let m = polarview(7.0, 20.0, 75.0, 5.0).mul(&perspective(45.0, 1.3, 0.1, 100.0));
+        let i = m.inverse().unwrap();
+        let p = m.mul(&i);
+        for r in 0..4 {
+            for c in 0..4 {
+                let want = if r == c { 1.0 } else { 0.0 };
+                assert!((p.m[r][c] - want).abs() < 1e-12, "{r} {c} {}", p.m[r][c]);
+            }
+        }
+        assert!(scale(DVec3::new(1.0, 0.0, 1.0)).inverse().is_none());
     }
 
     #[test]

@@ -3,5 +3,6 @@
 //! in homogeneous coordinates, perspective division and viewport mapping.
 
 pub mod clip;
+pub mod face_splitter;
 pub mod polygon;
 pub mod view;
