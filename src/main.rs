@@ -19,6 +19,7 @@ use plytrace::render::{self, RenderOptions};
 use plytrace::scene::commands::COMMANDS;
 use plytrace::scene::object_file::{self, ConvertKind};
 use plytrace::scene::{Flow, Host, Interpreter, Scene};
+use plytrace::visibility::Algorithm;
 
 const VERSION: &str = env!("CARGO_PKG_VERSION");
 
@@ -30,6 +31,7 @@ struct Options {
     output: Option<PathBuf>,
     size: Option<(u32, u32)>,
     id_image: Option<PathBuf>,
+    visibility: Option<Algorithm>,
     quiet: bool,
 }
 
@@ -64,7 +66,10 @@ MODERN CONVENIENCES:
     -o FILE.png|.ppm   output image (any value of -o other than on/off)
     --output FILE      output image (default FNAME.png in the working directory)
     --size WxH         image size overriding the scene's resolution/viewport
-    --id-image FILE    also write the polygon id of every pixel as a false-colour PNG
+    --id-image FILE    also write the polygon seen at every pixel as a false-colour PNG
+                       (one colour per object and polygon, the same for every algorithm)
+    --visibility ALG   visible-surface algorithm: depth-sort (default), nns (also
+                       `setmode n on` / -n on), z-buffer, ray-cast (the test oracle)
     --quiet            print only errors and warnings
     --help, --version
 
@@ -122,6 +127,13 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
             "--output" => o.output = Some(value("a file name")?.into()),
             "--id-image" => o.id_image = Some(value("a file name")?.into()),
             "--quiet" | "-q" => o.quiet = true,
+            "--visibility" => {
+                let v = value("an algorithm name")?;
+                o.visibility = Some(
+                    v.parse::<Algorithm>()
+                        .map_err(|e| format!("--visibility: {e}"))?,
+                );
+            }
             "--size" => {
                 let v = value("a size WxH")?;
                 o.size = Some(parse_size(&v).ok_or_else(|| {
@@ -184,6 +196,7 @@ struct CliHost {
     output: Option<PathBuf>,
     size: Option<(u32, u32)>,
     id_image: Option<PathBuf>,
+    visibility: Option<Algorithm>,
     scene_stem: Option<String>,
     quiet: bool,
     interactive: bool,
@@ -221,6 +234,7 @@ impl Host for CliHost {
             &RenderOptions {
                 size: self.size,
                 shadows,
+                visibility: self.visibility,
             },
         )?;
         if scene.display {
@@ -234,13 +248,28 @@ impl Host for CliHost {
             ));
         }
         if let Some(p) = &self.id_image {
-            output::write_id_png(p, &rendered.frame)?;
+            output::write_id_png(p, &rendered.frame, &rendered.polygons)?;
         }
         let s = &rendered.stats;
         self.say(&format!(
             "{} Polygons tiled, Max depth = {}",
             s.polygons_tiled, s.max_depth
         ));
+        if let Some(n) = &s.nns {
+            self.say(&format!(
+                "NNS: {} faces in, {} out, {} splits ({} cycles of two, {} longer){}",
+                n.faces_in,
+                n.faces_out,
+                n.splits,
+                n.cycles_of_two,
+                n.longer_cycles,
+                if n.unresolved > 0 {
+                    format!(", {} unresolved", n.unresolved)
+                } else {
+                    String::new()
+                }
+            ));
+        }
         if scene.modes.debug > 0 {
             self.say(&format!(
                 "  geometry {:?}, sort {:?}, shading {:?}, paint {:?}; {:?}",
@@ -407,6 +436,7 @@ fn main() -> ExitCode {
         output: options.output.clone(),
         size: options.size,
         id_image: options.id_image.clone(),
+        visibility: options.visibility,
         scene_stem: options
             .scene
             .as_ref()

@@ -121,9 +121,22 @@ pub fn write_image(path: &Path, fb: &FrameBuffer, mode: OutMode) -> Result<()> {
     }
 }
 
-/// Writes the id buffer as a false-colour PNG.
-pub fn write_id_png(path: &Path, fb: &FrameBuffer) -> Result<()> {
-    let rgb: Vec<u8> = fb.ids.iter().flat_map(|&id| id_color(id)).collect();
+/// Writes the id buffer as a false-colour PNG: one colour per (object,
+/// polygon) of `polygons` (indexed by id - 1), black for background, so
+/// that images of different algorithms compare directly.
+pub fn write_id_png(path: &Path, fb: &FrameBuffer, polygons: &[(u32, u32)]) -> Result<()> {
+    let rgb: Vec<u8> = fb
+        .ids
+        .iter()
+        .flat_map(|&id| {
+            if id == 0 {
+                [0, 0, 0]
+            } else {
+                let (o, p) = polygons[id as usize - 1];
+                id_color(o.wrapping_mul(0x1000_0193) ^ p.wrapping_add(1))
+            }
+        })
+        .collect();
     write_atomically(path, |w| png_bytes(fb.width, fb.height, &rgb, w))
 }
 

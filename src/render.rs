@@ -3,8 +3,10 @@
 //! depth sort, object by object or as one composite list, `setmode x`) ->
 //! faceted shading -> painting into a frame buffer.
 //!
-//! Not yet here: reflection and refraction (levels below 1), shadows, the
-//! NNS sorter, Gouraud and Phong polygons, transparency.
+//! The visible-surface algorithm is chosen per run or by `setmode n`
+//! ([`crate::visibility::Algorithm`]). Not yet here: reflection and
+//! refraction (levels below 1), shadows, Gouraud and Phong polygons,
+//! transparency.
 
 use std::time::{Duration, Instant};
 
@@ -15,7 +17,10 @@ use crate::geometry::view::{self, GeometryStats, ScreenPolygon, View};
 use crate::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
 use crate::scene::model::{Color, Object, Scene, SortOrder};
 use crate::shading::{self, Material};
-use crate::visibility::depth_sort;
+use crate::visibility::nns::{self, NnsFace, NnsStats};
+use crate::visibility::ray_cast::RayCaster;
+use crate::visibility::z_buffer::{self, DepthItem};
+use crate::visibility::{Algorithm, depth_sort};
 
 /// Options of one render beyond the scene.
 #[derive(Debug, Clone, Copy, Default)]
@@ -24,12 +29,16 @@ pub struct RenderOptions {
     pub size: Option<(u32, u32)>,
     /// `run y`: compute shadows (not yet implemented; recorded).
     pub shadows: bool,
+    /// The visible-surface algorithm; by default the scene's (`setmode n`).
+    pub visibility: Option<Algorithm>,
 }
 
 /// Figures of one render.
 #[derive(Debug, Clone, Default)]
 pub struct RenderStats {
-    /// Polygons in the sorted list.
+    /// The algorithm used.
+    pub algorithm: Option<Algorithm>,
+    /// Polygons in the sorted list (pieces after splitting included).
     pub polygons_listed: usize,
     /// Polygons that covered at least one pixel.
     pub polygons_tiled: usize,
@@ -37,13 +46,15 @@ pub struct RenderStats {
     pub max_depth: u32,
     /// Geometry stage counters.
     pub geometry: GeometryStats,
+    /// NNS counters, when it ran.
+    pub nns: Option<NnsStats>,
     /// Time in the geometry stage.
     pub geometry_time: Duration,
-    /// Time sorting.
+    /// Time sorting (or building the ray caster's hierarchy).
     pub sort_time: Duration,
     /// Time shading.
     pub shading_time: Duration,
-    /// Time painting.
+    /// Time painting (or casting rays).
     pub paint_time: Duration,
 }
 
@@ -68,6 +79,15 @@ impl Rendered {
     }
 }
 
+/// The algorithm `options` and `scene` ask for.
+pub fn chosen_algorithm(scene: &Scene, options: &RenderOptions) -> Algorithm {
+    options.visibility.unwrap_or(if scene.modes.nns {
+        Algorithm::Nns
+    } else {
+        Algorithm::DepthSort
+    })
+}
+
 /// Renders `scene`.
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     let (width, height) = options
@@ -78,23 +98,29 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
             "the final CTM is singular: it has no centre of projection to view from".into(),
         )
     })?;
+    let algorithm = chosen_algorithm(scene, options);
     let mut stats = RenderStats {
+        algorithm: Some(algorithm),
         max_depth: 1,
         ..RenderStats::default()
     };
+    let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
+    if algorithm == Algorithm::RayCast {
+        let polygons = ray_cast(scene, &view, &mut frame, &mut stats);
+        return Ok(Rendered {
+            frame,
+            polygons,
+            stats,
+        });
+    }
 
     let t = Instant::now();
     let visible: Vec<usize> = (0..scene.objects.len())
         .filter(|&i| !scene.objects[i].surface_type.hidden)
         .collect();
+    let per_object = algorithm == Algorithm::DepthSort && !scene.modes.expand;
     let mut lists: Vec<Vec<ScreenPolygon>> = Vec::new();
-    if scene.modes.expand {
-        let mut all = Vec::new();
-        for &i in &visible {
-            view::expand_object(scene, i, &view, &mut all, &mut stats.geometry);
-        }
-        lists.push(all);
-    } else {
+    if per_object {
         for &i in &visible {
             let mut one = Vec::new();
             view::expand_object(scene, i, &view, &mut one, &mut stats.geometry);
@@ -102,13 +128,90 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
                 lists.push(one);
             }
         }
+    } else {
+        let mut all = Vec::new();
+        for &i in &visible {
+            view::expand_object(scene, i, &view, &mut all, &mut stats.geometry);
+        }
+        lists.push(all);
     }
     stats.geometry_time = t.elapsed();
 
     let t = Instant::now();
     let order = scene.sort_order;
+    // The painting list: screen points and source polygon.
+    let sorted: Vec<(Vec<DVec3>, (u32, u32), bool)> = match algorithm {
+        Algorithm::DepthSort => simple_sorted(lists, order),
+        Algorithm::Nns => {
+            let all = lists.pop().unwrap_or_default();
+            let (list, nns_stats) = nns_sorted(scene, &view, all, order);
+            stats.nns = Some(nns_stats);
+            list
+        }
+        Algorithm::ZBuffer => lists
+            .pop()
+            .unwrap_or_default()
+            .into_iter()
+            .map(|p| (p.points, (p.object, p.polygon), p.back_facing))
+            .collect(),
+        Algorithm::RayCast => unreachable!("handled above"),
+    };
+    stats.sort_time = t.elapsed();
+    stats.polygons_listed = sorted.len();
+
+    let t = Instant::now();
+    let mut shades = ShadeCache::default();
+    let colors: Vec<[f32; 3]> = sorted
+        .iter()
+        .map(|(_, (o, p), back)| shades.get(scene, &view, *o, *p, *back))
+        .collect();
+    stats.shading_time = t.elapsed();
+
+    let t = Instant::now();
+    stats.polygons_tiled = if algorithm == Algorithm::ZBuffer {
+        let items: Vec<DepthItem> = sorted
+            .iter()
+            .zip(&colors)
+            .enumerate()
+            .map(|(k, ((points, _, _), color))| DepthItem {
+                points: points.clone(),
+                color: *color,
+                id: k as u32 + 1,
+            })
+            .collect();
+        z_buffer::paint(&mut frame, &items)
+    } else {
+        let items: Vec<PaintItem> = sorted
+            .iter()
+            .zip(&colors)
+            .enumerate()
+            .map(|(k, ((points, _, _), color))| PaintItem {
+                points: points.iter().map(|q| DVec2::new(q.x, q.y)).collect(),
+                color: *color,
+                id: k as u32 + 1,
+            })
+            .collect();
+        let mode = match order {
+            SortOrder::BackToFront => PaintMode::Overwrite,
+            SortOrder::FrontToBack => PaintMode::FirstWins,
+        };
+        frame.paint(&items, mode)
+    };
+    stats.paint_time = t.elapsed();
+
+    Ok(Rendered {
+        frame,
+        polygons: sorted.iter().map(|(_, id, _)| *id).collect(),
+        stats,
+    })
+}
+
+type Listed = (Vec<DVec3>, (u32, u32), bool);
+
+/// The simple depth sort: lists (objects) by their depth range, then the
+/// polygons of each list.
+fn simple_sorted(mut lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> Vec<Listed> {
     let key_of = |range: (f64, f64)| depth_sort::sort_key(range, order);
-    // Objects by the depth range of their polygons, then polygons within.
     let list_keys: Vec<f64> = lists
         .iter()
         .map(|l| {
@@ -121,44 +224,132 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
             )
         })
         .collect();
-    let mut sorted: Vec<ScreenPolygon> = Vec::new();
+    let mut sorted = Vec::new();
     for li in depth_sort::sorted_order(&list_keys) {
         let list = std::mem::take(&mut lists[li]);
         let keys: Vec<f64> = list.iter().map(|p| key_of(p.z_range())).collect();
         let mut slots: Vec<Option<ScreenPolygon>> = list.into_iter().map(Some).collect();
         for k in depth_sort::sorted_order(&keys) {
-            sorted.push(slots[k].take().expect("a permutation"));
+            let p = slots[k].take().expect("a permutation");
+            sorted.push((p.points, (p.object, p.polygon), p.back_facing));
         }
     }
-    stats.sort_time = t.elapsed();
-    stats.polygons_listed = sorted.len();
+    sorted
+}
 
-    let t = Instant::now();
-    let items: Vec<PaintItem> = sorted
-        .iter()
-        .enumerate()
-        .map(|(k, p)| PaintItem {
-            points: p.points.iter().map(|q| DVec2::new(q.x, q.y)).collect(),
-            color: facet_shade(scene, &view, p).as_vec3().to_array(),
-            id: k as u32 + 1,
+/// The NNS sort of the composite list; non-convex polygons are cut into
+/// triangles first. Front to back is the reverse of back to front.
+fn nns_sorted(
+    scene: &Scene,
+    view: &View,
+    all: Vec<ScreenPolygon>,
+    order: SortOrder,
+) -> (Vec<Listed>, NnsStats) {
+    let mut back = std::collections::HashMap::new();
+    let mut faces = Vec::with_capacity(all.len());
+    for p in all {
+        back.insert((p.object, p.polygon), p.back_facing);
+        if crate::geometry::polygon::is_convex(&p.world) {
+            faces.push(NnsFace {
+                object: p.object,
+                polygon: p.polygon,
+                world: p.world,
+            });
+        } else {
+            for tri in crate::geometry::polygon::triangulate(&p.world) {
+                faces.push(NnsFace {
+                    object: p.object,
+                    polygon: p.polygon,
+                    world: tri.to_vec(),
+                });
+            }
+        }
+    }
+    let epsilon = scene.modes.epsilon * scene_scale(scene).max(f64::MIN_POSITIVE);
+    let (mut list, stats) = nns::sort(faces, view, epsilon);
+    if order == SortOrder::FrontToBack {
+        list.reverse();
+    }
+    let listed = list
+        .into_iter()
+        .map(|f| {
+            let id = (f.object, f.polygon);
+            let points = f.world.iter().map(|p| view.project(*p)).collect();
+            (points, id, back[&id])
         })
         .collect();
-    stats.shading_time = t.elapsed();
+    (listed, stats)
+}
 
+/// The size of the scene: the diagonal of the box around every vertex.
+pub fn scene_scale(scene: &Scene) -> f64 {
+    let (lo, hi) = scene.objects.iter().flat_map(|o| o.vertices.iter()).fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    if lo.x.is_finite() {
+        (hi - lo).length()
+    } else {
+        1.0
+    }
+}
+
+/// Casts a ray per pixel and paints the faceted shade of what it hits.
+fn ray_cast(
+    scene: &Scene,
+    view: &View,
+    frame: &mut FrameBuffer,
+    stats: &mut RenderStats,
+) -> Vec<(u32, u32)> {
     let t = Instant::now();
-    let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
-    let mode = match order {
-        SortOrder::BackToFront => PaintMode::Overwrite,
-        SortOrder::FrontToBack => PaintMode::FirstWins,
-    };
-    stats.polygons_tiled = frame.paint(&items, mode);
+    let caster = RayCaster::new(scene);
+    stats.sort_time = t.elapsed();
+    let t = Instant::now();
+    let hits = caster.id_image(frame.width, frame.height);
     stats.paint_time = t.elapsed();
+    let mut ids = std::collections::HashMap::new();
+    let mut polygons = Vec::new();
+    let mut shades = ShadeCache::default();
+    for (px, hit) in hits.iter().enumerate() {
+        let Some(h) = hit else { continue };
+        let key = (h.object, h.polygon);
+        let id = *ids.entry(key).or_insert_with(|| {
+            polygons.push(key);
+            polygons.len() as u32
+        });
+        let plane = scene.objects[h.object as usize].polygons[h.polygon as usize].plane;
+        frame.ids[px] = id;
+        frame.color[px] = shades.get(scene, view, h.object, h.polygon, !view.faces_eye(plane));
+    }
+    stats.polygons_listed = polygons.len();
+    stats.polygons_tiled = polygons.len();
+    polygons
+}
 
-    Ok(Rendered {
-        frame,
-        polygons: sorted.iter().map(|p| (p.object, p.polygon)).collect(),
-        stats,
-    })
+/// Faceted shades, computed once per source polygon and side.
+#[derive(Default)]
+struct ShadeCache {
+    shades: std::collections::HashMap<(u32, u32, bool), [f32; 3]>,
+}
+
+impl ShadeCache {
+    fn get(
+        &mut self,
+        scene: &Scene,
+        view: &View,
+        object: u32,
+        polygon: u32,
+        back: bool,
+    ) -> [f32; 3] {
+        *self
+            .shades
+            .entry((object, polygon, back))
+            .or_insert_with(|| {
+                facet_shade(scene, view, object, polygon, back)
+                    .as_vec3()
+                    .to_array()
+            })
+    }
 }
 
 /// The material of polygon `pi` of `object`, with its `.pcl` entry or the
@@ -193,11 +384,12 @@ pub fn polygon_material(object: &Object, pi: usize) -> Material {
 
 /// One shade for the whole polygon (faceted): the illumination model at the
 /// centroid of the world polygon, with its plane normal turned towards the
-/// viewer.
-pub fn facet_shade(scene: &Scene, view: &View, p: &ScreenPolygon) -> Color {
-    let object = &scene.objects[p.object as usize];
-    let polygon = &object.polygons[p.polygon as usize];
-    let material = polygon_material(object, p.polygon as usize);
+/// viewer (`back` when the viewer sees its back, for `type open`).
+pub fn facet_shade(scene: &Scene, view: &View, object: u32, polygon: u32, back: bool) -> Color {
+    let object = &scene.objects[object as usize];
+    let pi = polygon as usize;
+    let polygon = &object.polygons[pi];
+    let material = polygon_material(object, pi);
     if object.surface_type.ltsrc {
         return material.color;
     }
@@ -207,7 +399,7 @@ pub fn facet_shade(scene: &Scene, view: &View, p: &ScreenPolygon) -> Color {
         .map(|&i| object.vertices[i as usize])
         .sum::<DVec3>()
         / polygon.indices.len() as f64;
-    let normal = if p.back_facing {
+    let normal = if back {
         -polygon.normal()
     } else {
         polygon.normal()

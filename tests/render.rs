@@ -79,7 +79,7 @@ fn assert_matches_oracle(scene: &Scene, size: u32) {
         scene,
         &RenderOptions {
             size: Some((size, size)),
-            shadows: false,
+            ..RenderOptions::default()
         },
     )
     .unwrap();

@@ -53,10 +53,14 @@ pub struct NotSimple;
 
 #[derive(Debug, Clone, Copy)]
 enum Item {
-    /// An original vertex; `front` if strictly in front.
-    Vertex { point: DVec3, front: bool },
+    /// An original vertex.
+    Vertex { point: DVec3 },
     /// A crossing; `into_front` if the ring goes from back to front here.
-    Crossing { point: DVec3, into_front: bool, key: (f64, f64) },
+    Crossing {
+        point: DVec3,
+        into_front: bool,
+        key: (f64, f64),
+    },
 }
 
 impl Item {
@@ -98,7 +102,7 @@ pub fn split(points: &[DVec3], plane: DVec4, epsilon: f64) -> Result<Split, NotS
         let (a, b) = (points[i], points[j]);
         let (da, db) = (distance[i], distance[j]);
         let (fa, fb) = (da > 0.0, db > 0.0);
-        ring.push(Item::Vertex { point: a, front: fa });
+        ring.push(Item::Vertex { point: a });
         if fa != fb {
             let t = da / (da - db);
             let point = if t <= 0.0 {
@@ -127,7 +131,9 @@ pub fn split(points: &[DVec3], plane: DVec4, epsilon: f64) -> Result<Split, NotS
 fn pieces(ring: &[Item], front_side: bool) -> Result<Vec<Vec<DVec3>>, NotSimple> {
     let m = ring.len();
     // Crossings sorted along the line, as seen from this side.
-    let mut crossings: Vec<usize> = (0..m).filter(|&i| matches!(ring[i], Item::Crossing { .. })).collect();
+    let mut crossings: Vec<usize> = (0..m)
+        .filter(|&i| matches!(ring[i], Item::Crossing { .. }))
+        .collect();
     let key = |i: usize| match ring[i] {
         Item::Crossing { key, .. } => {
             if front_side {
@@ -142,8 +148,9 @@ fn pieces(ring: &[Item], front_side: bool) -> Result<Vec<Vec<DVec3>>, NotSimple>
         let (ka, kb) = (key(a), key(b));
         ka.0.total_cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
     });
-    let enters = |i: usize| matches!(ring[i], Item::Crossing { into_front, .. } if into_front == front_side);
-    if crossings.len() % 2 != 0 {
+    let enters =
+        |i: usize| matches!(ring[i], Item::Crossing { into_front, .. } if into_front == front_side);
+    if !crossings.len().is_multiple_of(2) {
         return Err(NotSimple);
     }
     // Along the line, inside segments run from an exit to an entry.
@@ -198,7 +205,11 @@ fn pieces(ring: &[Item], front_side: bool) -> Result<Vec<Vec<DVec3>>, NotSimple>
 /// `planes`, with the splitter (Donovan 000 section 4: "the face splitting
 /// algorithm can be used either by the special sorter or the polygon
 /// clipper"). A non-convex polygon may come out in several pieces.
-pub fn clip_to_planes(points: &[DVec3], planes: &[DVec4], epsilon: f64) -> Result<Vec<Vec<DVec3>>, NotSimple> {
+pub fn clip_to_planes(
+    points: &[DVec3],
+    planes: &[DVec4],
+    epsilon: f64,
+) -> Result<Vec<Vec<DVec3>>, NotSimple> {
     let mut current = vec![points.to_vec()];
     for &plane in planes {
         let mut next = Vec::new();
@@ -298,13 +309,25 @@ mod tests {
         // An edge in the plane: not split either.
         let sq = xy(&[(0.0, 0.0), (0.0, 1.0), (1.0, 1.0), (1.0, 0.0)]);
         assert_eq!(split(&sq, x_plane(0.0), 1e-9).unwrap(), Split::Front);
-        assert_eq!(split(&sq, DVec4::new(0.0, 0.0, 1.0, 0.0), 1e-9).unwrap(), Split::Coplanar);
+        assert_eq!(
+            split(&sq, DVec4::new(0.0, 0.0, 1.0, 0.0), 1e-9).unwrap(),
+            Split::Coplanar
+        );
     }
 
     #[test]
     fn comb_with_teeth_ending_on_the_plane() {
         // Teeth tips exactly on x = 3 and the plane there: nothing in front.
-        let comb = xy(&[(0.0, 0.0), (0.0, 3.0), (3.0, 3.0), (3.0, 2.0), (1.0, 2.0), (1.0, 1.0), (3.0, 1.0), (3.0, 0.0)]);
+        let comb = xy(&[
+            (0.0, 0.0),
+            (0.0, 3.0),
+            (3.0, 3.0),
+            (3.0, 2.0),
+            (1.0, 2.0),
+            (1.0, 1.0),
+            (3.0, 1.0),
+            (3.0, 0.0),
+        ]);
         assert_eq!(split(&comb, x_plane(3.0), 1e-9).unwrap(), Split::Back);
         // The plane along the inner edges x = 1: the teeth in front, the
         // spine behind, the notch's edge shared.

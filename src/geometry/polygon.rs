@@ -112,6 +112,67 @@ pub fn vertex_normals(vertex_count: usize, polygons: &[(Vec<u32>, DVec3)]) -> Ve
     sums.into_iter().map(|n| n.normalize_or_zero()).collect()
 }
 
+/// Whether a planar polygon is convex (no reflex vertex, within rounding).
+pub fn is_convex(points: &[DVec3]) -> bool {
+    let n = newell_vector(points.iter().copied());
+    let scale = n.length();
+    let m = points.len();
+    (0..m).all(|i| {
+        let (a, b, c) = (points[i], points[(i + 1) % m], points[(i + 2) % m]);
+        (b - a).cross(c - b).dot(n) >= -1e-12 * scale * (b - a).length().max((c - b).length())
+    })
+}
+
+/// Cuts a simple planar polygon into triangles by ear clipping, keeping its
+/// orientation. Convex polygons become fans.
+pub fn triangulate(points: &[DVec3]) -> Vec<[DVec3; 3]> {
+    let m = points.len();
+    if m < 3 {
+        return Vec::new();
+    }
+    if is_convex(points) {
+        return (1..m - 1)
+            .map(|k| [points[0], points[k], points[k + 1]])
+            .collect();
+    }
+    let n = newell_vector(points.iter().copied());
+    let mut idx: Vec<usize> = (0..m).collect();
+    let mut out = Vec::with_capacity(m - 2);
+    let convex_at = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - b).dot(n) > 0.0;
+    let inside = |p: DVec3, a: DVec3, b: DVec3, c: DVec3| {
+        (b - a).cross(p - a).dot(n) >= 0.0
+            && (c - b).cross(p - b).dot(n) >= 0.0
+            && (a - c).cross(p - c).dot(n) >= 0.0
+    };
+    let mut guard = 0;
+    while idx.len() > 3 && guard < 4 * m * m {
+        guard += 1;
+        let k = idx.len();
+        let ear = (0..k).find(|&i| {
+            let (a, b, c) = (
+                points[idx[(i + k - 1) % k]],
+                points[idx[i]],
+                points[idx[(i + 1) % k]],
+            );
+            convex_at(a, b, c)
+                && idx
+                    .iter()
+                    .all(|&j| [a, b, c].contains(&points[j]) || !inside(points[j], a, b, c))
+        });
+        let i = ear.unwrap_or(0);
+        out.push([
+            points[idx[(i + k - 1) % k]],
+            points[idx[i]],
+            points[idx[(i + 1) % k]],
+        ]);
+        idx.remove(i);
+    }
+    if idx.len() == 3 {
+        out.push([points[idx[0]], points[idx[1]], points[idx[2]]]);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -149,6 +210,32 @@ mod tests {
             outward_plane(&bent),
             Err(PolygonDefect::NonPlanar(_))
         ));
+    }
+
+    #[test]
+    fn triangulation_keeps_area_and_orientation() {
+        // An L shape (non-convex), clockwise from +z.
+        let l: Vec<DVec3> = [
+            (0.0, 0.0),
+            (0.0, 2.0),
+            (1.0, 2.0),
+            (1.0, 1.0),
+            (2.0, 1.0),
+            (2.0, 0.0),
+        ]
+        .iter()
+        .map(|&(x, y)| DVec3::new(x, y, 0.0))
+        .collect();
+        assert!(!is_convex(&l));
+        assert!(is_convex(&square_cw_from_above()));
+        let tris = triangulate(&l);
+        assert_eq!(tris.len(), 4);
+        let total: f64 = tris.iter().map(|t| area(t)).sum();
+        assert!((total - 3.0).abs() < 1e-12);
+        let n = newell_vector(l.iter().copied());
+        for t in &tris {
+            assert!(newell_vector(t.iter().copied()).dot(n) > 0.0);
+        }
     }
 
     #[test]

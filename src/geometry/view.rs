@@ -58,6 +58,8 @@ pub struct View {
     pub epsilon: f64,
     /// Minimum screen detail in normalized units (`setmode d`).
     pub min_detail: f64,
+    /// Clip to world coordinates (the inverse projection), if invertible.
+    pub inverse: Option<Matrix4>,
 }
 
 impl View {
@@ -71,7 +73,26 @@ impl View {
             height: height as f64,
             epsilon: scene.modes.epsilon,
             min_detail: scene.modes.min_detail,
+            inverse: scene.projection.inverse(),
         })
+    }
+
+    /// Screen coordinates of world point `p` (which must be in front of the
+    /// eye).
+    pub fn project(&self, p: DVec3) -> DVec3 {
+        self.screen_point(self.projection.transform_point4(p))
+    }
+
+    /// The world ray through screen point `(x, y)` (pixels), from the near
+    /// plane (`t = 0`) to the far plane (`t = 1`), as origin and direction.
+    pub fn ray(&self, x: f64, y: f64) -> Option<(DVec3, DVec3)> {
+        let inv = self.inverse?;
+        let nx = x / self.width * 2.0 - 1.0;
+        let ny = y / self.height * 2.0 - 1.0;
+        let near = inv.transform(DVec4::new(nx, ny, -1.0, 1.0));
+        let far = inv.transform(DVec4::new(nx, ny, 1.0, 1.0));
+        let (o, f) = (near.truncate() / near.w, far.truncate() / far.w);
+        (o.is_finite() && f.is_finite()).then_some((o, f - o))
     }
 
     /// Whether the front of the plane `[A B C D]` faces the eye.

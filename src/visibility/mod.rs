@@ -1,6 +1,79 @@
-//! The visibility stage: orders screen polygons so that painting them
-//! resolves hidden surfaces. Part 1 has the simple depth sort of Garcia 1986
-//! (004 section 4.4); the Newell-Newell-Sancha sorter and the image-space
-//! algorithms come later.
+//! The visibility stage: the algorithms that decide which surface is seen
+//! at each pixel. List-priority sorts order polygons for painting (the
+//! simple depth sort of Garcia 1986, 004 section 4.4; the
+//! Newell-Newell-Sancha sorter of Donovan 1973, 000 section 3); image-space
+//! algorithms resolve visibility per pixel (the z-buffer of Firebaugh,
+//! 001); the ray caster is the independent oracle.
+
+use std::fmt;
+use std::str::FromStr;
 
 pub mod depth_sort;
+pub mod nns;
+pub mod ray_cast;
+pub mod z_buffer;
+
+/// A visible-surface algorithm, chosen per run (`--visibility`) or per
+/// scene (`setmode n on` selects [`Algorithm::Nns`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Algorithm {
+    /// Simple depth sort by min/max z (004 section 4.4).
+    DepthSort,
+    /// Newell, Newell and Sancha with face splitting (000 sections 3-4).
+    Nns,
+    /// Z-buffer (001).
+    ZBuffer,
+    /// Ray casting through a bounding volume hierarchy.
+    RayCast,
+}
+
+impl Algorithm {
+    /// Every algorithm with its command-line name.
+    pub const ALL: [(Algorithm, &'static str); 4] = [
+        (Algorithm::DepthSort, "depth-sort"),
+        (Algorithm::Nns, "nns"),
+        (Algorithm::ZBuffer, "z-buffer"),
+        (Algorithm::RayCast, "ray-cast"),
+    ];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(a, _)| *a == self)
+            .map(|(_, n)| *n)
+            .expect("listed")
+    }
+}
+
+impl fmt::Display for Algorithm {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Algorithm {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let s = s.to_ascii_lowercase().replace('_', "-");
+        let alias = match s.as_str() {
+            "simple" | "depthsort" | "painter" => "depth-sort",
+            "zbuffer" | "z" => "z-buffer",
+            "raycast" | "ray" => "ray-cast",
+            "newell" => "nns",
+            other => other,
+        };
+        Self::ALL
+            .iter()
+            .find(|(_, n)| *n == alias)
+            .map(|(a, _)| *a)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Self::ALL.iter().map(|(_, n)| *n).collect();
+                format!(
+                    "unknown visibility algorithm `{s}`; expected one of {}",
+                    names.join(", ")
+                )
+            })
+    }
+}
