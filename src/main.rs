@@ -69,7 +69,7 @@ MODERN CONVENIENCES:
     --id-image FILE    also write the polygon seen at every pixel as a false-colour PNG
                        (one colour per object and polygon, the same for every algorithm)
     --visibility ALG   visible-surface algorithm: depth-sort (default), nns (also
-                       `setmode n on` / -n on), z-buffer, ray-cast (the test oracle)
+                       `setmode n on` / -n on), z-buffer, scan-line, warnock, ray-cast (the oracle)
     --quiet            print only errors and warnings
     --help, --version
 

@@ -20,7 +20,7 @@ use crate::shading::{self, Material};
 use crate::visibility::nns::{self, NnsFace, NnsStats};
 use crate::visibility::ray_cast::RayCaster;
 use crate::visibility::z_buffer::{self, DepthItem};
-use crate::visibility::{Algorithm, depth_sort};
+use crate::visibility::{Algorithm, depth_sort, scan_line, warnock};
 
 /// Options of one render beyond the scene.
 #[derive(Debug, Clone, Copy, Default)]
@@ -148,11 +148,29 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
             stats.nns = Some(nns_stats);
             list
         }
-        Algorithm::ZBuffer => lists
+        Algorithm::ZBuffer | Algorithm::ScanLine => lists
             .pop()
             .unwrap_or_default()
             .into_iter()
             .map(|p| (p.points, (p.object, p.polygon), p.back_facing))
+            .collect(),
+        // Warnock's classes assume convex polygons.
+        Algorithm::Warnock => lists
+            .pop()
+            .unwrap_or_default()
+            .into_iter()
+            .flat_map(|p| {
+                let id = (p.object, p.polygon);
+                let back = p.back_facing;
+                if crate::geometry::polygon::is_convex(&p.points) {
+                    vec![(p.points, id, back)]
+                } else {
+                    crate::geometry::polygon::triangulate(&p.points)
+                        .into_iter()
+                        .map(|t| (t.to_vec(), id, back))
+                        .collect()
+                }
+            })
             .collect(),
         Algorithm::RayCast => unreachable!("handled above"),
     };
@@ -168,7 +186,10 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     stats.shading_time = t.elapsed();
 
     let t = Instant::now();
-    stats.polygons_tiled = if algorithm == Algorithm::ZBuffer {
+    stats.polygons_tiled = if matches!(
+        algorithm,
+        Algorithm::ZBuffer | Algorithm::ScanLine | Algorithm::Warnock
+    ) {
         let items: Vec<DepthItem> = sorted
             .iter()
             .zip(&colors)
@@ -179,7 +200,11 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
                 id: k as u32 + 1,
             })
             .collect();
-        z_buffer::paint(&mut frame, &items)
+        match algorithm {
+            Algorithm::ZBuffer => z_buffer::paint(&mut frame, &items),
+            Algorithm::ScanLine => scan_line::paint(&mut frame, &items),
+            _ => warnock::paint(&mut frame, &items),
+        }
     } else {
         let items: Vec<PaintItem> = sorted
             .iter()

@@ -97,6 +97,22 @@ fn z_buffer_agrees_with_the_oracle_on_every_shared_scene() {
 }
 
 #[test]
+fn scan_line_agrees_with_the_oracle_on_every_shared_scene() {
+    for name in SCENES {
+        let Some(scene) = shared(name) else { continue };
+        assert_agrees(name, &scene, Algorithm::ScanLine, 160);
+    }
+}
+
+#[test]
+fn warnock_agrees_with_the_oracle_on_every_shared_scene() {
+    for name in SCENES {
+        let Some(scene) = shared(name) else { continue };
+        assert_agrees(name, &scene, Algorithm::Warnock, 160);
+    }
+}
+
+#[test]
 fn nns_front_to_back_agrees_too() {
     for name in ["intersect.des", "cycles.des", "office1.des"] {
         let Some(mut scene) = shared(name) else {
@@ -217,7 +233,12 @@ fn random_boxes(seed: u64, count: usize) -> Scene {
 fn generated_triangle_soups() {
     for seed in 1..=6 {
         let scene = triangle_soup(seed, 40);
-        for algorithm in [Algorithm::Nns, Algorithm::ZBuffer] {
+        for algorithm in [
+            Algorithm::Nns,
+            Algorithm::ZBuffer,
+            Algorithm::ScanLine,
+            Algorithm::Warnock,
+        ] {
             assert_agrees(&format!("soup {seed}"), &scene, algorithm, 128);
         }
     }
@@ -227,7 +248,12 @@ fn generated_triangle_soups() {
 fn generated_random_boxes() {
     for seed in 1..=6 {
         let scene = random_boxes(seed, 14);
-        for algorithm in [Algorithm::Nns, Algorithm::ZBuffer] {
+        for algorithm in [
+            Algorithm::Nns,
+            Algorithm::ZBuffer,
+            Algorithm::ScanLine,
+            Algorithm::Warnock,
+        ] {
             assert_agrees(&format!("boxes {seed}"), &scene, algorithm, 128);
         }
     }

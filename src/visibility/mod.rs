@@ -11,6 +11,8 @@ use std::str::FromStr;
 pub mod depth_sort;
 pub mod nns;
 pub mod ray_cast;
+pub mod scan_line;
+pub mod warnock;
 pub mod z_buffer;
 
 /// A visible-surface algorithm, chosen per run (`--visibility`) or per
@@ -23,16 +25,22 @@ pub enum Algorithm {
     Nns,
     /// Z-buffer (001).
     ZBuffer,
+    /// Scan-line algorithm with an active edge list (001).
+    ScanLine,
+    /// Warnock's area subdivision (001).
+    Warnock,
     /// Ray casting through a bounding volume hierarchy.
     RayCast,
 }
 
 impl Algorithm {
     /// Every algorithm with its command-line name.
-    pub const ALL: [(Algorithm, &'static str); 4] = [
+    pub const ALL: [(Algorithm, &'static str); 6] = [
         (Algorithm::DepthSort, "depth-sort"),
         (Algorithm::Nns, "nns"),
         (Algorithm::ZBuffer, "z-buffer"),
+        (Algorithm::ScanLine, "scan-line"),
+        (Algorithm::Warnock, "warnock"),
         (Algorithm::RayCast, "ray-cast"),
     ];
 
@@ -60,6 +68,8 @@ impl FromStr for Algorithm {
         let alias = match s.as_str() {
             "simple" | "depthsort" | "painter" => "depth-sort",
             "zbuffer" | "z" => "z-buffer",
+            "scanline" => "scan-line",
+            "area-subdivision" => "warnock",
             "raycast" | "ray" => "ray-cast",
             "newell" => "nns",
             other => other,
