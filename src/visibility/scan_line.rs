@@ -19,11 +19,11 @@ use rayon::prelude::*;
 use super::z_buffer::{DepthItem, depth_plane};
 use crate::raster::frame_buffer::FrameBuffer;
 
-/// An edge in the edge table: it covers rows `first..last` (exclusive).
+/// An edge in the edge table, filed under the first row it covers; it
+/// covers rows up to `last` (exclusive).
 #[derive(Debug, Clone, Copy)]
 struct Edge {
     polygon: u32,
-    first: u32,
     last: u32,
     /// Lower endpoint (by y, then x) and the inverse slope.
     x0: f64,
@@ -61,7 +61,6 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
             }
             table[first as usize].push(Edge {
                 polygon: k as u32,
-                first: first as u32,
                 last: last as u32,
                 x0: p.x,
                 y0: p.y,

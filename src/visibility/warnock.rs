@@ -20,7 +20,7 @@
 //! makes "surrounding" a test of the window's corners); polygons seen
 //! edge-on are skipped.
 
-use glam::{DVec2, DVec3};
+use glam::DVec2;
 
 use super::z_buffer::{DepthItem, depth_plane};
 use crate::raster::frame_buffer::FrameBuffer;
@@ -251,12 +251,6 @@ fn sampled(points: &[DVec2], x: u32, y: u32) -> bool {
     hit
 }
 
-/// Unused outside tests: the centre of a pixel in screen coordinates.
-#[cfg(test)]
-fn centre(x: u32, y: u32) -> DVec3 {
-    DVec3::new(x as f64 + 0.5, y as f64 + 0.5, 0.0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -279,6 +273,6 @@ mod tests {
         assert_eq!(sq.classify(8, 8, 14, 14), Class::Intersecting);
         assert_eq!(sq.classify(0, 0, 20, 20), Class::Contained);
         assert_eq!(sq.classify(12, 0, 20, 20), Class::Disjoint);
-        assert!(sq.contains(centre(3, 3).truncate()));
+        assert!(sq.contains(DVec2::new(3.5, 3.5)));
     }
 }
