@@ -12,6 +12,7 @@
 pub mod error;
 pub mod geometry;
 pub mod math;
+pub mod modeling;
 pub mod output;
 pub mod precision;
 pub mod raster;

@@ -20,7 +20,7 @@ use crate::shading::{self, Material};
 use crate::visibility::nns::{self, NnsFace, NnsStats};
 use crate::visibility::ray_cast::RayCaster;
 use crate::visibility::z_buffer::{self, DepthItem};
-use crate::visibility::{Algorithm, depth_sort, scan_line, warnock};
+use crate::visibility::{Algorithm, brown, depth_sort, scan_line, warnock};
 
 /// Options of one render beyond the scene.
 #[derive(Debug, Clone, Copy, Default)]
@@ -118,7 +118,8 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     let visible: Vec<usize> = (0..scene.objects.len())
         .filter(|&i| !scene.objects[i].surface_type.hidden)
         .collect();
-    let per_object = algorithm == Algorithm::DepthSort && !scene.modes.expand;
+    let per_object =
+        (algorithm == Algorithm::DepthSort && !scene.modes.expand) || algorithm == Algorithm::Brown;
     let mut lists: Vec<Vec<ScreenPolygon>> = Vec::new();
     if per_object {
         for &i in &visible {
@@ -142,6 +143,13 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     // The painting list: screen points and source polygon.
     let sorted: Vec<(Vec<DVec3>, (u32, u32), bool)> = match algorithm {
         Algorithm::DepthSort => simple_sorted(lists, order),
+        Algorithm::Brown => {
+            let lists = lists
+                .into_iter()
+                .map(|l| brown_sorted(scene, &view, l))
+                .collect();
+            simple_sorted_lists(lists, order)
+        }
         Algorithm::Nns => {
             let all = lists.pop().unwrap_or_default();
             let (list, nns_stats) = nns_sorted(scene, &view, all, order);
@@ -232,6 +240,67 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
 }
 
 type Listed = (Vec<DVec3>, (u32, u32), bool);
+
+/// One object's polygons in Brown's priority order (back to front), for
+/// the object's centre (its origin) and the axis towards the eye.
+fn brown_sorted(scene: &Scene, view: &View, list: Vec<ScreenPolygon>) -> Vec<ScreenPolygon> {
+    let Some(first) = list.first() else {
+        return list;
+    };
+    let object = &scene.objects[first.object as usize];
+    let centre = object.transform.transform_point(DVec3::ZERO);
+    let axis = if view.eye.w != 0.0 {
+        view.eye.truncate() / view.eye.w - centre
+    } else {
+        view.eye.truncate()
+    };
+    let faces: Vec<Vec<u32>> = object.polygons.iter().map(|p| p.indices.clone()).collect();
+    let order = brown::priority_order(
+        &object.vertices,
+        &faces,
+        centre,
+        axis,
+        object.surface_type.open,
+    );
+    let mut rank = vec![0usize; faces.len()];
+    for (r, &f) in order.iter().enumerate() {
+        rank[f] = r;
+    }
+    let mut list = list;
+    list.sort_by_key(|p| rank[p.polygon as usize]);
+    list
+}
+
+/// Lists already in back-to-front order, ordered among themselves by the
+/// simple sort of their depth ranges (front to back reverses each list).
+fn simple_sorted_lists(lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> Vec<Listed> {
+    let key_of = |range: (f64, f64)| depth_sort::sort_key(range, order);
+    let keys: Vec<f64> = lists
+        .iter()
+        .map(|l| {
+            key_of(
+                l.iter()
+                    .map(ScreenPolygon::z_range)
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (c, d)| {
+                        (a.min(c), b.max(d))
+                    }),
+            )
+        })
+        .collect();
+    let mut lists: Vec<Option<Vec<ScreenPolygon>>> = lists.into_iter().map(Some).collect();
+    let mut out = Vec::new();
+    for li in depth_sort::sorted_order(&keys) {
+        let mut list = lists[li].take().expect("a permutation");
+        if order == SortOrder::FrontToBack {
+            list.reverse();
+        }
+        out.extend(
+            list.into_iter()
+                .map(|p| (p.points, (p.object, p.polygon), p.back_facing)),
+        );
+    }
+    out
+}
 
 /// The simple depth sort: lists (objects) by their depth range, then the
 /// polygons of each list.

@@ -38,6 +38,7 @@ commands! {
     "disp", "[on|off]", "display (write) the image when rendering (default on)";
     "endobj", "", "end the object: read its files and transform it by the CTM";
     "fname", "name", "output file name (name.png, name.out)";
+    "geodesic", "n [equal|angle]", "in defobj: a geodesic icosahedron, n divisions per edge (Brown 1978)";
     "get", "file", "initialize, then read commands from a file";
     "getobj", "name", "defobj name followed by endobj";
     "ident", "", "load the identity on the CTM";
@@ -55,6 +56,7 @@ commands! {
     "popmatrix", "", "pop the CTM from the matrix stack";
     "pushmatrix", "", "push a copy of the CTM on the matrix stack";
     "quit", "", "end the program";
+    "radial", "sphere|ellipsoid a b c|bumps amp freq|lobes amp k", "in defobj: move a geodesic's vertices radially";
     "reflectance", "k", "reflection coefficient (default 0)";
     "resolution", "hres vres", "image size; loads perspective 45 hres/vres 0.01 10000";
     "rotate", "angle x|y|z", "rotation (pre-multiplies the CTM)";
@@ -84,6 +86,14 @@ pub enum Lookup {
     Unknown(Option<&'static str>),
     /// Several commands start with the word.
     Ambiguous(Vec<&'static str>),
+}
+
+/// The command named exactly `name`.
+pub fn spec(name: &str) -> &'static CommandSpec {
+    COMMANDS
+        .iter()
+        .find(|c| c.name == name)
+        .expect("a command of the table")
 }
 
 /// Finds the command `word` names (case-insensitive, unique prefix).
@@ -135,7 +145,10 @@ mod tests {
 
     #[test]
     fn prefixes_and_exact_names() {
-        assert_eq!(lookup("TRANSL"), Lookup::Found(&COMMANDS[41]));
+        match lookup("TRANSL") {
+            Lookup::Found(c) => assert_eq!(c.name, "translate"),
+            other => panic!("{other:?}"),
+        }
         assert_eq!(lookup("ortho").clone(), lookup("ORTHO"));
         match lookup("ortho") {
             Lookup::Found(c) => assert_eq!(c.name, "ortho"),

@@ -22,6 +22,7 @@ use super::object_file::{self, ColorEntry, ColorKind, Mesh};
 use crate::error::{Diagnostic, Error, Location, Result};
 use crate::geometry::polygon::{self, PolygonDefect};
 use crate::math::{self, Axis, Matrix4};
+use crate::modeling::geodesic::{self, Division, Radial};
 
 /// Depth of the matrix stack (004 section 4.3: "a 16-level deep
 /// transformation matrix stack"). `defobj` uses one level.
@@ -74,6 +75,8 @@ struct ActiveObject {
     surface: Surface,
     surface_type: SurfaceType,
     copy_of: Option<u32>,
+    geodesic: Option<(usize, Division, Location)>,
+    radial: Option<(Radial, Location)>,
     pcolors: Option<(String, Location)>,
     vcolors: Option<(String, Location)>,
     stack_depth: usize,
@@ -460,6 +463,57 @@ impl Interpreter {
                 a.count(1, 1)?;
                 self.scene.fname = Some(args[0].text.clone());
             }
+            "geodesic" => {
+                a.count(1, 2)?;
+                let n = a.integer(0, 1, 1024)? as usize;
+                let division = match args.get(1).map(|t| t.text.to_ascii_lowercase()) {
+                    None => Division::EqualAngle,
+                    Some(d) if d == "equal" => Division::Equal,
+                    Some(d) if d == "angle" => Division::EqualAngle,
+                    Some(_) => return Err(ctx.error(&args[1], "expected `equal` or `angle`")),
+                };
+                let loc = ctx.location(cmd);
+                let Some(active) = &mut self.active else {
+                    return Err(ctx.error(cmd, "`geodesic` outside an object definition"));
+                };
+                active.geodesic = Some((n, division, loc));
+            }
+            "radial" => {
+                a.count(1, 4)?;
+                let kind = args[0].text.to_ascii_lowercase();
+                let (radial, want) = match kind.as_str() {
+                    "sphere" => (Radial::Sphere, 1),
+                    "ellipsoid" => {
+                        a.count(4, 4)?;
+                        let v = a.vec3(1)?;
+                        if v.min_element() <= 0.0 {
+                            return Err(ctx.error(&args[1], "expected positive semi-axes"));
+                        }
+                        (Radial::Ellipsoid(v.x, v.y, v.z), 4)
+                    }
+                    "bumps" | "lobes" => {
+                        a.count(3, 3)?;
+                        let (amp, f) = (a.number(1)?, a.number(2)?);
+                        if kind == "bumps" {
+                            (Radial::Bumps(amp, f), 3)
+                        } else {
+                            (Radial::Lobes(amp, f), 3)
+                        }
+                    }
+                    _ => {
+                        return Err(ctx.error(
+                            &args[0],
+                            "expected a radial function: sphere, ellipsoid, bumps or lobes",
+                        ));
+                    }
+                };
+                a.count(want, want)?;
+                let loc = ctx.location(cmd);
+                let Some(active) = &mut self.active else {
+                    return Err(ctx.error(cmd, "`radial` outside an object definition"));
+                };
+                active.radial = Some((radial, loc));
+            }
             "getobj" => {
                 a.count(1, 1)?;
                 self.begin_object(ctx, cmd, args[0].text.clone(), None)?;
@@ -796,7 +850,7 @@ impl Interpreter {
             ctx,
             cmd,
             args,
-            spec: &commands::COMMANDS[36],
+            spec: commands::spec("setmode"),
         };
         a.count(1, 2)?;
         let letter_token = &args[0];
@@ -915,6 +969,8 @@ impl Interpreter {
             surface: self.globals,
             surface_type: self.global_type,
             copy_of: None,
+            geodesic: None,
+            radial: None,
             pcolors: None,
             vcolors: None,
             stack_depth: self.stack.len(),
@@ -933,8 +989,27 @@ impl Interpreter {
         let transform = self.ctm;
         self.ctm = self.stack.pop().expect("defobj pushed a matrix");
 
-        let (mesh, mut pcl, mut vcl) = match active.copy_of {
-            Some(n) => {
+        let generated = match &active.geodesic {
+            Some((n, division, loc)) => {
+                let radial = active.radial.as_ref().map_or(Radial::Sphere, |r| r.0);
+                Some(Arc::new(
+                    geodesic::geodesic(*n, *division, radial)
+                        .map_err(|e| Error::at(loc.clone(), e))?,
+                ))
+            }
+            None => {
+                if let Some((_, loc)) = &active.radial {
+                    return Err(Error::at(
+                        loc.clone(),
+                        "`radial` deforms a `geodesic`; this object has none",
+                    ));
+                }
+                None
+            }
+        };
+        let (mesh, mut pcl, mut vcl) = match (generated, active.copy_of) {
+            (Some(mesh), _) => (mesh, None, None),
+            (None, Some(n)) => {
                 let src = self
                     .scene
                     .objects
@@ -947,7 +1022,7 @@ impl Interpreter {
                     src.vertex_colors.clone(),
                 )
             }
-            None => {
+            (None, None) => {
                 let path = self.find_object_file(&active)?;
                 let mesh = if path
                     .extension()

@@ -8,6 +8,7 @@
 use std::fmt;
 use std::str::FromStr;
 
+pub mod brown;
 pub mod depth_sort;
 pub mod nns;
 pub mod ray_cast;
@@ -29,18 +30,22 @@ pub enum Algorithm {
     ScanLine,
     /// Warnock's area subdivision (001).
     Warnock,
+    /// Brown's priority order for well-tesselated surfaces (003), per
+    /// object; objects by the simple depth sort.
+    Brown,
     /// Ray casting through a bounding volume hierarchy.
     RayCast,
 }
 
 impl Algorithm {
     /// Every algorithm with its command-line name.
-    pub const ALL: [(Algorithm, &'static str); 6] = [
+    pub const ALL: [(Algorithm, &'static str); 7] = [
         (Algorithm::DepthSort, "depth-sort"),
         (Algorithm::Nns, "nns"),
         (Algorithm::ZBuffer, "z-buffer"),
         (Algorithm::ScanLine, "scan-line"),
         (Algorithm::Warnock, "warnock"),
+        (Algorithm::Brown, "brown"),
         (Algorithm::RayCast, "ray-cast"),
     ];
 

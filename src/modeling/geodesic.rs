@@ -1,0 +1,447 @@
+//! Geodesic icosahedra (C. M. Brown, *Fast Display of Well-Tesselated
+//! Surfaces*, 1978, 003 section 4) and the checks of his appendix section
+//! 2: the Angle Condition and the Edge Condition.
+//!
+//! Each of the 20 faces of an icosahedron inscribed in the unit sphere is
+//! divided with `n` divisions per edge into `n^2` triangles whose vertices
+//! are projected onto the sphere, by one of two methods:
+//!
+//! * [`Division::Equal`]: the edges are divided into `n` equal lengths and
+//!   the division points joined by lines parallel to the face's edges;
+//! * [`Division::EqualAngle`]: the division points subtend equal angles at
+//!   the centre; the lines parallel to the edges then meet in small
+//!   triangles, whose centroids become the vertices.
+//!
+//! Both give `10 n^2 + 2` vertices and `20 n^2` faces. A [`Radial`]
+//! function then moves every vertex along its direction (its "vertex
+//! direction"): the priority order of Brown's algorithms depends on those
+//! directions only. Faces are listed clockwise seen from outside, as in a
+//! `.det` file.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use crate::scene::object_file::Mesh;
+
+/// How the icosahedral edges are divided.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Division {
+    /// Equal lengths (Brown's first method).
+    Equal,
+    /// Equal angles, vertices at the centroids of the small triangles
+    /// (Brown's second method).
+    EqualAngle,
+}
+
+/// A radial spherical function `r(direction) > 0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Radial {
+    /// `r = 1`.
+    Sphere,
+    /// The ellipsoid with semi-axes `a`, `b`, `c`.
+    Ellipsoid(f64, f64, f64),
+    /// `r = 1 + amplitude cos(f lon) sin(f colat)`.
+    Bumps(f64, f64),
+    /// `r = 1 + amplitude cos(k lon) sin(colat)`.
+    Lobes(f64, f64),
+}
+
+impl Radial {
+    /// The radius in unit direction `d`.
+    pub fn radius(&self, d: DVec3) -> f64 {
+        let lon = d.y.atan2(d.x);
+        let colat = d.z.clamp(-1.0, 1.0).acos();
+        match *self {
+            Radial::Sphere => 1.0,
+            Radial::Ellipsoid(a, b, c) => {
+                1.0 / ((d.x / a).powi(2) + (d.y / b).powi(2) + (d.z / c).powi(2)).sqrt()
+            }
+            Radial::Bumps(amp, f) => 1.0 + amp * (f * lon).cos() * (f * colat).sin(),
+            Radial::Lobes(amp, k) => 1.0 + amp * (k * lon).cos() * colat.sin(),
+        }
+    }
+}
+
+/// The 12 vertices of the icosahedron on the unit sphere (003 section 4).
+pub fn icosahedron_vertices() -> [DVec3; 12] {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let a = t.sqrt() / 5f64.powf(0.25);
+    let b = 1.0 / (t.sqrt() * 5f64.powf(0.25));
+    let mut v = [DVec3::ZERO; 12];
+    let mut k = 0;
+    for s1 in [1.0, -1.0] {
+        for s2 in [1.0, -1.0] {
+            v[k] = DVec3::new(0.0, s1 * a, s2 * b);
+            v[k + 1] = DVec3::new(s1 * b, 0.0, s2 * a);
+            v[k + 2] = DVec3::new(s1 * a, s2 * b, 0.0);
+            k += 3;
+        }
+    }
+    v
+}
+
+/// The 20 faces of the icosahedron, clockwise seen from outside.
+pub fn icosahedron_faces() -> Vec<[usize; 3]> {
+    let v = icosahedron_vertices();
+    let edge = v[0].distance(v[3]).min(v[0].distance(v[1]));
+    let adjacent = |i: usize, j: usize| (v[i].distance(v[j]) - edge).abs() < 1e-9;
+    let mut faces = Vec::new();
+    for i in 0..12 {
+        for j in i + 1..12 {
+            for k in j + 1..12 {
+                if adjacent(i, j) && adjacent(j, k) && adjacent(i, k) {
+                    // Clockwise from outside: the normal of (i, j, k) must
+                    // point inward.
+                    let n = (v[j] - v[i]).cross(v[k] - v[i]);
+                    if n.dot(v[i]) > 0.0 {
+                        faces.push([i, k, j]);
+                    } else {
+                        faces.push([i, j, k]);
+                    }
+                }
+            }
+        }
+    }
+    faces
+}
+
+/// Fraction along the chord from `A` of the point seen from the centre at
+/// fraction `s` of the angle `theta` subtended by the chord.
+fn chord_fraction(s: f64, theta: f64) -> f64 {
+    let (a, b) = ((s * theta).sin(), ((1.0 - s) * theta).sin());
+    a / (a + b)
+}
+
+/// The intersection of the coplanar lines `p + s d` and `q + t e`.
+fn meet(p: DVec3, d: DVec3, q: DVec3, e: DVec3) -> DVec3 {
+    let n = d.cross(e);
+    let s = (q - p).cross(e).dot(n) / n.length_squared();
+    p + d * s
+}
+
+/// The point of the flat face `(a, b, c)` at grid position `(p, q, r)`
+/// (weights of `a`, `b`, `c`, summing to `n`), before projection.
+fn grid_point(
+    a: DVec3,
+    b: DVec3,
+    c: DVec3,
+    (p, q, r): (usize, usize, usize),
+    n: usize,
+    division: Division,
+) -> DVec3 {
+    let nf = n as f64;
+    match division {
+        Division::Equal => (a * p as f64 + b * q as f64 + c * r as f64) / nf,
+        Division::EqualAngle => {
+            if p == n {
+                return a;
+            }
+            if q == n {
+                return b;
+            }
+            if r == n {
+                return c;
+            }
+            let theta = a.angle_between(b);
+            let f = |k: usize| chord_fraction((n - k) as f64 / nf, theta);
+            // Line of constant A-weight p: through the points of AB and AC
+            // at fraction f(p) from A (parallel to BC); likewise for B, C.
+            let la = (a + (b - a) * f(p), c - b);
+            let lb = (b + (c - b) * f(q), a - c);
+            let lc = (c + (a - c) * f(r), b - a);
+            let x = meet(la.0, la.1, lb.0, lb.1);
+            let y = meet(lb.0, lb.1, lc.0, lc.1);
+            let z = meet(lc.0, lc.1, la.0, la.1);
+            (x + y + z) / 3.0
+        }
+    }
+}
+
+/// A geodesic icosahedron with `n` divisions per edge, its vertices moved
+/// by `radial`. Fails if the radial function is not positive and finite at
+/// every vertex.
+pub fn geodesic(n: usize, division: Division, radial: Radial) -> Result<Mesh, String> {
+    if n == 0 {
+        return Err("a geodesic needs at least 1 division per edge".into());
+    }
+    let v = icosahedron_vertices();
+    let mut index: HashMap<[i64; 3], u32> = HashMap::new();
+    let mut dirs: Vec<DVec3> = Vec::new();
+    let mut id = |p: DVec3| -> u32 {
+        let d = p.normalize();
+        let key = [
+            (d.x * 1e9).round() as i64,
+            (d.y * 1e9).round() as i64,
+            (d.z * 1e9).round() as i64,
+        ];
+        *index.entry(key).or_insert_with(|| {
+            dirs.push(d);
+            dirs.len() as u32 - 1
+        })
+    };
+    let mut polygons = Vec::with_capacity(20 * n * n);
+    for [ia, ib, ic] in icosahedron_faces() {
+        let (a, b, c) = (v[ia], v[ib], v[ic]);
+        // Grid indices: i steps from A towards B, j from A towards C.
+        let mut at = |i: usize, j: usize| id(grid_point(a, b, c, (n - i - j, i, j), n, division));
+        for i in 0..n {
+            for j in 0..n - i {
+                let (p0, p1, p2) = (at(i, j), at(i + 1, j), at(i, j + 1));
+                polygons.push(vec![p0, p1, p2]);
+                if i + j + 1 < n {
+                    let p3 = at(i + 1, j + 1);
+                    polygons.push(vec![p1, p3, p2]);
+                }
+            }
+        }
+    }
+    let mut vertices = Vec::with_capacity(dirs.len());
+    for d in &dirs {
+        let r = radial.radius(*d);
+        if !(r.is_finite() && r > 0.0) {
+            return Err(format!(
+                "the radial function is {r} in direction ({:.3}, {:.3}, {:.3}); it must be positive",
+                d.x, d.y, d.z
+            ));
+        }
+        vertices.push(*d * r);
+    }
+    Ok(Mesh { vertices, polygons })
+}
+
+/// What [`check_tessellation`] found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TessellationReport {
+    /// Every pvertex meets the Angle Condition.
+    pub angle_condition: bool,
+    /// Every patch meets the Edge Condition.
+    pub edge_condition: bool,
+    /// Largest angle between adjacent patch edges at a pvertex (radians;
+    /// at most pi/2 under the AC).
+    pub max_adjacent_angle: f64,
+    /// Smallest angle between nonadjacent patch edges (at least pi/2).
+    pub min_nonadjacent_angle: f64,
+    /// Longest patch edge (radians; under one for the EC).
+    pub max_edge: f64,
+    /// Largest ratio of longest to shortest edge of a patch (under 1.27).
+    pub max_edge_ratio: f64,
+    /// Largest number of patches around a pvertex (4 to 8 under the AC).
+    pub max_degree: usize,
+}
+
+/// Checks Brown's Angle Condition and Edge Condition (003 appendix section
+/// 2) for a triangulated surface seen from `centre`: its vertex directions
+/// define the patches on the sphere.
+pub fn check_tessellation(mesh: &Mesh, centre: DVec3) -> Result<TessellationReport, String> {
+    let dirs: Vec<DVec3> = mesh
+        .vertices
+        .iter()
+        .map(|p| {
+            (*p - centre)
+                .try_normalize()
+                .ok_or("a vertex lies at the centre")
+        })
+        .collect::<Result<_, _>>()?;
+    let mut max_edge: f64 = 0.0;
+    let mut max_ratio: f64 = 0.0;
+    // Each vertex's outgoing patch edges, in the cyclic order of its patches.
+    let mut next: Vec<HashMap<u32, u32>> = vec![HashMap::new(); dirs.len()];
+    for poly in &mesh.polygons {
+        if poly.len() != 3 {
+            return Err("the surface must be triangulated".into());
+        }
+        let lengths: Vec<f64> = (0..3)
+            .map(|k| dirs[poly[k] as usize].angle_between(dirs[poly[(k + 1) % 3] as usize]))
+            .collect();
+        let (lo, hi) = lengths
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &l| {
+                (lo.min(l), hi.max(l))
+            });
+        max_edge = max_edge.max(hi);
+        max_ratio = max_ratio.max(hi / lo);
+        for k in 0..3 {
+            let (v, a, b) = (poly[k], poly[(k + 1) % 3], poly[(k + 2) % 3]);
+            next[v as usize].insert(a, b);
+        }
+    }
+    let mut max_adjacent: f64 = 0.0;
+    let mut min_nonadjacent = f64::INFINITY;
+    let mut max_degree = 0;
+    for (v, ring) in next.iter().enumerate() {
+        if ring.is_empty() {
+            continue;
+        }
+        // Walk the fan around v.
+        let start = *ring.keys().min().expect("not empty");
+        let mut order = vec![start];
+        let mut cur = start;
+        while let Some(&n) = ring.get(&cur) {
+            if n == start || order.len() > ring.len() {
+                break;
+            }
+            order.push(n);
+            cur = n;
+        }
+        let d = dirs[v];
+        let tangent: Vec<DVec3> = order
+            .iter()
+            .map(|&u| (dirs[u as usize] - d * dirs[u as usize].dot(d)).normalize_or_zero())
+            .collect();
+        let m = tangent.len();
+        max_degree = max_degree.max(m);
+        for i in 0..m {
+            for j in i + 1..m {
+                let angle = tangent[i].angle_between(tangent[j]);
+                let adjacent = j == i + 1 || (i == 0 && j == m - 1);
+                if adjacent {
+                    max_adjacent = max_adjacent.max(angle);
+                } else {
+                    min_nonadjacent = min_nonadjacent.min(angle);
+                }
+            }
+        }
+    }
+    let right = std::f64::consts::FRAC_PI_2 + 1e-9;
+    Ok(TessellationReport {
+        angle_condition: max_adjacent <= right
+            && min_nonadjacent >= std::f64::consts::FRAC_PI_2 - 1e-9,
+        edge_condition: max_edge < 1.0 && max_ratio < 1.27,
+        max_adjacent_angle: max_adjacent,
+        min_nonadjacent_angle: min_nonadjacent,
+        max_edge,
+        max_edge_ratio: max_ratio,
+        max_degree,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_follow_the_formulas() {
+        for n in 1..=5 {
+            for div in [Division::Equal, Division::EqualAngle] {
+                let m = geodesic(n, div, Radial::Sphere).unwrap();
+                assert_eq!(m.vertices.len(), 10 * n * n + 2, "{n} {div:?}");
+                assert_eq!(m.polygons.len(), 20 * n * n);
+            }
+        }
+    }
+
+    #[test]
+    fn faces_are_clockwise_from_outside() {
+        let m = geodesic(3, Division::EqualAngle, Radial::Sphere).unwrap();
+        for p in &m.polygons {
+            let (a, b, c) = (
+                m.vertices[p[0] as usize],
+                m.vertices[p[1] as usize],
+                m.vertices[p[2] as usize],
+            );
+            let inward = (b - a).cross(c - a);
+            assert!(inward.dot(a + b + c) < 0.0);
+        }
+    }
+
+    #[test]
+    fn equal_angle_is_more_uniform_as_brown_reports() {
+        // Brown: for 4 divisions the ratio of largest to smallest solid
+        // angle is 1.517 for the first method, 1.146 for the second.
+        let ratio = |div| {
+            let m = geodesic(4, div, Radial::Sphere).unwrap();
+            let solid: Vec<f64> = m
+                .polygons
+                .iter()
+                .map(|p| {
+                    let (a, b, c) = (
+                        m.vertices[p[0] as usize],
+                        m.vertices[p[1] as usize],
+                        m.vertices[p[2] as usize],
+                    );
+                    // Van Oosterom and Strackee.
+                    let num = a.dot(b.cross(c)).abs();
+                    let den = 1.0 + a.dot(b) + b.dot(c) + c.dot(a);
+                    2.0 * num.atan2(den)
+                })
+                .collect();
+            let (lo, hi) = solid
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(l, h), &s| (l.min(s), h.max(s)));
+            hi / lo
+        };
+        let (r1, r2) = (ratio(Division::Equal), ratio(Division::EqualAngle));
+        assert!((r1 - 1.517).abs() < 0.01, "{r1}");
+        assert!((r2 - 1.146).abs() < 0.01, "{r2}");
+    }
+
+    #[test]
+    fn geodesics_are_well_tessellated() {
+        for n in 1..=4 {
+            let m = geodesic(n, Division::EqualAngle, Radial::Bumps(0.3, 3.0)).unwrap();
+            let r = check_tessellation(&m, DVec3::ZERO).unwrap();
+            assert!(r.angle_condition, "{n}: {r:?}");
+            assert!((5..=6).contains(&r.max_degree));
+        }
+        // The icosahedron itself: edges of arccos(sqrt 5 / 5) radians.
+        let r = check_tessellation(
+            &geodesic(1, Division::Equal, Radial::Sphere).unwrap(),
+            DVec3::ZERO,
+        )
+        .unwrap();
+        assert!((r.max_edge - (5f64.sqrt() / 5.0).acos()).abs() < 1e-12);
+        // Its edges (1.107 rad) are longer than the EC allows; the AC holds
+        // (72 degrees between adjacent edges, 144 between the others).
+        assert!(r.angle_condition && !r.edge_condition);
+        assert!((r.max_adjacent_angle.to_degrees() - 72.0).abs() < 1e-9);
+        // From 2 divisions on, the Edge Condition holds too.
+        let r = check_tessellation(
+            &geodesic(2, Division::EqualAngle, Radial::Sphere).unwrap(),
+            DVec3::ZERO,
+        )
+        .unwrap();
+        assert!(r.edge_condition, "{r:?}");
+    }
+
+    #[test]
+    fn a_latitude_longitude_globe_fails_the_angle_condition() {
+        // Brown's figure 3A: lines of longitude meeting at the poles.
+        let (nlon, nlat) = (12, 6);
+        let mut vertices = vec![DVec3::Z, -DVec3::Z];
+        for i in 1..nlat {
+            let colat = std::f64::consts::PI * i as f64 / nlat as f64;
+            for j in 0..nlon {
+                let lon = std::f64::consts::TAU * j as f64 / nlon as f64;
+                vertices.push(DVec3::new(
+                    colat.sin() * lon.cos(),
+                    colat.sin() * lon.sin(),
+                    colat.cos(),
+                ));
+            }
+        }
+        let at = |i: usize, j: usize| (2 + (i - 1) * nlon + j % nlon) as u32;
+        let mut polygons = Vec::new();
+        for j in 0..nlon {
+            polygons.push(vec![0, at(1, j + 1), at(1, j)]);
+            polygons.push(vec![1, at(nlat - 1, j), at(nlat - 1, j + 1)]);
+            for i in 1..nlat - 1 {
+                polygons.push(vec![at(i, j), at(i, j + 1), at(i + 1, j)]);
+                polygons.push(vec![at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)]);
+            }
+        }
+        let r = check_tessellation(&Mesh { vertices, polygons }, DVec3::ZERO).unwrap();
+        assert!(!r.angle_condition, "{r:?}");
+        assert_eq!(r.max_degree, 12);
+    }
+
+    #[test]
+    fn radial_function_must_stay_positive() {
+        assert!(geodesic(2, Division::Equal, Radial::Bumps(1.5, 2.0)).is_err());
+        let m = geodesic(2, Division::Equal, Radial::Ellipsoid(2.0, 1.0, 0.5)).unwrap();
+        for v in &m.vertices {
+            let e = (v.x / 2.0).powi(2) + v.y.powi(2) + (v.z / 0.5).powi(2);
+            assert!((e - 1.0).abs() < 1e-12);
+        }
+    }
+}
