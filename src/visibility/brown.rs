@@ -65,6 +65,9 @@ pub fn priority_order(
     out
 }
 
+/// A shared edge, as its two vertex indices in increasing order.
+type Edge = (u32, u32);
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Class {
     Unclassified,
@@ -93,7 +96,7 @@ fn paint_a_phi(
             by_edge.entry((a.min(b), a.max(b))).or_default().push(f);
         }
     }
-    let mut nbrs: HashMap<usize, Vec<(usize, (u32, u32))>> = HashMap::new();
+    let mut nbrs: HashMap<usize, Vec<(usize, Edge)>> = HashMap::new();
     for (edge, fs) in &by_edge {
         if let [f, g] = fs[..] {
             nbrs.entry(f).or_default().push((g, *edge));
