@@ -1,47 +1,97 @@
-//! Parse and render every scene of `../shared/scenes` (when that folder
-//! exists) and the bundled example: `cargo bench`. Reported per scene:
-//! `parse` (reading the .des and .det files) and `render` (geometry, sort,
-//! shading, painting) at the scene's own resolution.
+//! `cargo bench`: for the bundled example and every scene of
+//! `../shared/scenes` (when that folder exists):
+//!
+//! * `parse`: reading the .des and .det files;
+//! * `render/<algorithm>`: geometry, visibility, shading and painting at the
+//!   scene's own resolution, for every visible-surface algorithm;
+//! * `nns-sort-1-thread`: the NNS sort alone (face splitting included) on
+//!   one thread, the figure the part 2 issue asks for.
 
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
-use criterion::{Criterion, criterion_group, criterion_main};
-use plytrace::render::{RenderOptions, render};
+use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
+use plytrace::geometry::view::{self, GeometryStats, View};
+use plytrace::render::{RenderOptions, render, scene_scale};
+use plytrace::visibility::Algorithm;
+use plytrace::visibility::nns::{self, NnsFace};
 
-fn scenes() -> Vec<PathBuf> {
+fn scenes() -> Vec<(String, PathBuf)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut v = vec![root.join("examples/ccube.des")];
-    let shared = root.join("../shared/scenes");
-    if let Ok(dir) = std::fs::read_dir(&shared) {
+    let mut v = vec![("example-ccube".to_string(), root.join("examples/ccube.des"))];
+    if let Ok(dir) = std::fs::read_dir(root.join("../shared/scenes")) {
         let mut found: Vec<PathBuf> = dir
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| p.extension().is_some_and(|e| e == "des"))
             .collect();
         found.sort();
-        v.extend(found);
+        v.extend(
+            found
+                .into_iter()
+                .map(|p| (p.file_stem().unwrap().to_string_lossy().into_owned(), p)),
+        );
     }
     v
 }
 
+fn nns_faces(scene: &plytrace::scene::Scene, view: &View) -> Vec<NnsFace> {
+    let mut polys = Vec::new();
+    let mut stats = GeometryStats::default();
+    for i in 0..scene.objects.len() {
+        if !scene.objects[i].surface_type.hidden {
+            view::expand_object(scene, i, view, &mut polys, &mut stats);
+        }
+    }
+    polys
+        .into_iter()
+        .flat_map(|p| {
+            plytrace::geometry::polygon::triangulate_if_needed(&p.world)
+                .into_iter()
+                .map(move |world| NnsFace {
+                    object: p.object,
+                    polygon: p.polygon,
+                    world,
+                })
+        })
+        .collect()
+}
+
 fn bench(c: &mut Criterion) {
-    for path in scenes() {
-        let name = format!(
-            "{}{}",
-            if path.starts_with(Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")) {
-                "example-"
-            } else {
-                ""
-            },
-            path.file_stem().unwrap().to_string_lossy()
-        );
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    for (name, path) in scenes() {
         let mut group = c.benchmark_group(name);
-        group.sample_size(20);
+        group.sample_size(10);
+        group.warm_up_time(Duration::from_millis(500));
+        group.measurement_time(Duration::from_secs(2));
         group.bench_function("parse", |b| {
             b.iter(|| plytrace::scene::load(&path).unwrap())
         });
         let scene = plytrace::scene::load(&path).unwrap().0;
-        group.bench_function("render", |b| {
-            b.iter(|| render(&scene, &RenderOptions::default()).unwrap())
+        for (algorithm, alg_name) in Algorithm::ALL {
+            if algorithm == Algorithm::Brown {
+                continue; // only meaningful for well-tesselated surfaces
+            }
+            let options = RenderOptions {
+                visibility: Some(algorithm),
+                ..RenderOptions::default()
+            };
+            group.bench_function(format!("render/{alg_name}"), |b| {
+                b.iter(|| render(&scene, &options).unwrap())
+            });
+        }
+        let (w, h) = (scene.viewport.width(), scene.viewport.height());
+        let view = View::new(&scene, w, h).unwrap();
+        let faces = nns_faces(&scene, &view);
+        let eps = scene.modes.epsilon * scene_scale(&scene);
+        group.bench_function("nns-sort-1-thread", |b| {
+            b.iter_batched(
+                || faces.clone(),
+                |f| single.install(|| nns::sort(f, &view, eps)),
+                BatchSize::LargeInput,
+            )
         });
         group.finish();
     }

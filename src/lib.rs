@@ -11,6 +11,7 @@
 
 pub mod error;
 pub mod geometry;
+pub mod image_tree;
 pub mod math;
 pub mod modeling;
 pub mod output;

@@ -44,6 +44,8 @@ USAGE:
     plytrace -i -f SCENE.des      immediate mode: read the scene, render it, exit
     plytrace mkdet|mkpcl|mkvcl IN OUT
                                   convert an ASCII object file to binary form
+    plytrace tessellation FILE    check Brown's Angle and Edge Conditions of a
+                                  triangulated surface about its origin
 
 FLAGS (the setmode letters of the manual, each taking its value as the next word):
     -i                 immediate mode
@@ -69,7 +71,8 @@ MODERN CONVENIENCES:
     --id-image FILE    also write the polygon seen at every pixel as a false-colour PNG
                        (one colour per object and polygon, the same for every algorithm)
     --visibility ALG   visible-surface algorithm: depth-sort (default), nns (also
-                       `setmode n on` / -n on), z-buffer, scan-line, warnock, ray-cast (the oracle)
+                       `setmode n on` / -n on), z-buffer, scan-line, warnock, brown
+                       (well-tesselated surfaces), ray-cast (the oracle)
     --quiet            print only errors and warnings
     --help, --version
 
@@ -81,14 +84,15 @@ COMMANDS of the scene descriptor language (shortest unique prefix accepted):
     }
     s.push_str(
         "\nNot yet acted on: reflection/refraction tracing (depth, l), shadows (run y),\n\
-         NNS sorting (n), vertex/Phong shades (v, s), blending (b), tree output (o),\n\
-         bounding-box display (p), transparency; they are parsed, checked and kept.\n",
+         vertex/Phong shades (v, s), blending (b), tree output (o), explicit shadow\n\
+         shades (h), transparency; they are parsed, checked and kept.\n",
     );
     s
 }
 
 enum Parsed {
     Run(Options),
+    Tessellation(PathBuf),
     Convert(ConvertKind, PathBuf, PathBuf),
     Help,
     Version,
@@ -102,6 +106,12 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
             "mkvcl" => Some(ConvertKind::Vcl),
             _ => None,
         };
+        if first == "tessellation" {
+            return match args {
+                [_, file] => Ok(Parsed::Tessellation(file.into())),
+                _ => Err("usage: plytrace tessellation <object file>".into()),
+            };
+        }
         if let Some(kind) = kind {
             return match args {
                 [_, input, out] => Ok(Parsed::Convert(kind, input.into(), out.into())),
@@ -394,6 +404,55 @@ fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
     }
 }
 
+/// `plytrace tessellation FILE`: Brown's Angle and Edge Conditions for a
+/// triangulated surface about its origin.
+fn check_tessellation(path: &Path) -> ExitCode {
+    let is_det = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("det"));
+    let mesh = if is_det {
+        object_file::read_det(path)
+    } else {
+        plytrace::scene::mesh_import::read_mesh(path)
+    };
+    let mesh = match mesh {
+        Ok(m) => m,
+        Err(e) => {
+            report(&e);
+            return ExitCode::FAILURE;
+        }
+    };
+    match plytrace::modeling::geodesic::check_tessellation(&mesh, glam::DVec3::ZERO) {
+        Ok(r) => {
+            let yes = |b: bool| if b { "met" } else { "NOT met" };
+            println!(
+                "{}: {} vertices, {} faces",
+                path.display(),
+                mesh.vertices.len(),
+                mesh.polygons.len()
+            );
+            println!(
+                "Angle Condition {}: adjacent patch edges at most {:.2} deg (limit 90), nonadjacent at least {:.2} deg (limit 90), degree up to {}",
+                yes(r.angle_condition),
+                r.max_adjacent_angle.to_degrees(),
+                r.min_nonadjacent_angle.to_degrees(),
+                r.max_degree
+            );
+            println!(
+                "Edge Condition {}: longest patch edge {:.4} rad (limit 1), edge ratio up to {:.4} (limit 1.27)",
+                yes(r.edge_condition),
+                r.max_edge,
+                r.max_edge_ratio
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {}: {e}", path.display());
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let options = match parse_args(&args) {
@@ -414,6 +473,7 @@ fn main() -> ExitCode {
                 }
             };
         }
+        Ok(Parsed::Tessellation(path)) => return check_tessellation(&path),
         Ok(Parsed::Run(o)) => o,
         Err(msg) => {
             eprintln!("error: {msg}");

@@ -325,6 +325,66 @@ pub fn ortho2(l: f64, r: f64, b: f64, t: f64) -> Matrix4 {
     ortho(l, r, b, t, -1.0, 1.0)
 }
 
+/// `I + k L N` for the plane `L = [A B C D]` (unit normal) and
+/// `N = [A B C 0]`: the common form of 004 section 4.6's matrices.
+fn plane_outer(plane: DVec4, k: f64) -> Matrix4 {
+    let l = plane.to_array();
+    let n = [plane.x, plane.y, plane.z, 0.0];
+    let mut m = Matrix4::IDENTITY;
+    for (i, row) in m.m.iter_mut().enumerate() {
+        for (j, cell) in row.iter_mut().enumerate() {
+            *cell += k * l[i] * n[j];
+        }
+    }
+    m
+}
+
+/// Planar reflection `M_r = I - 2 L N` (Garcia 1986, 004 section 4.6): maps
+/// a point to its mirror image in the plane `L` (unit normal).
+pub fn reflection(plane: DVec4) -> Matrix4 {
+    plane_outer(plane, -2.0)
+}
+
+/// Paraxial refraction `M_tp = I + (eta - 1) L N` (004 section 4.6):
+/// points beyond the plane appear at `eta` times their distance, `eta` the
+/// relative index (that of the eye's side over that of the far side).
+/// `M_tp(eta = -1)` is the reflection.
+pub fn refraction_paraxial(plane: DVec4, eta: f64) -> Matrix4 {
+    plane_outer(plane, eta - 1.0)
+}
+
+/// Refraction exact for every ray of direction `view` (unit, from the eye
+/// towards the plane): `M_t = I - alpha L [V - (N.V) N]` with
+/// `alpha = 1/cos t1 - eta/cos t2` (004 section 4.6). With `view` the
+/// orthographic viewing direction this is `M_to`; with the direction of
+/// the ray through a polygon's centre it is the linearization of 004
+/// section 6.4.3, exact for that ray. `plane` has its unit normal towards
+/// the eye. `None` on total internal reflection (no refracted ray) or a
+/// ray parallel to the plane.
+pub fn refraction(plane: DVec4, view: DVec3, eta: f64) -> Option<Matrix4> {
+    let n = plane.truncate();
+    let v = view.normalize();
+    let beta = -n.dot(v);
+    if beta <= 0.0 {
+        return None;
+    }
+    let cos2_sq = 1.0 - eta * eta * (1.0 - beta * beta);
+    if cos2_sq <= 0.0 {
+        return None;
+    }
+    let alpha = 1.0 / beta - eta / cos2_sq.sqrt();
+    let s = v - n * n.dot(v);
+    let l = plane.to_array();
+    let srow = [s.x, s.y, s.z, 0.0];
+    let mut m = Matrix4::IDENTITY;
+    for (i, row) in m.m.iter_mut().enumerate() {
+        for (j, cell) in row.iter_mut().enumerate() {
+            *cell -= alpha * l[i] * srow[j];
+        }
+    }
+    Some(m)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -454,6 +514,84 @@ mod tests {
             }
         }
         assert!(scale(DVec3::new(1.0, 0.0, 1.0)).inverse().is_none());
+    }
+
+    #[test]
+    fn reflection_is_an_involution_with_determinant_minus_one() {
+        let n = DVec3::new(1.0, -2.0, 0.5).normalize();
+        let plane = n.extend(-0.7);
+        let m = reflection(plane);
+        let mm = m.mul(&m);
+        for r in 0..4 {
+            for c in 0..4 {
+                let want = if r == c { 1.0 } else { 0.0 };
+                assert!((mm.m[r][c] - want).abs() < 1e-12);
+            }
+        }
+        assert!((m.determinant() + 1.0).abs() < 1e-12);
+        // Equal to the paraxial refraction at eta = -1.
+        assert_eq!(m, refraction_paraxial(plane, -1.0));
+        // A point and its image are symmetric about the plane.
+        let p = DVec3::new(0.3, 2.0, -1.0);
+        let q = m.transform_point(p);
+        let (dp, dq) = (n.dot(p) - 0.7, n.dot(q) - 0.7);
+        assert!((dp + dq).abs() < 1e-12);
+        assert!(((q - p).normalize().cross(n)).length() < 1e-12);
+    }
+
+    #[test]
+    fn mirror_image_lies_on_the_reflected_ray() {
+        // The eye at the origin looks at a mirror z = -5 (normal +z towards
+        // the eye). A point seen in the mirror lands where the mirrored ray
+        // goes: the virtual point is on the straight line from the eye
+        // through the hit point.
+        let plane = DVec4::new(0.0, 0.0, 1.0, 5.0);
+        let hit = DVec3::new(1.0, 0.5, -5.0);
+        let d = hit.normalize();
+        let r = d - 2.0 * d.dot(DVec3::Z) * DVec3::Z;
+        let real = hit + r * 3.0;
+        let virtual_point = reflection(plane).transform_point(real);
+        assert!((virtual_point.normalize() - d).length() < 1e-12);
+    }
+
+    #[test]
+    fn refraction_obeys_snell_at_its_linearization_angle() {
+        // Water surface z = 0 seen from above (normal +z towards the eye),
+        // eta = 1 / 1.33; rays of direction v.
+        let plane = DVec4::new(0.0, 0.0, 1.0, 0.0);
+        let eta = 1.0 / 1.33;
+        for angle in [0.0f64, 10.0, 35.0, 60.0] {
+            let a = angle.to_radians();
+            let v = DVec3::new(a.sin(), 0.0, -a.cos());
+            let m = refraction(plane, v, eta).unwrap();
+            // Snell: the refracted direction t for incidence v.
+            let n = DVec3::Z;
+            let cos1 = -n.dot(v);
+            let cos2 = (1.0 - eta * eta * (1.0 - cos1 * cos1)).sqrt();
+            let t = eta * v + (eta * cos1 - cos2) * n;
+            assert!((eta * (1.0 - cos1 * cos1).sqrt() - (1.0 - cos2 * cos2).sqrt()).abs() < 1e-12);
+            // A point on the refracted ray maps to a point on the straight
+            // continuation of the incident ray.
+            let x = DVec3::new(0.4, -0.2, 0.0);
+            let real = x + t * 2.5;
+            let seen = m.transform_point(real);
+            assert!(
+                ((seen - x).normalize() - v).length() < 1e-9,
+                "angle {angle}: {seen}"
+            );
+        }
+        // At normal incidence rays go straight through: no displacement
+        // across the line of sight (the paraxial matrix scales depth
+        // instead, which does not move the point on the screen).
+        let exact = refraction(plane, -DVec3::Z, eta).unwrap();
+        let para = refraction_paraxial(plane, eta);
+        let p = DVec3::new(0.3, 0.1, -2.0);
+        let (e, q) = (exact.transform_point(p), para.transform_point(p));
+        assert!((e.truncate() - p.truncate()).length() < 1e-12);
+        assert!((q.truncate() - p.truncate()).length() < 1e-12 && (q.z - eta * p.z).abs() < 1e-12);
+        // Total internal reflection: from water (eta 1.33) at 60 degrees.
+        let v = DVec3::new(60f64.to_radians().sin(), 0.0, -60f64.to_radians().cos());
+        assert!(refraction(plane, v, 1.33).is_none());
     }
 
     #[test]

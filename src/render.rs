@@ -10,13 +10,14 @@
 
 use std::time::{Duration, Instant};
 
-use glam::{DVec2, DVec3};
+use glam::{DVec2, DVec3, DVec4};
 
 use crate::error::{Error, Result};
 use crate::geometry::view::{self, GeometryStats, ScreenPolygon, View};
 use crate::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
-use crate::scene::model::{Color, Object, Scene, SortOrder};
-use crate::shading::{self, Material};
+use crate::scene::model::{Color, Scene, SortOrder};
+use crate::shading;
+pub use crate::shading::polygon_material;
 use crate::visibility::nns::{self, NnsFace, NnsStats};
 use crate::visibility::ray_cast::RayCaster;
 use crate::visibility::z_buffer::{self, DepthItem};
@@ -88,8 +89,21 @@ pub fn chosen_algorithm(scene: &Scene, options: &RenderOptions) -> Algorithm {
     })
 }
 
-/// Renders `scene`.
+/// Renders `scene`. With `setmode p on` every object is replaced by its
+/// bounding box (004 appendix, SETMODE COMMANDS).
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
+    if scene.modes.boxes_only {
+        let boxes = bounding_box_scene(scene);
+        let mut plain = *options;
+        plain.size = Some(
+            options
+                .size
+                .unwrap_or((scene.viewport.width(), scene.viewport.height())),
+        );
+        let mut boxes = boxes;
+        boxes.modes.boxes_only = false;
+        return render(&boxes, &plain);
+    }
     let (width, height) = options
         .size
         .unwrap_or((scene.viewport.width(), scene.viewport.height()));
@@ -105,6 +119,9 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
         ..RenderStats::default()
     };
     let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
+    if matches!(algorithm, Algorithm::DepthSort | Algorithm::Nns) && needs_tree(scene) {
+        return Ok(paint_tree(scene, &view, algorithm, frame, stats));
+    }
     if algorithm == Algorithm::RayCast {
         let polygons = ray_cast(scene, &view, &mut frame, &mut stats);
         return Ok(Rendered {
@@ -170,14 +187,9 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
             .flat_map(|p| {
                 let id = (p.object, p.polygon);
                 let back = p.back_facing;
-                if crate::geometry::polygon::is_convex(&p.points) {
-                    vec![(p.points, id, back)]
-                } else {
-                    crate::geometry::polygon::triangulate(&p.points)
-                        .into_iter()
-                        .map(|t| (t.to_vec(), id, back))
-                        .collect()
-                }
+                crate::geometry::polygon::triangulate_if_needed(&p.points)
+                    .into_iter()
+                    .map(move |t| (t, id, back))
             })
             .collect(),
         Algorithm::RayCast => unreachable!("handled above"),
@@ -343,20 +355,12 @@ fn nns_sorted(
     let mut faces = Vec::with_capacity(all.len());
     for p in all {
         back.insert((p.object, p.polygon), p.back_facing);
-        if crate::geometry::polygon::is_convex(&p.world) {
+        for world in crate::geometry::polygon::triangulate_if_needed(&p.world) {
             faces.push(NnsFace {
                 object: p.object,
                 polygon: p.polygon,
-                world: p.world,
+                world,
             });
-        } else {
-            for tri in crate::geometry::polygon::triangulate(&p.world) {
-                faces.push(NnsFace {
-                    object: p.object,
-                    polygon: p.polygon,
-                    world: tri.to_vec(),
-                });
-            }
         }
     }
     let epsilon = scene.modes.epsilon * scene_scale(scene).max(f64::MIN_POSITIVE);
@@ -373,6 +377,124 @@ fn nns_sorted(
         })
         .collect();
     (listed, stats)
+}
+
+/// Whether the scene has anything to trace below level 1.
+pub fn needs_tree(scene: &Scene) -> bool {
+    scene.modes.max_level > 1
+        && scene.objects.iter().any(|o| {
+            !o.surface_type.hidden
+                && (0..o.polygons.len()).any(|p| {
+                    let m = polygon_material(o, p);
+                    m.reflectance > 0.0 || m.transmittance > 0.0
+                })
+        })
+}
+
+/// Builds the virtual image tree and paints it with pre-blended shades.
+fn paint_tree(
+    scene: &Scene,
+    view: &View,
+    algorithm: Algorithm,
+    mut frame: FrameBuffer,
+    mut stats: RenderStats,
+) -> Rendered {
+    let t = Instant::now();
+    let tree = crate::image_tree::build(
+        scene,
+        view,
+        crate::image_tree::TreeOptions {
+            max_level: scene.modes.max_level,
+            threshold: scene.threshold,
+            nns: algorithm == Algorithm::Nns,
+        },
+    );
+    stats.sort_time = t.elapsed();
+    stats.geometry = tree.geometry;
+    stats.max_depth = tree.max_depth;
+    let order = tree.output_order(scene.sort_order);
+    let items: Vec<PaintItem> = order
+        .iter()
+        .enumerate()
+        .map(|(k, &n)| {
+            let f = &tree.nodes[n];
+            PaintItem {
+                points: f.screen.iter().map(|q| DVec2::new(q.x, q.y)).collect(),
+                color: f
+                    .blended
+                    .clamp(DVec3::ZERO, DVec3::ONE)
+                    .as_vec3()
+                    .to_array(),
+                id: k as u32 + 1,
+            }
+        })
+        .collect();
+    stats.polygons_listed = items.len();
+    let t = Instant::now();
+    let mode = match scene.sort_order {
+        SortOrder::BackToFront => PaintMode::Overwrite,
+        SortOrder::FrontToBack => PaintMode::FirstWins,
+    };
+    stats.polygons_tiled = frame.paint(&items, mode);
+    stats.paint_time = t.elapsed();
+    Rendered {
+        frame,
+        polygons: order
+            .iter()
+            .map(|&n| (tree.nodes[n].object, tree.nodes[n].polygon))
+            .collect(),
+        stats,
+    }
+}
+
+/// The scene with every object replaced by its bounding box (the eight
+/// transformed corners of its object-space box), in the object's colours.
+pub fn bounding_box_scene(scene: &Scene) -> Scene {
+    let mut out = scene.clone();
+    for object in &mut out.objects {
+        let corners = object.bbox_corners;
+        let centre = corners.iter().copied().sum::<DVec3>() / 8.0;
+        // Corner i has x, y, z from bits 0, 1, 2: the six faces.
+        let faces: [[u32; 4]; 6] = [
+            [0, 2, 6, 4],
+            [1, 5, 7, 3],
+            [0, 4, 5, 1],
+            [2, 3, 7, 6],
+            [0, 1, 3, 2],
+            [4, 6, 7, 5],
+        ];
+        let polygons = faces
+            .iter()
+            .map(|f| {
+                // Clockwise from outside: the Newell normal points inward.
+                let pts: Vec<DVec3> = f.iter().map(|&i| corners[i as usize]).collect();
+                let n = crate::geometry::polygon::newell_vector(pts.iter().copied());
+                let fc = pts.iter().copied().sum::<DVec3>() / 4.0;
+                if n.dot(fc - centre) > 0.0 {
+                    f.iter().rev().copied().collect()
+                } else {
+                    f.to_vec()
+                }
+            })
+            .collect();
+        let parts = crate::scene::interpreter::ObjectParts {
+            number: object.number,
+            name: object.name.clone(),
+            mesh: std::sync::Arc::new(crate::scene::object_file::Mesh {
+                vertices: corners.to_vec(),
+                polygons,
+            }),
+            polygon_colors: None,
+            vertex_colors: None,
+            transform: crate::math::Matrix4::IDENTITY,
+            surface: object.surface,
+            surface_type: object.surface_type,
+        };
+        if let Ok(b) = crate::scene::interpreter::build_object(parts, &mut |_| {}) {
+            *object = b;
+        }
+    }
+    out
 }
 
 /// The size of the scene: the diagonal of the box around every vertex.
@@ -446,40 +568,17 @@ impl ShadeCache {
     }
 }
 
-/// The material of polygon `pi` of `object`, with its `.pcl` entry or the
-/// average of its vertices' `.vcl` entries.
-pub fn polygon_material(object: &Object, pi: usize) -> Material {
-    let s = &object.surface;
-    let base = Material {
-        color: s.color,
-        diffuse: s.diffuse,
-        specular: s.specular,
-        shininess: s.shininess,
-        reflectance: s.reflectance,
-        transmittance: s.transmittance,
-    };
-    if let Some(pcl) = &object.polygon_colors {
-        let source = object.source_polygon[pi] as usize;
-        return base.with_entry(&pcl[source]);
-    }
-    if let Some(vcl) = &object.vertex_colors {
-        let idx = &object.polygons[pi].indices;
-        let n = idx.len() as f64;
-        let mut avg = vcl[idx[0] as usize];
-        let sum = |f: &dyn Fn(usize) -> f64| idx.iter().map(|&i| f(i as usize)).sum::<f64>() / n;
-        avg.color = idx.iter().map(|&i| vcl[i as usize].color).sum::<DVec3>() / n;
-        avg.diffuse = sum(&|i| vcl[i].diffuse);
-        avg.reflectance = sum(&|i| vcl[i].reflectance);
-        avg.transmittance = sum(&|i| vcl[i].transmittance);
-        return base.with_entry(&avg);
-    }
-    base
-}
-
 /// One shade for the whole polygon (faceted): the illumination model at the
 /// centroid of the world polygon, with its plane normal turned towards the
 /// viewer (`back` when the viewer sees its back, for `type open`).
 pub fn facet_shade(scene: &Scene, view: &View, object: u32, polygon: u32, back: bool) -> Color {
+    facet_shade_from(scene, view.eye, object, polygon, back)
+}
+
+/// [`facet_shade`] seen from the homogeneous world point `eye` (for
+/// fragments seen by reflection or refraction, the eye mapped back into
+/// world space).
+pub fn facet_shade_from(scene: &Scene, eye: DVec4, object: u32, polygon: u32, back: bool) -> Color {
     let object = &scene.objects[object as usize];
     let pi = polygon as usize;
     let polygon = &object.polygons[pi];
@@ -498,11 +597,16 @@ pub fn facet_shade(scene: &Scene, view: &View, object: u32, polygon: u32, back: 
     } else {
         polygon.normal()
     };
+    let to_eye = if eye.w != 0.0 {
+        (eye.truncate() / eye.w - centroid).normalize_or_zero()
+    } else {
+        eye.truncate().normalize_or_zero()
+    };
     shading::shade(
         &material,
         centroid,
         normal,
-        view.to_eye(centroid),
+        to_eye,
         &scene.lights,
         scene.ambient,
     )

@@ -12,7 +12,7 @@
 
 use glam::DVec3;
 
-use crate::scene::model::{Color, Light};
+use crate::scene::model::{Color, Light, Object};
 use crate::scene::object_file::ColorEntry;
 
 /// The surface parameters at one point.
@@ -89,6 +89,36 @@ pub fn shade(
         c += light.color * term * k;
     }
     c.clamp(DVec3::ZERO, DVec3::ONE)
+}
+
+/// The material of polygon `pi` of `object`, with its `.pcl` entry or the
+/// average of its vertices' `.vcl` entries.
+pub fn polygon_material(object: &Object, pi: usize) -> Material {
+    let s = &object.surface;
+    let base = Material {
+        color: s.color,
+        diffuse: s.diffuse,
+        specular: s.specular,
+        shininess: s.shininess,
+        reflectance: s.reflectance,
+        transmittance: s.transmittance,
+    };
+    if let Some(pcl) = &object.polygon_colors {
+        let source = object.source_polygon[pi] as usize;
+        return base.with_entry(&pcl[source]);
+    }
+    if let Some(vcl) = &object.vertex_colors {
+        let idx = &object.polygons[pi].indices;
+        let n = idx.len() as f64;
+        let mut avg = vcl[idx[0] as usize];
+        let sum = |f: &dyn Fn(usize) -> f64| idx.iter().map(|&i| f(i as usize)).sum::<f64>() / n;
+        avg.color = idx.iter().map(|&i| vcl[i as usize].color).sum::<DVec3>() / n;
+        avg.diffuse = sum(&|i| vcl[i].diffuse);
+        avg.reflectance = sum(&|i| vcl[i].reflectance);
+        avg.transmittance = sum(&|i| vcl[i].transmittance);
+        return base.with_entry(&avg);
+    }
+    base
 }
 
 #[cfg(test)]

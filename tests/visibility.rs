@@ -41,9 +41,13 @@ fn assert_agrees(name: &str, scene: &Scene, algorithm: Algorithm, size: u32) {
     );
 }
 
+/// A shared scene at level 1 only (reflections are checked against the
+/// reflecting oracle in tests/reflection.rs).
 fn shared(name: &str) -> Option<Scene> {
     let path = support::shared_scene(name)?;
-    Some(plytrace::scene::load(&path).unwrap().0)
+    let mut scene = plytrace::scene::load(&path).unwrap().0;
+    scene.modes.max_level = 1;
+    Some(scene)
 }
 
 const SCENES: [&str; 8] = [

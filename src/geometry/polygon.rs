@@ -173,6 +173,18 @@ pub fn triangulate(points: &[DVec3]) -> Vec<[DVec3; 3]> {
     out
 }
 
+/// The polygon itself if convex, else its triangles (as loops).
+pub fn triangulate_if_needed(points: &[DVec3]) -> Vec<Vec<DVec3>> {
+    if is_convex(points) {
+        vec![points.to_vec()]
+    } else {
+        triangulate(points)
+            .into_iter()
+            .map(|t| t.to_vec())
+            .collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -26,6 +26,8 @@ struct WorldPolygon {
     points: Vec<DVec3>,
     plane: DVec4,
     open: bool,
+    /// Reflection coefficient, for rays that follow mirrors.
+    reflectance: f64,
     lo: DVec3,
     hi: DVec3,
     /// The axes kept when projecting for the inside test.
@@ -93,6 +95,7 @@ impl RayCaster {
                     points,
                     plane: p.plane,
                     open: object.surface_type.open,
+                    reflectance: crate::shading::polygon_material(object, pi).reflectance,
                     lo,
                     hi,
                     axes,
@@ -169,6 +172,71 @@ impl RayCaster {
     /// The nearest front-facing polygon hit by `origin + t * dir`, `t` in
     /// `0..=1`.
     pub fn cast(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+        self.cast_excluding(origin, dir, None)
+    }
+
+    /// Follows the ray through mirror reflections: at a polygon with a
+    /// reflection coefficient, while `level < max_level` and the product of
+    /// coefficients stays above `threshold`, the ray goes on from the hit
+    /// point in the mirrored direction for the rest of its length (so the
+    /// far plane bounds the unfolded ray, as it bounds the virtual images
+    /// of 004 section 4.4). Returns the last polygon hit and its level: a
+    /// mirror whose reflected ray hits nothing is itself what is seen, as
+    /// the painter shows it.
+    pub fn trace(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        max_level: u32,
+        threshold: f64,
+    ) -> Option<(Hit, u32)> {
+        let (mut o, mut d) = (origin, dir);
+        let mut exclude = None;
+        let mut level = 1;
+        let mut weight = 1.0;
+        let mut remaining = 1.0;
+        let mut last: Option<(Hit, u32)> = None;
+        loop {
+            let Some(hit) = self.cast_excluding(o, d * remaining, exclude) else {
+                return last;
+            };
+            let k = self
+                .polygon(hit.object, hit.polygon)
+                .map_or(0.0, |p| p.reflectance);
+            if level >= max_level || k <= 0.0 || weight * k <= threshold {
+                return Some((hit, level));
+            }
+            let n = self
+                .polygon(hit.object, hit.polygon)
+                .expect("just hit")
+                .plane
+                .truncate();
+            o += d * remaining * hit.t;
+            remaining *= 1.0 - hit.t;
+            d = d - n * (2.0 * d.dot(n));
+            exclude = Some((hit.object, hit.polygon));
+            last = Some((hit, level));
+            level += 1;
+            weight *= k;
+        }
+    }
+
+    fn polygon(&self, object: u32, polygon: u32) -> Option<&WorldPolygon> {
+        // Polygons are stored object by object, in order.
+        let i = self
+            .polygons
+            .partition_point(|p| (p.object, p.polygon) < (object, polygon));
+        self.polygons
+            .get(i)
+            .filter(|p| p.object == object && p.polygon == polygon)
+    }
+
+    fn cast_excluding(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        exclude: Option<(u32, u32)>,
+    ) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
         }
@@ -188,6 +256,9 @@ impl RayCaster {
             }
             for &k in &self.order[node.first as usize..(node.first + node.count) as usize] {
                 let p = &self.polygons[k as usize];
+                if exclude == Some((p.object, p.polygon)) {
+                    continue;
+                }
                 let n = p.plane.truncate();
                 let denom = n.dot(dir);
                 if denom == 0.0 || (denom > 0.0 && !p.open) {
@@ -217,6 +288,28 @@ impl RayCaster {
         let far = inv.transform(DVec4::new(x, y, 1.0, 1.0));
         let (o, f) = (near.truncate() / near.w, far.truncate() / far.w);
         (o.is_finite() && f.is_finite()).then_some((o, f - o))
+    }
+
+    /// The last polygon seen at every pixel centre when rays follow mirrors
+    /// (see [`RayCaster::trace`]), rows from the top, in parallel.
+    pub fn traced_image(
+        &self,
+        width: u32,
+        height: u32,
+        max_level: u32,
+        threshold: f64,
+    ) -> Vec<Option<(Hit, u32)>> {
+        (0..height)
+            .into_par_iter()
+            .flat_map_iter(|row| {
+                (0..width).map(move |col| {
+                    let x = (col as f64 + 0.5) / width as f64 * 2.0 - 1.0;
+                    let y = 1.0 - (row as f64 + 0.5) / height as f64 * 2.0;
+                    self.ray(x, y)
+                        .and_then(|(o, d)| self.trace(o, d, max_level, threshold))
+                })
+            })
+            .collect()
     }
 
     /// The nearest polygon at every pixel centre of a `width` x `height`

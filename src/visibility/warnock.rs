@@ -271,7 +271,19 @@ mod tests {
         };
         assert_eq!(sq.classify(2, 2, 4, 4), Class::Surrounding);
         assert_eq!(sq.classify(8, 8, 14, 14), Class::Intersecting);
-        assert_eq!(sq.classify(0, 0, 20, 20), Class::Contained);
+        // The window box runs through the pixel centres: 0.5 to 19.5.
+        assert_eq!(sq.classify(0, 0, 20, 20), Class::Intersecting);
+        let small = Poly {
+            points: sq
+                .points
+                .iter()
+                .map(|p| *p * 0.5 + DVec2::splat(2.0))
+                .collect(),
+            lo: DVec2::splat(2.0),
+            hi: DVec2::splat(7.0),
+            ..sq
+        };
+        assert_eq!(small.classify(0, 0, 20, 20), Class::Contained);
         assert_eq!(sq.classify(12, 0, 20, 20), Class::Disjoint);
         assert!(sq.contains(DVec2::new(3.5, 3.5)));
     }

@@ -1,0 +1,508 @@
+//! The recursive visible-surface processor and the virtual image tree
+//! (Garcia 1986, 004 chapter 3, figure 3.3, and sections 4.4-4.6, 4.10).
+//!
+//! Level 1 holds the polygons visible in the viewing volume, sorted back to
+//! front. For each reflective (refractive) polygon whose accumulated
+//! coefficient stays above `threshold`, and while the level is below
+//! `depth`, the whole scene is mapped by the reflection (refraction) matrix
+//! of the polygon's plane (004 section 4.6) and clipped to a new clipping
+//! volume: the pyramid from the eye through the polygon's outline, beyond
+//! its plane, inside the viewing volume (004 section 4.5, figure 4.6: in
+//! screen space, the polygon extruded along z). The fragments found there
+//! form the polygon's sub-tree, recursively.
+//!
+//! Coordinates: the clipping is done in "virtual" world coordinates, where
+//! the points of a level are the world points mapped by the product `T` of
+//! the matrices above it and are seen by the real eye through the real
+//! projection (`CTM_n = M_r(n-1) ... M_r(1) M_v M_p`, 004 section 4.6).
+//! Shading is done in true world space (004 section 4.8): the eye is
+//! mapped back by `T^-1`.
+//!
+//! Output orders (004 section 4.10): back to front, every polygon is
+//! followed by its reflected sub-tree, then (after a restore copy of the
+//! polygon, when both exist) its refracted sub-tree: for a cube on a
+//! mirror, `P11, P21, P22, P23, P12, P13, P14`. Front to back, sub-trees
+//! come before their polygon: `P12, P13, P14, P21, P22, P23, P11`.
+//! Pre-blended shades (`setmode b on`, and always for painting) are
+//! `I_child = I_parent + k I_child_own`, `k` the product of the
+//! coefficients on the path.
+//!
+//! Preconditions: planar polygons (the scene model's). The simple sort (or
+//! NNS with `setmode n on`) orders each level. Refraction uses the matrix
+//! linearized about the ray through the polygon's centre (004 section
+//! 6.4.3), or none on total internal reflection.
+
+use glam::{DVec3, DVec4};
+
+use crate::geometry::face_splitter;
+use crate::geometry::polygon;
+use crate::geometry::view::{self, GeometryStats, View};
+use crate::math::{self, Matrix4};
+use crate::render::{facet_shade_from, polygon_material, scene_scale};
+use crate::scene::model::{Color, Scene, SortOrder};
+use crate::visibility::{depth_sort, nns};
+
+/// What a fragment of the tree is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FragmentKind {
+    /// A polygon (at level 1) or a fragment mapped onto its parent.
+    Polygon,
+    /// The specially tagged copy of a polygon between its reflected and
+    /// refracted branches (004 section 4.10).
+    Restore,
+}
+
+/// How a sub-tree was mapped onto its parent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Branch {
+    /// Level 1: seen directly.
+    Direct,
+    /// Seen by reflection in the parent.
+    Reflected,
+    /// Seen by refraction through the parent.
+    Refracted,
+}
+
+/// A node of the virtual image tree.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fragment {
+    /// Level in the tree, 1 at the top.
+    pub level: u32,
+    /// What it is.
+    pub kind: FragmentKind,
+    /// How it is seen.
+    pub branch: Branch,
+    /// Index of the object in `Scene::objects`.
+    pub object: u32,
+    /// Index of the polygon in the object's `polygons`.
+    pub polygon: u32,
+    /// Points in the virtual coordinates of its level.
+    pub virtual_points: Vec<DVec3>,
+    /// Screen points (x, y in pixels, y up; z normalized depth).
+    pub screen: Vec<DVec3>,
+    /// Whether the viewer sees the polygon's back (`type open`).
+    pub back_facing: bool,
+    /// Its own shade (ambient, diffuse, specular).
+    pub shade: Color,
+    /// Its shade pre-blended with its ancestors' (`I_parent + k I_own`).
+    pub blended: Color,
+    /// `k`: the product of the coefficients above it (1 at level 1).
+    pub weight: f64,
+    /// Index of the parent fragment in [`VirtualImageTree::nodes`].
+    pub parent: Option<usize>,
+    /// Children in back-to-front order: reflected branch, then refracted.
+    pub children: Vec<usize>,
+}
+
+/// The virtual image tree of a view.
+#[derive(Debug, Clone, Default)]
+pub struct VirtualImageTree {
+    /// All fragments; `roots` and `children` index this.
+    pub nodes: Vec<Fragment>,
+    /// Level-1 fragments, back to front.
+    pub roots: Vec<usize>,
+    /// Deepest level reached.
+    pub max_depth: u32,
+    /// Geometry counters of level 1.
+    pub geometry: GeometryStats,
+}
+
+impl VirtualImageTree {
+    /// The fragments in output order (004 section 4.10).
+    pub fn output_order(&self, order: SortOrder) -> Vec<usize> {
+        let mut out = Vec::with_capacity(self.nodes.len());
+        match order {
+            SortOrder::BackToFront => {
+                for &r in &self.roots {
+                    self.back_to_front(r, &mut out);
+                }
+            }
+            SortOrder::FrontToBack => {
+                for &r in self.roots.iter().rev() {
+                    self.front_to_back(r, &mut out);
+                }
+            }
+        }
+        out
+    }
+
+    fn back_to_front(&self, n: usize, out: &mut Vec<usize>) {
+        out.push(n);
+        for &c in &self.nodes[n].children {
+            self.back_to_front(c, out);
+        }
+    }
+
+    fn front_to_back(&self, n: usize, out: &mut Vec<usize>) {
+        // Within a level list, front to back is the reverse order; the
+        // sub-trees precede their polygon.
+        let kids = &self.nodes[n].children;
+        // Children form runs per branch, each back to front: reverse each.
+        let mut runs: Vec<Vec<usize>> = Vec::new();
+        for &c in kids {
+            let start_new = runs.last().is_none_or(|r: &Vec<usize>| {
+                self.nodes[*r.last().expect("runs are not empty")].branch != self.nodes[c].branch
+                    || self.nodes[c].kind == FragmentKind::Restore
+            });
+            if start_new {
+                runs.push(Vec::new());
+            }
+            runs.last_mut().expect("pushed").push(c);
+        }
+        for run in runs {
+            for &c in run.iter().rev() {
+                self.front_to_back(c, out);
+            }
+        }
+        out.push(n);
+    }
+}
+
+/// Options of the tree builder.
+#[derive(Debug, Clone, Copy)]
+pub struct TreeOptions {
+    /// Deepest level (`depth`, 1-14).
+    pub max_level: u32,
+    /// Smallest coefficient worth tracing (`threshold`).
+    pub threshold: f64,
+    /// Use the NNS sorter at every level.
+    pub nns: bool,
+}
+
+struct Builder<'a> {
+    scene: &'a Scene,
+    view: &'a View,
+    options: TreeOptions,
+    eps: f64,
+    frustum: Vec<DVec4>,
+    tree: VirtualImageTree,
+}
+
+/// A polygon found at some level, before sorting.
+struct Candidate {
+    object: u32,
+    polygon: u32,
+    points: Vec<DVec3>,
+    back_facing: bool,
+}
+
+/// Builds the virtual image tree of `scene` seen through `view`.
+pub fn build(scene: &Scene, view: &View, options: TreeOptions) -> VirtualImageTree {
+    let p = &view.projection;
+    let (c0, c1, c2, c3) = (p.column(0), p.column(1), p.column(2), p.column(3));
+    let frustum = [c3 + c0, c3 - c0, c3 + c1, c3 - c1, c3 + c2, c3 - c2]
+        .into_iter()
+        .filter_map(|pl| {
+            let len = pl.truncate().length();
+            (len > 0.0).then(|| pl / len)
+        })
+        .collect();
+    let mut b = Builder {
+        scene,
+        view,
+        options,
+        eps: scene.modes.epsilon * scene_scale(scene).max(f64::MIN_POSITIVE),
+        frustum,
+        tree: VirtualImageTree {
+            max_depth: 1,
+            ..VirtualImageTree::default()
+        },
+    };
+    let level1 = b.level_one();
+    let roots = b.trace(
+        1,
+        level1,
+        &Matrix4::IDENTITY,
+        Branch::Direct,
+        1.0,
+        Color::ZERO,
+        None,
+    );
+    b.tree.roots = roots;
+    b.tree
+}
+
+impl Builder<'_> {
+    /// Level 1: the geometry stage's polygons (homogeneous clipping).
+    fn level_one(&mut self) -> Vec<Candidate> {
+        let mut polys = Vec::new();
+        for i in 0..self.scene.objects.len() {
+            if !self.scene.objects[i].surface_type.hidden {
+                view::expand_object(
+                    self.scene,
+                    i,
+                    self.view,
+                    &mut polys,
+                    &mut self.tree.geometry,
+                );
+            }
+        }
+        polys
+            .into_iter()
+            .map(|p| Candidate {
+                object: p.object,
+                polygon: p.polygon,
+                points: p.world,
+                back_facing: p.back_facing,
+            })
+            .collect()
+    }
+
+    /// Lower levels: the scene mapped by `t`, clipped to `planes` (front
+    /// sides kept) with the splitter.
+    fn mapped_level(&self, t: &Matrix4, planes: &[DVec4]) -> Vec<Candidate> {
+        let mirrored = linear_determinant(t) < 0.0;
+        let mut out = Vec::new();
+        for (oi, object) in self.scene.objects.iter().enumerate() {
+            if object.surface_type.hidden {
+                continue;
+            }
+            let corners: Vec<DVec3> = object
+                .bbox_corners
+                .iter()
+                .map(|c| t.transform_point(*c))
+                .collect();
+            let outside = planes.iter().any(|pl| {
+                corners
+                    .iter()
+                    .all(|c| pl.truncate().dot(*c) + pl.w < -self.eps)
+            });
+            if outside {
+                continue;
+            }
+            let verts: Vec<DVec3> = object
+                .vertices
+                .iter()
+                .map(|v| t.transform_point(*v))
+                .collect();
+            for (pi, poly) in object.polygons.iter().enumerate() {
+                let mut pts: Vec<DVec3> = poly.indices.iter().map(|&i| verts[i as usize]).collect();
+                if mirrored {
+                    pts.reverse();
+                }
+                let Ok(plane) = polygon::outward_plane(&pts) else {
+                    continue;
+                };
+                let front = self.view.faces_eye(plane);
+                if !front && !object.surface_type.open {
+                    continue;
+                }
+                let Ok(pieces) = face_splitter::clip_to_planes(&pts, planes, self.eps) else {
+                    continue;
+                };
+                for piece in pieces {
+                    out.push(Candidate {
+                        object: oi as u32,
+                        polygon: pi as u32,
+                        points: piece,
+                        back_facing: !front,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// Orders a level's candidates back to front.
+    fn sort(&self, candidates: Vec<Candidate>) -> Vec<Candidate> {
+        if self.options.nns {
+            let faces: Vec<nns::NnsFace> = candidates
+                .iter()
+                .flat_map(|c| {
+                    polygon::triangulate_if_needed(&c.points)
+                        .into_iter()
+                        .map(|world| nns::NnsFace {
+                            object: c.object,
+                            polygon: c.polygon,
+                            world,
+                        })
+                })
+                .collect();
+            let back: std::collections::HashMap<(u32, u32), bool> = candidates
+                .iter()
+                .map(|c| ((c.object, c.polygon), c.back_facing))
+                .collect();
+            let (sorted, _) = nns::sort(faces, self.view, self.eps);
+            return sorted
+                .into_iter()
+                .map(|f| Candidate {
+                    back_facing: back[&(f.object, f.polygon)],
+                    object: f.object,
+                    polygon: f.polygon,
+                    points: f.world,
+                })
+                .collect();
+        }
+        let keys: Vec<f64> = candidates
+            .iter()
+            .map(|c| {
+                let zmax = c
+                    .points
+                    .iter()
+                    .map(|p| self.view.project(*p).z)
+                    .fold(f64::NEG_INFINITY, f64::max);
+                depth_sort::sort_key((f64::NEG_INFINITY, zmax), SortOrder::BackToFront)
+            })
+            .collect();
+        let mut slots: Vec<Option<Candidate>> = candidates.into_iter().map(Some).collect();
+        depth_sort::sorted_order(&keys)
+            .into_iter()
+            .map(|k| slots[k].take().expect("a permutation"))
+            .collect()
+    }
+
+    /// Sorts `candidates` (the polygons of one level, in virtual coordinates
+    /// under `t`), adds them as fragments and traces their sub-trees.
+    /// Returns the new fragments' indices, back to front.
+    #[allow(clippy::too_many_arguments)]
+    fn trace(
+        &mut self,
+        level: u32,
+        candidates: Vec<Candidate>,
+        t: &Matrix4,
+        branch: Branch,
+        weight: f64,
+        parent_blend: Color,
+        parent: Option<usize>,
+    ) -> Vec<usize> {
+        self.tree.max_depth = self.tree.max_depth.max(level);
+        let eye_real = t
+            .inverse()
+            .map(|inv| inv.transform(self.view.eye))
+            .unwrap_or(self.view.eye);
+        let mut ids = Vec::new();
+        for c in self.sort(candidates) {
+            let own = facet_shade_from(self.scene, eye_real, c.object, c.polygon, c.back_facing);
+            let blended = parent_blend + own * weight;
+            let screen: Vec<DVec3> = c.points.iter().map(|p| self.view.project(*p)).collect();
+            let id = self.push(Fragment {
+                level,
+                kind: FragmentKind::Polygon,
+                branch,
+                object: c.object,
+                polygon: c.polygon,
+                virtual_points: c.points.clone(),
+                screen,
+                back_facing: c.back_facing,
+                shade: own,
+                blended,
+                weight,
+                parent,
+                children: Vec::new(),
+            });
+            ids.push(id);
+            if level >= self.options.max_level || c.back_facing {
+                continue;
+            }
+            let object = &self.scene.objects[c.object as usize];
+            let material = polygon_material(object, c.polygon as usize);
+            let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
+                continue;
+            };
+            let mut reflected = false;
+            if material.reflectance > 0.0 && weight * material.reflectance > self.options.threshold
+            {
+                let m = math::reflection(plane);
+                let t2 = t.mul(&m);
+                let planes = self.volume(&c.points, plane);
+                let found = self.mapped_level(&t2, &planes);
+                if !found.is_empty() {
+                    let kids = self.trace(
+                        level + 1,
+                        found,
+                        &t2,
+                        Branch::Reflected,
+                        weight * material.reflectance,
+                        blended,
+                        Some(id),
+                    );
+                    reflected = !kids.is_empty();
+                    self.tree.nodes[id].children.extend(kids);
+                }
+            }
+            if material.transmittance > 0.0
+                && weight * material.transmittance > self.options.threshold
+            {
+                let eta = 1.0 / object.surface.index;
+                let centre = c.points.iter().copied().sum::<DVec3>() / c.points.len() as f64;
+                let dir = -self.view.to_eye(centre);
+                if let Some(m) = math::refraction(plane, dir, eta) {
+                    let t2 = t.mul(&m);
+                    let planes = self.volume(&c.points, plane);
+                    let found = self.mapped_level(&t2, &planes);
+                    if !found.is_empty() {
+                        if reflected {
+                            let mut restore = self.tree.nodes[id].clone();
+                            restore.kind = FragmentKind::Restore;
+                            restore.parent = Some(id);
+                            restore.children.clear();
+                            let r = self.push(restore);
+                            self.tree.nodes[id].children.push(r);
+                        }
+                        let kids = self.trace(
+                            level + 1,
+                            found,
+                            &t2,
+                            Branch::Refracted,
+                            weight * material.transmittance,
+                            blended,
+                            Some(id),
+                        );
+                        self.tree.nodes[id].children.extend(kids);
+                    }
+                }
+            }
+        }
+        ids
+    }
+
+    fn push(&mut self, f: Fragment) -> usize {
+        self.tree.nodes.push(f);
+        self.tree.nodes.len() - 1
+    }
+
+    /// The clipping volume of a fragment: beyond its plane, inside the
+    /// pyramid from the eye through its outline, inside the view volume.
+    fn volume(&self, points: &[DVec3], toward_eye: DVec4) -> Vec<DVec4> {
+        let mut planes = vec![-toward_eye];
+        let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+        let eye = self.view.eye;
+        for i in 0..points.len() {
+            let (a, b) = (points[i], points[(i + 1) % points.len()]);
+            let to_eye = if eye.w != 0.0 {
+                eye.truncate() / eye.w - a
+            } else {
+                eye.truncate()
+            };
+            let Some(n) = (b - a).cross(to_eye).try_normalize() else {
+                continue;
+            };
+            let mut pl = n.extend(-n.dot(a));
+            if pl.truncate().dot(centre) + pl.w < 0.0 {
+                pl = -pl;
+            }
+            planes.push(pl);
+        }
+        planes.extend(self.frustum.iter().copied());
+        planes
+    }
+}
+
+/// The plane of `points` with its unit normal towards the eye.
+fn toward_eye_plane(points: &[DVec3], eye: DVec4) -> Option<DVec4> {
+    let n = polygon::newell_vector(points.iter().copied()).try_normalize()?;
+    let c = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    let pl = n.extend(-n.dot(c));
+    let side = pl.dot(eye);
+    if side == 0.0 {
+        return None;
+    }
+    Some(if side > 0.0 { pl } else { -pl })
+}
+
+fn linear_determinant(m: &Matrix4) -> f64 {
+    let a = &m.m;
+    a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+}
