@@ -50,6 +50,12 @@ pub enum FragmentKind {
     /// The specially tagged copy of a polygon between its reflected and
     /// refracted branches (004 section 4.10).
     Restore,
+    /// A shadow cast on its parent from the Point light of this index
+    /// (004 section 4.7).
+    Shadow {
+        /// Index into `Scene::lights`.
+        light: u32,
+    },
 }
 
 /// How a sub-tree was mapped onto its parent.
@@ -61,6 +67,8 @@ pub enum Branch {
     Reflected,
     /// Seen by refraction through the parent.
     Refracted,
+    /// A shadow polygon on the parent.
+    Shadow,
 }
 
 /// A node of the virtual image tree.
@@ -167,6 +175,12 @@ pub struct TreeOptions {
     pub threshold: f64,
     /// Use the NNS sorter at every level.
     pub nns: bool,
+    /// Cast shadows from Point lights (`run y`).
+    pub shadows: bool,
+    /// `setmode h on`: shade every shadow polygon at its own centroid;
+    /// off: all shadows of one light on one target share the target's
+    /// shade without that light (004 section 4.7).
+    pub explicit_shadow_shades: bool,
 }
 
 struct Builder<'a> {
@@ -391,6 +405,10 @@ impl Builder<'_> {
                 children: Vec::new(),
             });
             ids.push(id);
+            if self.options.shadows {
+                let shadows = self.shadows_on(&c, t, &eye_real, weight, parent_blend, id, level);
+                self.tree.nodes[id].children.extend(shadows);
+            }
             if level >= self.options.max_level || c.back_facing {
                 continue;
             }
@@ -454,6 +472,181 @@ impl Builder<'_> {
             }
         }
         ids
+    }
+
+    /// The shadow polygons cast on fragment `c` (virtual coordinates under
+    /// `t`) by every Point light (004 section 4.7): casters are culled by
+    /// their bounding boxes and planes against the shadow volume (from the
+    /// light through the fragment's outline, down to its plane), clipped to
+    /// it and projected from the light onto the fragment's plane. Polygons
+    /// back-facing to the light are skipped (unless `type open`), and so is
+    /// the fragment's own object unless it is `type concave`.
+    #[allow(clippy::too_many_arguments)]
+    fn shadows_on(
+        &mut self,
+        c: &Candidate,
+        t: &Matrix4,
+        eye_real: &DVec4,
+        weight: f64,
+        parent_blend: Color,
+        parent: usize,
+        level: u32,
+    ) -> Vec<usize> {
+        let scene = self.scene;
+        let Some(target) = toward_eye_plane(&c.points, self.view.eye) else {
+            return Vec::new();
+        };
+        let centre = c.points.iter().copied().sum::<DVec3>() / c.points.len() as f64;
+        let inverse = t.inverse();
+        let plane_map = inverse.map(|i| i.transpose());
+        let identity = *t == Matrix4::IDENTITY;
+        let mut out = Vec::new();
+        for (j, light) in scene.lights.iter().enumerate() {
+            if light.kind != crate::scene::model::LightKind::Point {
+                continue;
+            }
+            let lv = t.transform_point(light.position);
+            // The light must be on the viewer's side of the fragment.
+            if target.truncate().dot(lv) + target.w <= self.eps {
+                continue;
+            }
+            let mut volume = Vec::with_capacity(c.points.len() + 2);
+            for i in 0..c.points.len() {
+                let (a, b) = (c.points[i], c.points[(i + 1) % c.points.len()]);
+                let Some(n) = (b - a).cross(lv - a).try_normalize() else {
+                    continue;
+                };
+                let mut pl = n.extend(-n.dot(a));
+                if pl.truncate().dot(centre) + pl.w < 0.0 {
+                    pl = -pl;
+                }
+                volume.push(pl);
+            }
+            // Strictly above the target plane, below the light.
+            volume.push(DVec4::new(
+                target.x,
+                target.y,
+                target.z,
+                target.w - self.eps,
+            ));
+            volume.push((-target.truncate()).extend(target.truncate().dot(lv)));
+            let others: Vec<_> = scene
+                .lights
+                .iter()
+                .enumerate()
+                .filter(|&(k, _)| k != j)
+                .map(|(_, l)| *l)
+                .collect();
+            let average = crate::render::facet_shade_with(
+                scene,
+                *eye_real,
+                c.object,
+                c.polygon,
+                c.back_facing,
+                &others,
+                None,
+            );
+            for (oi, object) in scene.objects.iter().enumerate() {
+                if object.surface_type.hidden
+                    || (oi as u32 == c.object && !object.surface_type.concave)
+                {
+                    continue;
+                }
+                let corners: Vec<DVec3> = object
+                    .bbox_corners
+                    .iter()
+                    .map(|p| t.transform_point(*p))
+                    .collect();
+                if volume
+                    .iter()
+                    .any(|pl| corners.iter().all(|p| pl.truncate().dot(*p) + pl.w < 0.0))
+                {
+                    continue;
+                }
+                for (pi, poly) in object.polygons.iter().enumerate() {
+                    if (oi as u32, pi as u32) == (c.object, c.polygon) {
+                        continue;
+                    }
+                    let plane = if identity {
+                        poly.plane
+                    } else {
+                        let Some(m) = plane_map else { continue };
+                        let l = m.transform(poly.plane);
+                        l / l.truncate().length()
+                    };
+                    if plane.truncate().dot(lv) + plane.w <= 0.0 && !object.surface_type.open {
+                        continue;
+                    }
+                    let pts: Vec<DVec3> = poly
+                        .indices
+                        .iter()
+                        .map(|&i| {
+                            let v = object.vertices[i as usize];
+                            if identity { v } else { t.transform_point(v) }
+                        })
+                        .collect();
+                    if volume
+                        .iter()
+                        .any(|pl| pts.iter().all(|p| pl.truncate().dot(*p) + pl.w < 0.0))
+                    {
+                        continue;
+                    }
+                    let Ok(pieces) = face_splitter::clip_to_planes(&pts, &volume, self.eps) else {
+                        continue;
+                    };
+                    for piece in pieces {
+                        let n = target.truncate();
+                        let projected: Vec<DVec3> = piece
+                            .iter()
+                            .map(|p| {
+                                let d = *p - lv;
+                                let s = -(n.dot(lv) + target.w) / n.dot(d);
+                                lv + d * s
+                            })
+                            .collect();
+                        if !projected.iter().all(|p| p.is_finite())
+                            || polygon::newell_vector(projected.iter().copied()).length()
+                                <= self.eps * self.eps
+                        {
+                            continue;
+                        }
+                        let shade = if self.options.explicit_shadow_shades {
+                            let at =
+                                projected.iter().copied().sum::<DVec3>() / projected.len() as f64;
+                            let at_world = inverse.map_or(at, |i| i.transform_point(at));
+                            crate::render::facet_shade_with(
+                                scene,
+                                *eye_real,
+                                c.object,
+                                c.polygon,
+                                c.back_facing,
+                                &others,
+                                Some(at_world),
+                            )
+                        } else {
+                            average
+                        };
+                        let screen = projected.iter().map(|p| self.view.project(*p)).collect();
+                        out.push(self.push(Fragment {
+                            level,
+                            kind: FragmentKind::Shadow { light: j as u32 },
+                            branch: Branch::Shadow,
+                            object: c.object,
+                            polygon: c.polygon,
+                            virtual_points: projected,
+                            screen,
+                            back_facing: c.back_facing,
+                            shade,
+                            blended: parent_blend + shade * weight,
+                            weight,
+                            parent: Some(parent),
+                            children: Vec::new(),
+                        }));
+                    }
+                }
+            }
+        }
+        out
     }
 
     fn push(&mut self, f: Fragment) -> usize {

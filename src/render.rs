@@ -67,6 +67,9 @@ pub struct Rendered {
     /// For id `k` (1-based), `polygons[k - 1]` = (object index, polygon
     /// index in the object's `polygons`).
     pub polygons: Vec<(u32, u32)>,
+    /// For id `k`, `shadows[k - 1]` is the light whose shadow it is (for
+    /// shadow polygons); empty when no shadows were cast.
+    pub shadows: Vec<Option<u32>>,
     /// Figures.
     pub stats: RenderStats,
 }
@@ -119,14 +122,24 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
         ..RenderStats::default()
     };
     let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
-    if matches!(algorithm, Algorithm::DepthSort | Algorithm::Nns) && needs_tree(scene) {
-        return Ok(paint_tree(scene, &view, algorithm, frame, stats));
+    if matches!(algorithm, Algorithm::DepthSort | Algorithm::Nns)
+        && (needs_tree(scene) || (options.shadows && has_point_light(scene)))
+    {
+        return Ok(paint_tree(
+            scene,
+            &view,
+            algorithm,
+            options.shadows,
+            frame,
+            stats,
+        ));
     }
     if algorithm == Algorithm::RayCast {
         let polygons = ray_cast(scene, &view, &mut frame, &mut stats);
         return Ok(Rendered {
             frame,
             polygons,
+            shadows: Vec::new(),
             stats,
         });
     }
@@ -247,6 +260,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     Ok(Rendered {
         frame,
         polygons: sorted.iter().map(|(_, id, _)| *id).collect(),
+        shadows: Vec::new(),
         stats,
     })
 }
@@ -379,6 +393,14 @@ fn nns_sorted(
     (listed, stats)
 }
 
+/// Whether the scene has a shadow-casting light.
+pub fn has_point_light(scene: &Scene) -> bool {
+    scene
+        .lights
+        .iter()
+        .any(|l| l.kind == crate::scene::model::LightKind::Point)
+}
+
 /// Whether the scene has anything to trace below level 1.
 pub fn needs_tree(scene: &Scene) -> bool {
     scene.modes.max_level > 1
@@ -396,6 +418,7 @@ fn paint_tree(
     scene: &Scene,
     view: &View,
     algorithm: Algorithm,
+    shadows: bool,
     mut frame: FrameBuffer,
     mut stats: RenderStats,
 ) -> Rendered {
@@ -407,6 +430,8 @@ fn paint_tree(
             max_level: scene.modes.max_level,
             threshold: scene.threshold,
             nns: algorithm == Algorithm::Nns,
+            shadows,
+            explicit_shadow_shades: scene.modes.shadow_shades,
         },
     );
     stats.sort_time = t.elapsed();
@@ -442,6 +467,13 @@ fn paint_tree(
         polygons: order
             .iter()
             .map(|&n| (tree.nodes[n].object, tree.nodes[n].polygon))
+            .collect(),
+        shadows: order
+            .iter()
+            .map(|&n| match tree.nodes[n].kind {
+                crate::image_tree::FragmentKind::Shadow { light } => Some(light),
+                _ => None,
+            })
             .collect(),
         stats,
     }
@@ -579,6 +611,21 @@ pub fn facet_shade(scene: &Scene, view: &View, object: u32, polygon: u32, back: 
 /// fragments seen by reflection or refraction, the eye mapped back into
 /// world space).
 pub fn facet_shade_from(scene: &Scene, eye: DVec4, object: u32, polygon: u32, back: bool) -> Color {
+    facet_shade_with(scene, eye, object, polygon, back, &scene.lights, None)
+}
+
+/// [`facet_shade_from`] with a given set of lights, and optionally at a
+/// given world point instead of the polygon's centroid (for shadow shades,
+/// 004 section 4.7: the target's shade without the shadowing light).
+pub fn facet_shade_with(
+    scene: &Scene,
+    eye: DVec4,
+    object: u32,
+    polygon: u32,
+    back: bool,
+    lights: &[crate::scene::model::Light],
+    at: Option<DVec3>,
+) -> Color {
     let object = &scene.objects[object as usize];
     let pi = polygon as usize;
     let polygon = &object.polygons[pi];
@@ -586,12 +633,14 @@ pub fn facet_shade_from(scene: &Scene, eye: DVec4, object: u32, polygon: u32, ba
     if object.surface_type.ltsrc {
         return material.color;
     }
-    let centroid = polygon
-        .indices
-        .iter()
-        .map(|&i| object.vertices[i as usize])
-        .sum::<DVec3>()
-        / polygon.indices.len() as f64;
+    let centroid = at.unwrap_or_else(|| {
+        polygon
+            .indices
+            .iter()
+            .map(|&i| object.vertices[i as usize])
+            .sum::<DVec3>()
+            / polygon.indices.len() as f64
+    });
     let normal = if back {
         -polygon.normal()
     } else {
@@ -602,12 +651,5 @@ pub fn facet_shade_from(scene: &Scene, eye: DVec4, object: u32, polygon: u32, ba
     } else {
         eye.truncate().normalize_or_zero()
     };
-    shading::shade(
-        &material,
-        centroid,
-        normal,
-        to_eye,
-        &scene.lights,
-        scene.ambient,
-    )
+    shading::shade(&material, centroid, normal, to_eye, lights, scene.ambient)
 }

@@ -126,6 +126,8 @@ fn cube_on_mirror_output_orders() {
             max_level: 2,
             threshold: 0.0,
             nns: false,
+            shadows: false,
+            explicit_shadow_shades: false,
         },
     );
     let label = |n: usize| {

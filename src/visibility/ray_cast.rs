@@ -221,6 +221,25 @@ impl RayCaster {
         }
     }
 
+    /// Whether something lies between a Point light and a point on polygon
+    /// `target` (the shadow test of a ray tracer, 004 section 4.7): polygons
+    /// facing the light block it (back faces too for `type open`); the
+    /// target itself never does, nor its object when `skip_object` names it
+    /// (a convex object does not shadow itself).
+    pub fn occluded(
+        &self,
+        light: DVec3,
+        point: DVec3,
+        target: (u32, u32),
+        skip_object: Option<u32>,
+    ) -> bool {
+        let dir = (point - light) * (1.0 - 1e-9);
+        self.cast_filtered(light, dir, &|p: &WorldPolygon| {
+            (p.object, p.polygon) != target && Some(p.object) != skip_object
+        })
+        .is_some()
+    }
+
     fn polygon(&self, object: u32, polygon: u32) -> Option<&WorldPolygon> {
         // Polygons are stored object by object, in order.
         let i = self
@@ -236,6 +255,17 @@ impl RayCaster {
         origin: DVec3,
         dir: DVec3,
         exclude: Option<(u32, u32)>,
+    ) -> Option<Hit> {
+        self.cast_filtered(origin, dir, &|p: &WorldPolygon| {
+            exclude != Some((p.object, p.polygon))
+        })
+    }
+
+    fn cast_filtered(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        keep: &dyn Fn(&WorldPolygon) -> bool,
     ) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
@@ -256,7 +286,7 @@ impl RayCaster {
             }
             for &k in &self.order[node.first as usize..(node.first + node.count) as usize] {
                 let p = &self.polygons[k as usize];
-                if exclude == Some((p.object, p.polygon)) {
+                if !keep(p) {
                     continue;
                 }
                 let n = p.plane.truncate();
