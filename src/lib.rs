@@ -20,6 +20,7 @@ pub mod raster;
 pub mod render;
 pub mod scene;
 pub mod shading;
+pub mod tree_file;
 pub mod visibility;
 
 pub use error::{Error, Result};

@@ -257,6 +257,27 @@ impl Host for CliHost {
                 rendered.frame.height
             ));
         }
+        if let Some(tree) = &rendered.tree {
+            let stem = scene
+                .fname
+                .clone()
+                .or_else(|| self.scene_stem.clone())
+                .unwrap_or_else(|| "plytrace".into());
+            let (bin, txt) = (
+                PathBuf::from(format!("{stem}.out")),
+                PathBuf::from(format!("{stem}.txt")),
+            );
+            let bytes = tree.to_bytes();
+            output::write_atomically(&bin, |w| w.write_all(&bytes))?;
+            let text = tree.to_text();
+            output::write_atomically(&txt, |w| w.write_all(text.as_bytes()))?;
+            self.say(&format!(
+                "Wrote the virtual image tree ({} polygons) to {} and {}",
+                tree.records.len(),
+                bin.display(),
+                txt.display()
+            ));
+        }
         if let Some(p) = &self.id_image {
             output::write_id_png(p, &rendered.frame, &rendered.polygons)?;
         }

@@ -70,6 +70,8 @@ pub struct Rendered {
     /// For id `k`, `shadows[k - 1]` is the light whose shadow it is (for
     /// shadow polygons); empty when no shadows were cast.
     pub shadows: Vec<Option<u32>>,
+    /// The virtual image tree in file form, with `setmode o on`.
+    pub tree: Option<crate::tree_file::TreeFile>,
     /// Figures.
     pub stats: RenderStats,
 }
@@ -123,7 +125,9 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     };
     let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
     if matches!(algorithm, Algorithm::DepthSort | Algorithm::Nns)
-        && (needs_tree(scene) || (options.shadows && has_point_light(scene)))
+        && (needs_tree(scene)
+            || scene.modes.output_tree
+            || (options.shadows && has_point_light(scene)))
     {
         return Ok(paint_tree(
             scene,
@@ -140,6 +144,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
             frame,
             polygons,
             shadows: Vec::new(),
+            tree: None,
             stats,
         });
     }
@@ -261,6 +266,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
         frame,
         polygons: sorted.iter().map(|(_, id, _)| *id).collect(),
         shadows: Vec::new(),
+        tree: None,
         stats,
     })
 }
@@ -393,6 +399,52 @@ fn nns_sorted(
     (listed, stats)
 }
 
+/// The tree in the file form of 004 figure 4.14: faceted records with the
+/// pre-blended shades under `setmode b on`, the own shades otherwise;
+/// restore polygons as special records.
+fn tree_file(
+    scene: &Scene,
+    tree: &crate::image_tree::VirtualImageTree,
+    order: &[usize],
+    width: u32,
+    height: u32,
+) -> crate::tree_file::TreeFile {
+    use crate::tree_file::{Record, Shades, TreeFile};
+    let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    let records = order
+        .iter()
+        .map(|&n| {
+            let f = &tree.nodes[n];
+            let points = f
+                .screen
+                .iter()
+                .map(|p| [(p.x / width as f64) as f32, (p.y / height as f64) as f32])
+                .collect();
+            let c = if scene.modes.blend {
+                f.blended
+            } else {
+                f.shade
+            };
+            let shades = match f.kind {
+                crate::image_tree::FragmentKind::Restore => Shades::Special,
+                _ => Shades::Faceted([byte(c.x), byte(c.y), byte(c.z)]),
+            };
+            Record {
+                level: f.level.min(u16::MAX as u32) as u16,
+                points,
+                shades,
+            }
+        })
+        .collect();
+    TreeFile {
+        width,
+        height,
+        front_to_back: scene.sort_order == SortOrder::FrontToBack,
+        blended: scene.modes.blend,
+        records,
+    }
+}
+
 /// Whether the scene has a shadow-casting light.
 pub fn has_point_light(scene: &Scene) -> bool {
     scene
@@ -462,6 +514,7 @@ fn paint_tree(
     };
     stats.polygons_tiled = frame.paint(&items, mode);
     stats.paint_time = t.elapsed();
+    let size = (frame.width, frame.height);
     Rendered {
         frame,
         polygons: order
@@ -475,6 +528,10 @@ fn paint_tree(
                 _ => None,
             })
             .collect(),
+        tree: scene
+            .modes
+            .output_tree
+            .then(|| tree_file(scene, &tree, &order, size.0, size.1)),
         stats,
     }
 }

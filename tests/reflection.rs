@@ -186,3 +186,32 @@ fn cube_on_mirror_output_orders() {
     );
     let _ = DVec3::ZERO;
 }
+
+/// `setmode o on`: the tree in the file form of 004 figure 4.14, read back
+/// losslessly from both forms; levels follow the output order.
+#[test]
+fn tree_file_of_the_cube_on_a_mirror() {
+    let mut scene = cube_on_mirror();
+    scene.modes.output_tree = true;
+    scene.modes.blend = true;
+    let r = render(&scene, &RenderOptions::default()).unwrap();
+    let tree = r.tree.expect("setmode o on gives the tree");
+    let levels: Vec<u16> = tree.records.iter().map(|r| r.level).collect();
+    assert_eq!(levels, vec![1, 2, 2, 2, 1, 1, 1]);
+    assert!(tree.blended && !tree.front_to_back);
+    let path = std::path::Path::new("m.out");
+    assert_eq!(
+        plytrace::tree_file::TreeFile::from_bytes(&tree.to_bytes(), path).unwrap(),
+        tree
+    );
+    assert_eq!(
+        plytrace::tree_file::TreeFile::from_text(&tree.to_text(), path).unwrap(),
+        tree
+    );
+    // Normalized coordinates.
+    for rec in &tree.records {
+        for p in &rec.points {
+            assert!((-1e-6..=1.0 + 1e-6).contains(&p[0]) && (-1e-6..=1.0 + 1e-6).contains(&p[1]));
+        }
+    }
+}
