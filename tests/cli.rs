@@ -932,13 +932,14 @@ fn output_flag_on_is_not_a_file_name() {
             None,
         );
         assert_eq!(run.code, Some(0), "{}", run.transcript());
-        // The tree-output mode, not a file: the image is named after the scene.
-        assert_eq!(
-            run.files,
-            ["scene.des", "scene.png"],
-            "{}",
-            run.transcript()
-        );
+        // The tree-output mode, not a file: the image is named after the
+        // scene, and `on` writes the virtual image tree beside it.
+        let expected: &[&str] = if value == "on" {
+            &["scene.des", "scene.out", "scene.png", "scene.txt"]
+        } else {
+            &["scene.des", "scene.png"]
+        };
+        assert_eq!(run.files, expected, "{}", run.transcript());
         let image = read_png(&run.path("scene.png"));
         assert_eq!((image.width, image.height), (8, 8));
         assert_eq!(image.centre(), [0, 0, 255]);
