@@ -385,6 +385,8 @@ impl Builder<'_> {
             .map(|inv| inv.transform(self.view.eye))
             .unwrap_or(self.view.eye);
         let mut ids = Vec::new();
+        // The casters of this level, built when the first shadow is cast.
+        let mut caster_index: Option<CasterIndex> = None;
         for c in self.sort(candidates) {
             let own = facet_shade_from(self.scene, eye_real, c.object, c.polygon, c.back_facing);
             let blended = parent_blend + own * weight;
@@ -406,7 +408,12 @@ impl Builder<'_> {
             });
             ids.push(id);
             if self.options.shadows {
-                let shadows = self.shadows_on(&c, t, &eye_real, weight, parent_blend, id, level);
+                if caster_index.is_none() {
+                    caster_index = Some(CasterIndex::new(self.scene, t));
+                }
+                let index = caster_index.as_ref().expect("just built");
+                let shadows =
+                    self.shadows_on(index, &c, t, &eye_real, weight, parent_blend, id, level);
                 self.tree.nodes[id].children.extend(shadows);
             }
             if level >= self.options.max_level || c.back_facing {
@@ -484,6 +491,7 @@ impl Builder<'_> {
     #[allow(clippy::too_many_arguments)]
     fn shadows_on(
         &mut self,
+        index: &CasterIndex,
         c: &Candidate,
         t: &Matrix4,
         eye_real: &DVec4,
@@ -498,8 +506,6 @@ impl Builder<'_> {
         };
         let centre = c.points.iter().copied().sum::<DVec3>() / c.points.len() as f64;
         let inverse = t.inverse();
-        let plane_map = inverse.map(|i| i.transpose());
-        let identity = *t == Matrix4::IDENTITY;
         let mut out = Vec::new();
         for (j, light) in scene.lights.iter().enumerate() {
             if light.kind != crate::scene::model::LightKind::Point {
@@ -546,52 +552,27 @@ impl Builder<'_> {
                 &others,
                 None,
             );
-            for (oi, object) in scene.objects.iter().enumerate() {
-                if object.surface_type.hidden
-                    || (oi as u32 == c.object && !object.surface_type.concave)
+            for k in index.query(&volume) {
+                let caster = &index.casters[k];
+                let object = &scene.objects[caster.object as usize];
+                if caster.object == c.object
+                    && (!object.surface_type.concave || caster.polygon == c.polygon)
                 {
                     continue;
                 }
-                let corners: Vec<DVec3> = object
-                    .bbox_corners
-                    .iter()
-                    .map(|p| t.transform_point(*p))
-                    .collect();
-                if volume
-                    .iter()
-                    .any(|pl| corners.iter().all(|p| pl.truncate().dot(*p) + pl.w < 0.0))
-                {
+                let plane = caster.plane;
+                if plane.truncate().dot(lv) + plane.w <= 0.0 && !caster.open {
                     continue;
                 }
-                for (pi, poly) in object.polygons.iter().enumerate() {
-                    if (oi as u32, pi as u32) == (c.object, c.polygon) {
-                        continue;
-                    }
-                    let plane = if identity {
-                        poly.plane
-                    } else {
-                        let Some(m) = plane_map else { continue };
-                        let l = m.transform(poly.plane);
-                        l / l.truncate().length()
-                    };
-                    if plane.truncate().dot(lv) + plane.w <= 0.0 && !object.surface_type.open {
-                        continue;
-                    }
-                    let pts: Vec<DVec3> = poly
-                        .indices
-                        .iter()
-                        .map(|&i| {
-                            let v = object.vertices[i as usize];
-                            if identity { v } else { t.transform_point(v) }
-                        })
-                        .collect();
+                {
+                    let pts = &caster.points;
                     if volume
                         .iter()
                         .any(|pl| pts.iter().all(|p| pl.truncate().dot(*p) + pl.w < 0.0))
                     {
                         continue;
                     }
-                    let Ok(pieces) = face_splitter::clip_to_planes(&pts, &volume, self.eps) else {
+                    let Ok(pieces) = face_splitter::clip_to_planes(pts, &volume, self.eps) else {
                         continue;
                     };
                     for piece in pieces {
@@ -678,6 +659,159 @@ impl Builder<'_> {
         }
         planes.extend(self.frustum.iter().copied());
         planes
+    }
+}
+
+/// A polygon that may cast a shadow, in the virtual coordinates of a level.
+struct Caster {
+    object: u32,
+    polygon: u32,
+    points: Vec<DVec3>,
+    /// Outward plane (unit normal).
+    plane: DVec4,
+    open: bool,
+    lo: DVec3,
+    hi: DVec3,
+}
+
+/// A bounding volume hierarchy over the polygons of a level, queried with
+/// shadow volumes (004 section 6.4.1-6.4.2: a hierarchy of bounding volumes
+/// instead of testing every object against every shadow volume).
+struct CasterIndex {
+    casters: Vec<Caster>,
+    order: Vec<u32>,
+    /// (lo, hi, first, count): a leaf when count > 0, else children at
+    /// `first` and `first + 1`.
+    nodes: Vec<(DVec3, DVec3, u32, u32)>,
+}
+
+impl CasterIndex {
+    fn new(scene: &Scene, t: &Matrix4) -> CasterIndex {
+        let identity = *t == Matrix4::IDENTITY;
+        let mirrored = linear_determinant(t) < 0.0;
+        let mut casters = Vec::new();
+        for (oi, object) in scene.objects.iter().enumerate() {
+            if object.surface_type.hidden {
+                continue;
+            }
+            for (pi, poly) in object.polygons.iter().enumerate() {
+                let mut points: Vec<DVec3> = poly
+                    .indices
+                    .iter()
+                    .map(|&i| {
+                        let v = object.vertices[i as usize];
+                        if identity { v } else { t.transform_point(v) }
+                    })
+                    .collect();
+                let plane = if identity {
+                    poly.plane
+                } else {
+                    if mirrored {
+                        points.reverse();
+                    }
+                    let Ok(pl) = polygon::outward_plane(&points) else {
+                        continue;
+                    };
+                    pl
+                };
+                let (lo, hi) = points.iter().fold(
+                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+                );
+                casters.push(Caster {
+                    object: oi as u32,
+                    polygon: pi as u32,
+                    points,
+                    plane,
+                    open: object.surface_type.open,
+                    lo,
+                    hi,
+                });
+            }
+        }
+        let mut index = CasterIndex {
+            order: (0..casters.len() as u32).collect(),
+            casters,
+            nodes: Vec::new(),
+        };
+        if !index.casters.is_empty() {
+            index.nodes.push((DVec3::ZERO, DVec3::ZERO, 0, 0));
+            index.build(0, 0, index.order.len());
+        }
+        index
+    }
+
+    fn build(&mut self, node: usize, start: usize, end: usize) {
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        for &k in &self.order[start..end] {
+            lo = lo.min(self.casters[k as usize].lo);
+            hi = hi.max(self.casters[k as usize].hi);
+        }
+        if end - start <= 4 {
+            self.nodes[node] = (lo, hi, start as u32, (end - start) as u32);
+            return;
+        }
+        let e = hi - lo;
+        let axis = if e.x >= e.y && e.x >= e.z {
+            0
+        } else if e.y >= e.z {
+            1
+        } else {
+            2
+        };
+        let mid = (start + end) / 2;
+        let casters = &self.casters;
+        self.order[start..end].select_nth_unstable_by(mid - start, |a, b| {
+            let ca = (casters[*a as usize].lo + casters[*a as usize].hi).to_array()[axis];
+            let cb = (casters[*b as usize].lo + casters[*b as usize].hi).to_array()[axis];
+            ca.total_cmp(&cb)
+        });
+        let left = self.nodes.len();
+        self.nodes.push((DVec3::ZERO, DVec3::ZERO, 0, 0));
+        self.nodes.push((DVec3::ZERO, DVec3::ZERO, 0, 0));
+        self.nodes[node] = (lo, hi, left as u32, 0);
+        self.build(left, start, mid);
+        self.build(left + 1, mid, end);
+    }
+
+    /// Casters whose boxes are not wholly outside one of `planes`, in a
+    /// deterministic order.
+    fn query(&self, planes: &[DVec4]) -> Vec<usize> {
+        let outside = |lo: DVec3, hi: DVec3| {
+            planes.iter().any(|pl| {
+                let n = pl.truncate();
+                // The box corner farthest along the normal.
+                let far = DVec3::new(
+                    if n.x >= 0.0 { hi.x } else { lo.x },
+                    if n.y >= 0.0 { hi.y } else { lo.y },
+                    if n.z >= 0.0 { hi.z } else { lo.z },
+                );
+                n.dot(far) + pl.w < 0.0
+            })
+        };
+        let mut out = Vec::new();
+        if self.nodes.is_empty() {
+            return out;
+        }
+        let mut stack = vec![0usize];
+        while let Some(n) = stack.pop() {
+            let (lo, hi, first, count) = self.nodes[n];
+            if outside(lo, hi) {
+                continue;
+            }
+            if count == 0 {
+                stack.push(first as usize);
+                stack.push(first as usize + 1);
+            } else {
+                out.extend(
+                    self.order[first as usize..(first + count) as usize]
+                        .iter()
+                        .map(|&k| k as usize),
+                );
+            }
+        }
+        out.sort_unstable();
+        out
     }
 }
 
