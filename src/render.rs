@@ -248,10 +248,11 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
             .iter()
             .zip(&colors)
             .enumerate()
-            .map(|(k, ((points, _, _), color))| PaintItem {
+            .map(|(k, ((points, (o, p), back), color))| PaintItem {
                 points: points.iter().map(|q| DVec2::new(q.x, q.y)).collect(),
                 color: *color,
                 id: k as u32 + 1,
+                transparency: transparency_of(scene, view.eye, *o, *p, *back) as f32,
             })
             .collect();
         let mode = match order {
@@ -445,6 +446,32 @@ fn tree_file(
     }
 }
 
+/// The transparency `k_t = k_trp (E.N)^tpwr` of a polygon (004 section
+/// 4.9) from the object's `transparency k_trp tpwr`, at its centroid; 0 for
+/// opaque polygons. With `tpwr = 0` it is the linear transparency `k_trp`.
+pub fn transparency_of(scene: &Scene, eye: DVec4, object: u32, polygon: u32, back: bool) -> f64 {
+    let o = &scene.objects[object as usize];
+    let (k, power) = o.surface.transparency;
+    if k <= 0.0 {
+        return 0.0;
+    }
+    let poly = &o.polygons[polygon as usize];
+    let c = poly
+        .indices
+        .iter()
+        .map(|&i| o.vertices[i as usize])
+        .sum::<DVec3>()
+        / poly.indices.len() as f64;
+    let e = if eye.w != 0.0 {
+        (eye.truncate() / eye.w - c).normalize_or_zero()
+    } else {
+        eye.truncate().normalize_or_zero()
+    };
+    let n = if back { -poly.normal() } else { poly.normal() };
+    let cos = e.dot(n).clamp(0.0, 1.0);
+    if power > 0.0 { k * cos.powf(power) } else { k }
+}
+
 /// Whether the scene has a shadow-casting light.
 pub fn has_point_light(scene: &Scene) -> bool {
     scene
@@ -503,6 +530,13 @@ fn paint_tree(
                     .as_vec3()
                     .to_array(),
                 id: k as u32 + 1,
+                transparency: if f.kind == crate::image_tree::FragmentKind::Polygon {
+                    // At level n the eye seen by the fragment is mapped back;
+                    // the view direction only matters for the roll-off.
+                    transparency_of(scene, view.eye, f.object, f.polygon, f.back_facing) as f32
+                } else {
+                    0.0
+                },
             }
         })
         .collect();

@@ -148,6 +148,7 @@ fn priority_order_is_reused_under_perspective_and_radial_change() {
                 points: p.points.iter().map(|q| DVec2::new(q.x, q.y)).collect(),
                 color: [1.0; 3],
                 id: p.polygon + 1,
+                transparency: 0.0,
             })
             .collect();
         let mut frame = FrameBuffer::new(size, size, [0.0; 3]);
@@ -195,6 +196,7 @@ fn a_wrong_order_fails_the_same_check() {
             points: p.points.iter().map(|q| DVec2::new(q.x, q.y)).collect(),
             color: [1.0; 3],
             id: p.polygon + 1,
+            transparency: 0.0,
         })
         .collect();
     let mut frame = FrameBuffer::new(128, 128, [0.0; 3]);

@@ -28,6 +28,10 @@ pub struct PaintItem {
     pub color: [f32; 3],
     /// Identifier written to the id buffer (never 0, which is background).
     pub id: u32,
+    /// Transparency `k_t` (0 opaque): painting over a pixel gives
+    /// `I_new = I_old k_t + I_cur` (004 section 4.9), back to front only;
+    /// front to back, transparent polygons are painted opaque.
+    pub transparency: f32,
 }
 
 /// An RGB frame buffer with an id per pixel. Row 0 is the top of the image.
@@ -107,7 +111,17 @@ impl FrameBuffer {
                             if mode == PaintMode::FirstWins && ids[px] != 0 {
                                 continue;
                             }
-                            colors[px] = item.color;
+                            colors[px] = if item.transparency > 0.0 && mode == PaintMode::Overwrite
+                            {
+                                let old = colors[px];
+                                [
+                                    old[0] * item.transparency + item.color[0],
+                                    old[1] * item.transparency + item.color[1],
+                                    old[2] * item.transparency + item.color[2],
+                                ]
+                            } else {
+                                item.color
+                            };
                             ids[px] = item.id;
                             touched[k] = true;
                         }
@@ -136,6 +150,7 @@ mod tests {
             ],
             color: [id as f32 / 10.0; 3],
             id,
+            transparency: 0.0,
         }
     }
 
@@ -151,6 +166,19 @@ mod tests {
         let mut fb = FrameBuffer::new(30, 40, [0.0; 3]);
         fb.paint(&items, PaintMode::FirstWins);
         assert_eq!((fb.id(5, 0), fb.id(15, 39), fb.id(25, 20)), (1, 1, 2));
+    }
+
+    #[test]
+    fn transparency_blends_over_what_is_behind() {
+        let mut front = square(0.0, 0.0, 4.0, 4.0, 2);
+        front.transparency = 0.5;
+        let mut fb = FrameBuffer::new(4, 4, [0.8, 0.4, 0.0]);
+        fb.paint(&[front], PaintMode::Overwrite);
+        // 0.8 * 0.5 + 0.2, 0.4 * 0.5 + 0.2, 0 + 0.2
+        let c = fb.pixel(1, 1);
+        assert!(
+            (c[0] - 0.6).abs() < 1e-6 && (c[1] - 0.4).abs() < 1e-6 && (c[2] - 0.2).abs() < 1e-6
+        );
     }
 
     #[test]
