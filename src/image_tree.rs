@@ -98,6 +98,10 @@ pub struct Fragment {
     pub weight: f64,
     /// Index of the parent fragment in [`VirtualImageTree::nodes`].
     pub parent: Option<usize>,
+    /// The same points in true world coordinates (mapped back by `T^-1`).
+    pub world: Vec<DVec3>,
+    /// The eye in true world coordinates, as this fragment sees it.
+    pub eye: DVec4,
     /// Children in back-to-front order: reflected branch, then refracted.
     pub children: Vec<usize>,
 }
@@ -380,8 +384,8 @@ impl Builder<'_> {
         parent: Option<usize>,
     ) -> Vec<usize> {
         self.tree.max_depth = self.tree.max_depth.max(level);
-        let eye_real = t
-            .inverse()
+        let inverse = t.inverse();
+        let eye_real = inverse
             .map(|inv| inv.transform(self.view.eye))
             .unwrap_or(self.view.eye);
         let mut ids = Vec::new();
@@ -404,6 +408,11 @@ impl Builder<'_> {
                 blended,
                 weight,
                 parent,
+                world: match inverse {
+                    Some(i) => c.points.iter().map(|p| i.transform_point(*p)).collect(),
+                    None => c.points.clone(),
+                },
+                eye: eye_real,
                 children: Vec::new(),
             });
             ids.push(id);
@@ -621,6 +630,8 @@ impl Builder<'_> {
                             blended: parent_blend + shade * weight,
                             weight,
                             parent: Some(parent),
+                            world: Vec::new(),
+                            eye: *eye_real,
                             children: Vec::new(),
                         }));
                     }

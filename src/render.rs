@@ -253,6 +253,16 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
                 color: *color,
                 id: k as u32 + 1,
                 transparency: transparency_of(scene, view.eye, *o, *p, *back) as f32,
+                vertex_colors: scene.modes.vertex_shades.then(|| {
+                    let world: Vec<DVec3> = points
+                        .iter()
+                        .map(|q| view.unproject(*q).unwrap_or(DVec3::ZERO))
+                        .collect();
+                    vertex_shades(scene, view.eye, *o, *p, *back, &world)
+                        .into_iter()
+                        .map(|c| c.as_vec3().to_array())
+                        .collect()
+                }),
             })
             .collect();
         let mode = match order {
@@ -446,6 +456,65 @@ fn tree_file(
     }
 }
 
+/// Gouraud vertex shades (004 section 4.8): the illumination model at each
+/// world point of a polygon (or a piece of it) with the vertex normal,
+/// interpolated along the original polygon's edges for `type curved`
+/// objects, or the polygon's own normal otherwise. Per-vertex `.vcl`
+/// colours are not interpolated yet (the polygon's material is used).
+pub fn vertex_shades(
+    scene: &Scene,
+    eye: DVec4,
+    object: u32,
+    polygon: u32,
+    back: bool,
+    world: &[DVec3],
+) -> Vec<Color> {
+    let o = &scene.objects[object as usize];
+    let pi = polygon as usize;
+    let poly = &o.polygons[pi];
+    let material = polygon_material(o, pi);
+    if o.surface_type.ltsrc {
+        return vec![material.color; world.len()];
+    }
+    let flat = if back { -poly.normal() } else { poly.normal() };
+    world
+        .iter()
+        .map(|&p| {
+            let n = match &o.vertex_normals {
+                Some(normals) => {
+                    // The nearest point on the original outline.
+                    let m = poly.indices.len();
+                    let mut best = (f64::INFINITY, flat);
+                    for k in 0..m {
+                        let (ia, ib) =
+                            (poly.indices[k] as usize, poly.indices[(k + 1) % m] as usize);
+                        let (a, b) = (o.vertices[ia], o.vertices[ib]);
+                        let ab = b - a;
+                        let t = if ab.length_squared() > 0.0 {
+                            ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+                        } else {
+                            0.0
+                        };
+                        let d = (a + ab * t).distance(p);
+                        if d < best.0 {
+                            let n = (normals[ia] * (1.0 - t) + normals[ib] * t).normalize_or_zero();
+                            best = (d, if back { -n } else { n });
+                        }
+                    }
+                    best.1
+                }
+                None => flat,
+            };
+            let to_eye = if eye.w != 0.0 {
+                (eye.truncate() / eye.w - p).normalize_or_zero()
+            } else {
+                eye.truncate().normalize_or_zero()
+            };
+            shading::shade(&material, p, n, to_eye, &scene.lights, scene.ambient)
+        })
+        .collect()
+}
+
 /// The transparency `k_t = k_trp (E.N)^tpwr` of a polygon (004 section
 /// 4.9) from the object's `transparency k_trp tpwr`, at its centroid; 0 for
 /// opaque polygons. With `tpwr = 0` it is the linear transparency `k_trp`.
@@ -530,6 +599,27 @@ fn paint_tree(
                     .as_vec3()
                     .to_array(),
                 id: k as u32 + 1,
+                vertex_colors: (scene.modes.vertex_shades
+                    && f.kind == crate::image_tree::FragmentKind::Polygon)
+                    .then(|| {
+                        let eye_real = f.eye;
+                        vertex_shades(
+                            scene,
+                            eye_real,
+                            f.object,
+                            f.polygon,
+                            f.back_facing,
+                            &f.world,
+                        )
+                        .into_iter()
+                        .map(|c| {
+                            (f.blended - f.shade * f.weight + c * f.weight)
+                                .clamp(DVec3::ZERO, DVec3::ONE)
+                                .as_vec3()
+                                .to_array()
+                        })
+                        .collect()
+                    }),
                 transparency: if f.kind == crate::image_tree::FragmentKind::Polygon {
                     // At level n the eye seen by the fragment is mapped back;
                     // the view direction only matters for the roll-off.

@@ -149,6 +149,7 @@ fn priority_order_is_reused_under_perspective_and_radial_change() {
                 color: [1.0; 3],
                 id: p.polygon + 1,
                 transparency: 0.0,
+                vertex_colors: None,
             })
             .collect();
         let mut frame = FrameBuffer::new(size, size, [0.0; 3]);
@@ -197,6 +198,7 @@ fn a_wrong_order_fails_the_same_check() {
             color: [1.0; 3],
             id: p.polygon + 1,
             transparency: 0.0,
+            vertex_colors: None,
         })
         .collect();
     let mut frame = FrameBuffer::new(128, 128, [0.0; 3]);

@@ -150,3 +150,48 @@ fn front_to_back_and_back_to_front_agree_on_separated_polygons() {
     let (_, bad) = support::mismatches(&oracle, &ia, 64, 64);
     assert_eq!(bad.len(), 0);
 }
+
+/// Gouraud shading (`setmode v on`) of a `type curved` geodesic sphere:
+/// neighbouring pixels inside the sphere differ by far less than across the
+/// facet edges of the faceted image.
+#[test]
+fn gouraud_shading_is_smooth_across_edges() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("ball.des");
+    std::fs::write(
+        &path,
+        "resolution 96 96\nperspective 40 1 0.1 100\npushmatrix\nident\npolarview 4 20 60 0\n\
+         light 3 -4 5 1 1 1 100 Point\ndefobj ball\n type polygon curved\n color 0.9 0.6 0.2\n\
+         geodesic 3 angle\nendobj\npopmatrix\n",
+    )
+    .unwrap();
+    let mut scene = scene::load(&path).unwrap().0;
+    let max_jump = |scene: &Scene| {
+        let r = render(scene, &RenderOptions::default()).unwrap();
+        let f = &r.frame;
+        let mut worst = 0.0f32;
+        for y in 4..f.height - 4 {
+            for x in 4..f.width - 4 {
+                // Away from the silhouette (where the surface folds over
+                // itself): no background within 4 pixels.
+                if (0..9).any(|i| (0..9).any(|j| f.id(x + i - 4, y + j - 4) == 0)) {
+                    continue;
+                }
+                let c = f.pixel(x, y);
+                for (nx, ny) in [(x + 1, y), (x, y + 1)] {
+                    let d = f.pixel(nx, ny);
+                    worst = worst.max((0..3).map(|i| (c[i] - d[i]).abs()).fold(0.0, f32::max));
+                }
+            }
+        }
+        worst
+    };
+    let faceted = max_jump(&scene);
+    scene.modes.vertex_shades = true;
+    let smooth = max_jump(&scene);
+    assert!(smooth < 0.06, "Gouraud jump {smooth}, faceted {faceted}");
+    assert!(
+        faceted > 2.0 * smooth,
+        "faceted {faceted} vs Gouraud {smooth}"
+    );
+}

@@ -83,6 +83,20 @@ impl View {
         self.screen_point(self.projection.transform_point4(p))
     }
 
+    /// The world point whose screen coordinates are `s` (inverse of
+    /// [`View::project`]).
+    pub fn unproject(&self, s: DVec3) -> Option<DVec3> {
+        let inv = self.inverse?;
+        let h = inv.transform(DVec4::new(
+            s.x / self.width * 2.0 - 1.0,
+            s.y / self.height * 2.0 - 1.0,
+            s.z,
+            1.0,
+        ));
+        let p = h.truncate() / h.w;
+        p.is_finite().then_some(p)
+    }
+
     /// The world ray through screen point `(x, y)` (pixels), from the near
     /// plane (`t = 0`) to the far plane (`t = 1`), as origin and direction.
     pub fn ray(&self, x: f64, y: f64) -> Option<(DVec3, DVec3)> {

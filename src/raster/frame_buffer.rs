@@ -32,6 +32,8 @@ pub struct PaintItem {
     /// `I_new = I_old k_t + I_cur` (004 section 4.9), back to front only;
     /// front to back, transparent polygons are painted opaque.
     pub transparency: f32,
+    /// Gouraud vertex shades (one per point), else the single `color`.
+    pub vertex_colors: Option<Vec<[f32; 3]>>,
 }
 
 /// An RGB frame buffer with an id per pixel. Row 0 is the top of the image.
@@ -103,29 +105,38 @@ impl FrameBuffer {
                     if ymax < lo as f64 || ymin > hi as f64 + 1.0 {
                         continue;
                     }
-                    tiler::for_each_span(&item.points, lo..hi, w, |j, i0, i1| {
-                        let row = (hi - 1 - j) as usize;
-                        let start = row * w as usize;
-                        for i in i0 as usize..i1 as usize {
-                            let px = start + i;
-                            if mode == PaintMode::FirstWins && ids[px] != 0 {
-                                continue;
-                            }
-                            colors[px] = if item.transparency > 0.0 && mode == PaintMode::Overwrite
-                            {
-                                let old = colors[px];
-                                [
-                                    old[0] * item.transparency + item.color[0],
-                                    old[1] * item.transparency + item.color[1],
-                                    old[2] * item.transparency + item.color[2],
-                                ]
-                            } else {
-                                item.color
-                            };
-                            ids[px] = item.id;
-                            touched[k] = true;
+                    let mut put = |j: u32, i: u32, color: [f32; 3]| {
+                        let px = (hi - 1 - j) as usize * w as usize + i as usize;
+                        if mode == PaintMode::FirstWins && ids[px] != 0 {
+                            return;
                         }
-                    });
+                        colors[px] = if item.transparency > 0.0 && mode == PaintMode::Overwrite {
+                            let old = colors[px];
+                            std::array::from_fn(|c| old[c] * item.transparency + color[c])
+                        } else {
+                            color
+                        };
+                        ids[px] = item.id;
+                        touched[k] = true;
+                    };
+                    match &item.vertex_colors {
+                        Some(vc) => tiler::for_each_shaded_span(
+                            &item.points,
+                            vc,
+                            lo..hi,
+                            w,
+                            |j, i0, i1, ends| {
+                                for i in i0..i1 {
+                                    put(j, i, tiler::span_value(&ends, i));
+                                }
+                            },
+                        ),
+                        None => tiler::for_each_span(&item.points, lo..hi, w, |j, i0, i1| {
+                            for i in i0..i1 {
+                                put(j, i, item.color);
+                            }
+                        }),
+                    }
                 }
                 touched
             })
@@ -151,6 +162,7 @@ mod tests {
             color: [id as f32 / 10.0; 3],
             id,
             transparency: 0.0,
+            vertex_colors: None,
         }
     }
 

@@ -16,6 +16,72 @@
 
 use glam::DVec2;
 
+/// An attribute (a colour) at the two ends of a span: `(x, value)`.
+pub type SpanEnds = ((f64, [f32; 3]), (f64, [f32; 3]));
+
+/// [`for_each_span`] with an attribute per vertex (Gouraud's vertex
+/// shades), interpolated along the edges to the span's ends, which are
+/// given to `span` with it; inside the span the attribute is linear in x.
+pub fn for_each_shaded_span(
+    points: &[DVec2],
+    attrs: &[[f32; 3]],
+    rows: std::ops::Range<u32>,
+    width: u32,
+    mut span: impl FnMut(u32, u32, u32, SpanEnds),
+) {
+    let n = points.len();
+    if n < 3 || attrs.len() != n {
+        return;
+    }
+    let (ymin, ymax) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.y), hi.max(p.y))
+        });
+    let first = ((ymin - 0.5).ceil().max(rows.start as f64)) as u32;
+    let last_excl = ((ymax - 0.5).ceil().min(rows.end as f64)).max(first as f64) as u32;
+    let mut xs: Vec<(f64, [f32; 3])> = Vec::with_capacity(8);
+    for j in first..last_excl {
+        let yc = j as f64 + 0.5;
+        xs.clear();
+        for k in 0..n {
+            let (a, b) = (k, (k + 1) % n);
+            let (p, q) = if (points[a].y, points[a].x) <= (points[b].y, points[b].x) {
+                (a, b)
+            } else {
+                (b, a)
+            };
+            let (pp, qq) = (points[p], points[q]);
+            if pp.y <= yc && yc < qq.y {
+                let t = (yc - pp.y) / (qq.y - pp.y);
+                let x = pp.x + t * (qq.x - pp.x);
+                let c =
+                    std::array::from_fn(|i| attrs[p][i] + (attrs[q][i] - attrs[p][i]) * t as f32);
+                xs.push((x, c));
+            }
+        }
+        xs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for pair in xs.chunks_exact(2) {
+            let i0 = (pair[0].0 - 0.5).ceil().clamp(0.0, width as f64) as u32;
+            let i1 = (pair[1].0 - 0.5).ceil().clamp(0.0, width as f64) as u32;
+            if i1 > i0 {
+                span(j, i0, i1, (pair[0], pair[1]));
+            }
+        }
+    }
+}
+
+/// The attribute at pixel column `i` of a span with ends `ends`.
+pub fn span_value(ends: &SpanEnds, i: u32) -> [f32; 3] {
+    let ((x0, a0), (x1, a1)) = *ends;
+    let t = if x1 > x0 {
+        (((i as f64 + 0.5) - x0) / (x1 - x0)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    } as f32;
+    std::array::from_fn(|k| a0[k] + (a1[k] - a0[k]) * t)
+}
+
 /// Calls `span(j, i0, i1)` for each row `j` (counted from the bottom) in
 /// `rows` and each run of covered pixels `i0..i1` on it, left to right.
 pub fn for_each_span(
@@ -128,6 +194,28 @@ mod tests {
         ];
         let c = coverage(&u, 3, 3);
         assert_eq!(c, vec![1, 1, 1, 1, 0, 1, 1, 0, 1]);
+    }
+
+    #[test]
+    fn gouraud_interpolates_vertex_values() {
+        // A right triangle with value x + y at its corners (a linear
+        // function): every pixel gets its centre's x + y.
+        let pts = [pt(0.0, 0.0), pt(0.0, 8.0), pt(8.0, 0.0)];
+        let attrs = [[0.0; 3], [8.0; 3], [8.0; 3]];
+        let mut count = 0;
+        for_each_shaded_span(&pts, &attrs, 0..8, 8, |j, i0, i1, ends| {
+            for i in i0..i1 {
+                let v = span_value(&ends, i)[0];
+                assert!(
+                    (v - (i as f32 + 0.5 + j as f32 + 0.5)).abs() < 1e-4,
+                    "{i} {j} {v}"
+                );
+                count += 1;
+            }
+        });
+        // Same coverage as the plain sampler.
+        let plain = coverage(&pts, 8, 8).iter().sum::<u32>();
+        assert_eq!(count, plain);
     }
 
     #[test]
