@@ -38,6 +38,7 @@ use crate::geometry::face_splitter;
 use crate::geometry::polygon;
 use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
+use crate::profile::{Category, Profile};
 use crate::render::{facet_shade_from, polygon_material, scene_scale};
 use crate::scene::model::{Color, Scene, SortOrder};
 use crate::visibility::{depth_sort, nns};
@@ -188,6 +189,7 @@ pub struct TreeOptions {
 }
 
 struct Builder<'a> {
+    profile: &'a Profile,
     scene: &'a Scene,
     view: &'a View,
     options: TreeOptions,
@@ -206,6 +208,16 @@ struct Candidate {
 
 /// Builds the virtual image tree of `scene` seen through `view`.
 pub fn build(scene: &Scene, view: &View, options: TreeOptions) -> VirtualImageTree {
+    build_profiled(scene, view, options, &Profile::new(false))
+}
+
+/// [`build`], timing its parts into `profile` (table 6.2).
+pub fn build_profiled(
+    scene: &Scene,
+    view: &View,
+    options: TreeOptions,
+    profile: &Profile,
+) -> VirtualImageTree {
     let p = &view.projection;
     let (c0, c1, c2, c3) = (p.column(0), p.column(1), p.column(2), p.column(3));
     let frustum = [c3 + c0, c3 - c0, c3 + c1, c3 - c1, c3 + c2, c3 - c2]
@@ -216,6 +228,7 @@ pub fn build(scene: &Scene, view: &View, options: TreeOptions) -> VirtualImageTr
         })
         .collect();
     let mut b = Builder {
+        profile,
         scene,
         view,
         options,
@@ -243,6 +256,7 @@ pub fn build(scene: &Scene, view: &View, options: TreeOptions) -> VirtualImageTr
 impl Builder<'_> {
     /// Level 1: the geometry stage's polygons (homogeneous clipping).
     fn level_one(&mut self) -> Vec<Candidate> {
+        let _t = self.profile.time(Category::Expobj);
         let mut polys = Vec::new();
         for i in 0..self.scene.objects.len() {
             if !self.scene.objects[i].surface_type.hidden {
@@ -269,30 +283,37 @@ impl Builder<'_> {
     /// Lower levels: the scene mapped by `t`, clipped to `planes` (front
     /// sides kept) with the splitter.
     fn mapped_level(&self, t: &Matrix4, planes: &[DVec4]) -> Vec<Candidate> {
+        let _t = self.profile.time(Category::Addobj);
         let mirrored = linear_determinant(t) < 0.0;
         let mut out = Vec::new();
         for (oi, object) in self.scene.objects.iter().enumerate() {
             if object.surface_type.hidden {
                 continue;
             }
-            let corners: Vec<DVec3> = object
-                .bbox_corners
-                .iter()
-                .map(|c| t.transform_point(*c))
-                .collect();
-            let outside = planes.iter().any(|pl| {
-                corners
+            let outside = {
+                let _t = self.profile.time(Category::ChkBbox);
+                let corners: Vec<DVec3> = object
+                    .bbox_corners
                     .iter()
-                    .all(|c| pl.truncate().dot(*c) + pl.w < -self.eps)
-            });
+                    .map(|c| t.transform_point(*c))
+                    .collect();
+                planes.iter().any(|pl| {
+                    corners
+                        .iter()
+                        .all(|c| pl.truncate().dot(*c) + pl.w < -self.eps)
+                })
+            };
             if outside {
                 continue;
             }
-            let verts: Vec<DVec3> = object
-                .vertices
-                .iter()
-                .map(|v| t.transform_point(*v))
-                .collect();
+            let verts: Vec<DVec3> = {
+                let _t = self.profile.time(Category::Transform);
+                object
+                    .vertices
+                    .iter()
+                    .map(|v| t.transform_point(*v))
+                    .collect()
+            };
             for (pi, poly) in object.polygons.iter().enumerate() {
                 let mut pts: Vec<DVec3> = poly.indices.iter().map(|&i| verts[i as usize]).collect();
                 if mirrored {
@@ -305,7 +326,11 @@ impl Builder<'_> {
                 if !front && !object.surface_type.open {
                     continue;
                 }
-                let Ok(pieces) = face_splitter::clip_to_planes(&pts, planes, self.eps) else {
+                let clipped = {
+                    let _t = self.profile.time(Category::Clipping);
+                    face_splitter::clip_to_planes(&pts, planes, self.eps)
+                };
+                let Ok(pieces) = clipped else {
                     continue;
                 };
                 for piece in pieces {
@@ -323,6 +348,7 @@ impl Builder<'_> {
 
     /// Orders a level's candidates back to front.
     fn sort(&self, candidates: Vec<Candidate>) -> Vec<Candidate> {
+        let _t = self.profile.time(Category::Sortply);
         if self.options.nns {
             let faces: Vec<nns::NnsFace> = candidates
                 .iter()
@@ -392,7 +418,10 @@ impl Builder<'_> {
         // The casters of this level, built when the first shadow is cast.
         let mut caster_index: Option<CasterIndex> = None;
         for c in self.sort(candidates) {
-            let own = facet_shade_from(self.scene, eye_real, c.object, c.polygon, c.back_facing);
+            let own = {
+                let _t = self.profile.time(Category::Shading);
+                facet_shade_from(self.scene, eye_real, c.object, c.polygon, c.back_facing)
+            };
             let blended = parent_blend + own * weight;
             let screen: Vec<DVec3> = c.points.iter().map(|p| self.view.project(*p)).collect();
             let id = self.push(Fragment {
@@ -418,11 +447,14 @@ impl Builder<'_> {
             ids.push(id);
             if self.options.shadows {
                 if caster_index.is_none() {
+                    let _t = self.profile.time(Category::Transform);
                     caster_index = Some(CasterIndex::new(self.scene, t));
                 }
                 let index = caster_index.as_ref().expect("just built");
+                let start = std::time::Instant::now();
                 let shadows =
                     self.shadows_on(index, &c, t, &eye_real, weight, parent_blend, id, level);
+                self.profile.add(Category::Shadows, start.elapsed());
                 self.tree.nodes[id].children.extend(shadows);
             }
             if level >= self.options.max_level || c.back_facing {
@@ -561,7 +593,11 @@ impl Builder<'_> {
                 &others,
                 None,
             );
-            for k in index.query(&volume) {
+            let candidates = {
+                let _t = self.profile.time(Category::ChkBbox);
+                index.query(&volume)
+            };
+            for k in candidates {
                 let caster = &index.casters[k];
                 let object = &scene.objects[caster.object as usize];
                 if caster.object == c.object
@@ -575,13 +611,20 @@ impl Builder<'_> {
                 }
                 {
                     let pts = &caster.points;
-                    if volume
-                        .iter()
-                        .any(|pl| pts.iter().all(|p| pl.truncate().dot(*p) + pl.w < 0.0))
-                    {
+                    let outside = {
+                        let _t = self.profile.time(Category::ChkPly);
+                        volume
+                            .iter()
+                            .any(|pl| pts.iter().all(|p| pl.truncate().dot(*p) + pl.w < 0.0))
+                    };
+                    if outside {
                         continue;
                     }
-                    let Ok(pieces) = face_splitter::clip_to_planes(pts, &volume, self.eps) else {
+                    let clipped = {
+                        let _t = self.profile.time(Category::Clipping);
+                        face_splitter::clip_to_planes(pts, &volume, self.eps)
+                    };
+                    let Ok(pieces) = clipped else {
                         continue;
                     };
                     for piece in pieces {

@@ -16,6 +16,7 @@ pub mod math;
 pub mod modeling;
 pub mod output;
 pub mod precision;
+pub mod profile;
 pub mod raster;
 pub mod render;
 pub mod scene;

@@ -32,6 +32,7 @@ struct Options {
     size: Option<(u32, u32)>,
     id_image: Option<PathBuf>,
     visibility: Option<Algorithm>,
+    profile: bool,
     quiet: bool,
 }
 
@@ -74,6 +75,7 @@ MODERN CONVENIENCES:
                        `setmode n on` / -n on), z-buffer, scan-line, warnock, brown
                        (well-tesselated surfaces), ray-cast (the oracle)
     --quiet            print only errors and warnings
+    --profile          print the run-time profile in the categories of 004 table 6.2
     --help, --version
 
 COMMANDS of the scene descriptor language (shortest unique prefix accepted):
@@ -137,6 +139,7 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
             "--output" => o.output = Some(value("a file name")?.into()),
             "--id-image" => o.id_image = Some(value("a file name")?.into()),
             "--quiet" | "-q" => o.quiet = true,
+            "--profile" => o.profile = true,
             "--visibility" => {
                 let v = value("an algorithm name")?;
                 o.visibility = Some(
@@ -207,6 +210,7 @@ struct CliHost {
     size: Option<(u32, u32)>,
     id_image: Option<PathBuf>,
     visibility: Option<Algorithm>,
+    profile: bool,
     scene_stem: Option<String>,
     quiet: bool,
     interactive: bool,
@@ -245,6 +249,7 @@ impl Host for CliHost {
                 size: self.size,
                 shadows,
                 visibility: self.visibility,
+                profile: self.profile,
             },
         )?;
         if scene.display {
@@ -286,6 +291,13 @@ impl Host for CliHost {
             "{} Polygons tiled, Max depth = {}",
             s.polygons_tiled, s.max_depth
         ));
+        if let Some(p) = &rendered.profile {
+            print!("{p}");
+        } else if self.profile {
+            println!(
+                "(no profile: the virtual image tree was not built; it is for the depth-sort and nns algorithms)"
+            );
+        }
         if let Some(n) = &s.nns {
             self.say(&format!(
                 "NNS: {} faces in, {} out, {} splits ({} cycles of two, {} longer){}",
@@ -518,6 +530,7 @@ fn main() -> ExitCode {
         size: options.size,
         id_image: options.id_image.clone(),
         visibility: options.visibility,
+        profile: options.profile,
         scene_stem: options
             .scene
             .as_ref()

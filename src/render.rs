@@ -32,6 +32,8 @@ pub struct RenderOptions {
     pub shadows: bool,
     /// The visible-surface algorithm; by default the scene's (`setmode n`).
     pub visibility: Option<Algorithm>,
+    /// Time the parts of the tree builder (table 6.2, `--profile`).
+    pub profile: bool,
 }
 
 /// Figures of one render.
@@ -72,6 +74,8 @@ pub struct Rendered {
     pub shadows: Vec<Option<u32>>,
     /// The virtual image tree in file form, with `setmode o on`.
     pub tree: Option<crate::tree_file::TreeFile>,
+    /// The run-time profile, with [`RenderOptions::profile`] (tree path).
+    pub profile: Option<crate::profile::Profile>,
     /// Figures.
     pub stats: RenderStats,
 }
@@ -129,14 +133,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
             || scene.modes.output_tree
             || (options.shadows && has_point_light(scene)))
     {
-        return Ok(paint_tree(
-            scene,
-            &view,
-            algorithm,
-            options.shadows,
-            frame,
-            stats,
-        ));
+        return Ok(paint_tree(scene, &view, algorithm, options, frame, stats));
     }
     if algorithm == Algorithm::RayCast {
         let polygons = ray_cast(scene, &view, &mut frame, &mut stats);
@@ -145,6 +142,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
             polygons,
             shadows: Vec::new(),
             tree: None,
+            profile: None,
             stats,
         });
     }
@@ -278,6 +276,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
         polygons: sorted.iter().map(|(_, id, _)| *id).collect(),
         shadows: Vec::new(),
         tree: None,
+        profile: None,
         stats,
     })
 }
@@ -566,21 +565,23 @@ fn paint_tree(
     scene: &Scene,
     view: &View,
     algorithm: Algorithm,
-    shadows: bool,
+    options: &RenderOptions,
     mut frame: FrameBuffer,
     mut stats: RenderStats,
 ) -> Rendered {
     let t = Instant::now();
-    let tree = crate::image_tree::build(
+    let profile = crate::profile::Profile::new(options.profile);
+    let tree = crate::image_tree::build_profiled(
         scene,
         view,
         crate::image_tree::TreeOptions {
             max_level: scene.modes.max_level,
             threshold: scene.threshold,
             nns: algorithm == Algorithm::Nns,
-            shadows,
+            shadows: options.shadows,
             explicit_shadow_shades: scene.modes.shadow_shades,
         },
+        &profile,
     );
     stats.sort_time = t.elapsed();
     stats.geometry = tree.geometry;
@@ -638,6 +639,7 @@ fn paint_tree(
     };
     stats.polygons_tiled = frame.paint(&items, mode);
     stats.paint_time = t.elapsed();
+    profile.add(crate::profile::Category::Misc, t.elapsed());
     let size = (frame.width, frame.height);
     Rendered {
         frame,
@@ -656,6 +658,7 @@ fn paint_tree(
             .modes
             .output_tree
             .then(|| tree_file(scene, &tree, &order, size.0, size.1)),
+        profile: options.profile.then_some(profile),
         stats,
     }
 }

@@ -212,8 +212,23 @@ pub fn clip_to_planes(
 ) -> Result<Vec<Vec<DVec3>>, NotSimple> {
     let mut current = vec![points.to_vec()];
     for &plane in planes {
-        let mut next = Vec::new();
+        let mut next = Vec::with_capacity(current.len());
         for poly in current {
+            // Most polygons lie wholly on one side: decide without splitting.
+            let n = plane.truncate();
+            let (lo, hi) = poly
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    let d = n.dot(*p) + plane.w;
+                    (lo.min(d), hi.max(d))
+                });
+            if lo >= -epsilon {
+                next.push(poly);
+                continue;
+            }
+            if hi <= epsilon {
+                continue;
+            }
             match split(&poly, plane, epsilon)? {
                 Split::Front | Split::Coplanar => next.push(poly),
                 Split::Back => {}
