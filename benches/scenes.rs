@@ -97,5 +97,42 @@ fn bench(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench);
+/// The virtual image tree of 004 chapter 3 on the thesis scenes of table
+/// 6.1 (mirror, gallery, office1, office2) with no shadows, one and two
+/// shadow-casting lights (the first Point lights; Diffuse lights kept).
+fn tree(c: &mut Criterion) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes");
+    for name in ["mirror", "gallery", "office1", "office2"] {
+        let path = root.join(format!("{name}.des"));
+        if !path.is_file() {
+            continue;
+        }
+        let scene = plytrace::scene::load(&path).unwrap().0;
+        let mut group = c.benchmark_group(format!("tree-{name}"));
+        group.sample_size(10);
+        group.warm_up_time(Duration::from_millis(500));
+        group.measurement_time(Duration::from_secs(3));
+        for lights in [0usize, 1, 2] {
+            let mut s = scene.clone();
+            let mut kept = 0;
+            s.lights.retain(|l| {
+                if l.kind == plytrace::scene::model::LightKind::Diffuse {
+                    return true;
+                }
+                kept += 1;
+                kept <= lights.max(1)
+            });
+            let options = RenderOptions {
+                shadows: lights > 0,
+                ..RenderOptions::default()
+            };
+            group.bench_function(format!("shadow-lights-{lights}"), |b| {
+                b.iter(|| render(&s, &options).unwrap())
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, bench, tree);
 criterion_main!(benches);

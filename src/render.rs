@@ -251,6 +251,19 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
                 color: *color,
                 id: k as u32 + 1,
                 transparency: transparency_of(scene, view.eye, *o, *p, *back) as f32,
+                phong: phong_vertices(
+                    scene,
+                    view.eye,
+                    *o,
+                    *p,
+                    *back,
+                    &points
+                        .iter()
+                        .map(|q| view.unproject(*q).unwrap_or(DVec3::ZERO))
+                        .collect::<Vec<_>>(),
+                    Color::ZERO,
+                    1.0,
+                ),
                 vertex_colors: scene.modes.vertex_shades.then(|| {
                     let world: Vec<DVec3> = points
                         .iter()
@@ -455,6 +468,121 @@ fn tree_file(
     }
 }
 
+/// The vertex normal at world point `p` of polygon `pi` of `o`: for `type
+/// curved` objects interpolated along the nearest edge of the original
+/// polygon, else the polygon's normal; turned to the viewer when `back`.
+fn vertex_normal_at(o: &crate::scene::model::Object, pi: usize, back: bool, p: DVec3) -> DVec3 {
+    let poly = &o.polygons[pi];
+    let flat = if back { -poly.normal() } else { poly.normal() };
+    let Some(normals) = &o.vertex_normals else {
+        return flat;
+    };
+    let m = poly.indices.len();
+    let mut best = (f64::INFINITY, flat);
+    for k in 0..m {
+        let (ia, ib) = (poly.indices[k] as usize, poly.indices[(k + 1) % m] as usize);
+        let (a, b) = (o.vertices[ia], o.vertices[ib]);
+        let ab = b - a;
+        let t = if ab.length_squared() > 0.0 {
+            ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let d = (a + ab * t).distance(p);
+        if d < best.0 {
+            let n = (normals[ia] * (1.0 - t) + normals[ib] * t).normalize_or_zero();
+            best = (d, if back { -n } else { n });
+        }
+    }
+    best.1
+}
+
+/// Phong polygons with highlight vectors (004 section 4.8, `setmode s
+/// on`): for polygons with a specular coefficient, per vertex the shade
+/// without highlights and, per light, the vertex normal rotated into a
+/// frame whose z axis is the halfway vector, with the light's highlight
+/// intensity; the painter interpolates them and evaluates `(h_z/|h|)^n` at
+/// every pixel, so highlights inside a polygon survive. The result is
+/// `offset + weight * I` (pre-blending under a parent). `None` when not
+/// asked for or not specular.
+#[allow(clippy::too_many_arguments)]
+pub fn phong_vertices(
+    scene: &Scene,
+    eye: DVec4,
+    object: u32,
+    polygon: u32,
+    back: bool,
+    world: &[DVec3],
+    offset: Color,
+    weight: f64,
+) -> Option<crate::raster::frame_buffer::PhongVertices> {
+    if !scene.modes.phong {
+        return None;
+    }
+    let o = &scene.objects[object as usize];
+    let pi = polygon as usize;
+    let material = polygon_material(o, pi);
+    if o.surface_type.ltsrc || material.specular <= 0.0 {
+        return None;
+    }
+    let mut base_material = material;
+    base_material.specular = 0.0;
+    let mut attrs = Vec::with_capacity(world.len() * (3 + 6 * scene.lights.len()));
+    for &p in world {
+        let n = vertex_normal_at(o, pi, back, p);
+        let e = if eye.w != 0.0 {
+            (eye.truncate() / eye.w - p).normalize_or_zero()
+        } else {
+            eye.truncate().normalize_or_zero()
+        };
+        let base =
+            offset + shading::shade(&base_material, p, n, e, &scene.lights, scene.ambient) * weight;
+        attrs.extend(base.as_vec3().to_array());
+        for light in &scene.lights {
+            let to_light = light.position - p;
+            let d = to_light.length();
+            let l = to_light / d.max(f64::MIN_POSITIVE);
+            let k = shading::range_attenuation(d, light.range);
+            let h = (l + e).normalize_or_zero();
+            if n.dot(l) <= 0.0 || k == 0.0 || h == DVec3::ZERO {
+                attrs.extend([0.0; 6]);
+                continue;
+            }
+            let hlt = rotate_to_z(h, n);
+            attrs.extend([hlt.x as f32, hlt.y as f32, hlt.z as f32]);
+            attrs.extend(
+                (light.color * (material.specular * k * weight))
+                    .as_vec3()
+                    .to_array(),
+            );
+        }
+    }
+    Some(crate::raster::frame_buffer::PhongVertices {
+        lights: scene.lights.len(),
+        shininess: material.shininess as f32,
+        attrs,
+    })
+}
+
+/// `v` turned by the smallest rotation that takes the unit vector `h` to
+/// +z, so that nearby vertices get consistent frames and their highlight
+/// vectors interpolate smoothly.
+fn rotate_to_z(h: DVec3, v: DVec3) -> DVec3 {
+    let axis = h.cross(DVec3::Z);
+    let s = axis.length();
+    let c = h.z;
+    if s < 1e-12 {
+        return if c > 0.0 {
+            v
+        } else {
+            DVec3::new(v.x, -v.y, -v.z)
+        };
+    }
+    let k = axis / s;
+    // Rodrigues: v cos + (k x v) sin + k (k.v)(1 - cos).
+    v * c + k.cross(v) * s + k * k.dot(v) * (1.0 - c)
+}
+
 /// Gouraud vertex shades (004 section 4.8): the illumination model at each
 /// world point of a polygon (or a piece of it) with the vertex normal,
 /// interpolated along the original polygon's edges for `type curved`
@@ -600,6 +728,20 @@ fn paint_tree(
                     .as_vec3()
                     .to_array(),
                 id: k as u32 + 1,
+                phong: if f.kind == crate::image_tree::FragmentKind::Polygon {
+                    phong_vertices(
+                        scene,
+                        f.eye,
+                        f.object,
+                        f.polygon,
+                        f.back_facing,
+                        &f.world,
+                        f.blended - f.shade * f.weight,
+                        f.weight,
+                    )
+                } else {
+                    None
+                },
                 vertex_colors: (scene.modes.vertex_shades
                     && f.kind == crate::image_tree::FragmentKind::Polygon)
                     .then(|| {

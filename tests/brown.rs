@@ -150,6 +150,7 @@ fn priority_order_is_reused_under_perspective_and_radial_change() {
                 id: p.polygon + 1,
                 transparency: 0.0,
                 vertex_colors: None,
+                phong: None,
             })
             .collect();
         let mut frame = FrameBuffer::new(size, size, [0.0; 3]);
@@ -199,6 +200,7 @@ fn a_wrong_order_fails_the_same_check() {
             id: p.polygon + 1,
             transparency: 0.0,
             vertex_colors: None,
+            phong: None,
         })
         .collect();
     let mut frame = FrameBuffer::new(128, 128, [0.0; 3]);

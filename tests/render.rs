@@ -195,3 +195,43 @@ fn gouraud_shading_is_smooth_across_edges() {
         "faceted {faceted} vs Gouraud {smooth}"
     );
 }
+
+/// Phong polygons (`setmode s on`, 004 section 4.8): a highlight in the
+/// middle of one large polygon, far from its vertices, survives; Gouraud
+/// shading loses it. Hand-worked: the light straight above the centre at
+/// height 1 (range 100) and the eye above it too give N.H = 1 there, so the
+/// highlight adds ks k = 0.6 (1 - 1/100)^2 to the interpolated shade.
+#[test]
+fn phong_keeps_a_highlight_inside_a_polygon() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("det")).unwrap();
+    std::fs::write(
+        dir.path().join("det/square.det"),
+        "title\ndata\n4 1\n-1 -1 0\n-1 1 0\n1 1 0\n1 -1 0\n4 1 2 3 4\n",
+    )
+    .unwrap();
+    let path = dir.path().join("hl.des");
+    std::fs::write(
+        &path,
+        "resolution 65 65\nperspective 60 1 0.1 100\npushmatrix\nident\npolarview 6 0 0 0\n\
+         light 0 0 1 1 1 1 100 Point\ndefobj square\n diffuse 0.5\n specular 0.6\n shininess 60\n\
+         scale 2 2 1\nendobj\npopmatrix\nsetmode v on\n",
+    )
+    .unwrap();
+    let mut scene = scene::load(&path).unwrap().0;
+    let centre = |scene: &Scene| {
+        render(scene, &RenderOptions::default())
+            .unwrap()
+            .frame
+            .pixel(32, 32)[0]
+    };
+    let gouraud = centre(&scene);
+    scene.modes.phong = true;
+    let phong = centre(&scene);
+    let highlight = 0.6 * (1.0f32 - 0.01).powi(2);
+    assert!(
+        (phong - (gouraud + highlight).min(1.0)).abs() < 0.03,
+        "phong {phong}, gouraud {gouraud}"
+    );
+    assert!(phong > gouraud + 0.3);
+}

@@ -34,6 +34,46 @@ pub struct PaintItem {
     pub transparency: f32,
     /// Gouraud vertex shades (one per point), else the single `color`.
     pub vertex_colors: Option<Vec<[f32; 3]>>,
+    /// Phong highlight vectors (004 section 4.8), overriding the others.
+    pub phong: Option<PhongVertices>,
+}
+
+/// Per vertex: the shade without highlights `I_e` (3 values), then per
+/// light the highlight normal vector `hltnml` (the vertex normal in a frame
+/// whose z axis is the halfway vector H) and the light's highlight
+/// intensity `I_L` (3 + 3 values). At a pixel, the interpolated values give
+/// `I = I_e + sum I_L (h_z / |h|)^n` (004 section 4.8).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhongVertices {
+    /// Number of highlight lights.
+    pub lights: usize,
+    /// Shininess `n`.
+    pub shininess: f32,
+    /// `stride()` values per vertex.
+    pub attrs: Vec<f32>,
+}
+
+impl PhongVertices {
+    /// Values per vertex.
+    pub fn stride(&self) -> usize {
+        3 + 6 * self.lights
+    }
+
+    /// The colour from interpolated values `v`.
+    pub fn shade(&self, v: &[f32]) -> [f32; 3] {
+        let mut c = [v[0], v[1], v[2]];
+        for l in 0..self.lights {
+            let h = &v[3 + 6 * l..6 + 6 * l];
+            let len = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
+            if len > 0.0 && h[2] > 0.0 {
+                let k = (h[2] / len).powf(self.shininess);
+                for (ci, i) in c.iter_mut().zip(&v[6 + 6 * l..9 + 6 * l]) {
+                    *ci += i * k;
+                }
+            }
+        }
+        c.map(|x| x.clamp(0.0, 1.0))
+    }
 }
 
 /// An RGB frame buffer with an id per pixel. Row 0 is the top of the image.
@@ -119,23 +159,47 @@ impl FrameBuffer {
                         ids[px] = item.id;
                         touched[k] = true;
                     };
-                    match &item.vertex_colors {
-                        Some(vc) => tiler::for_each_shaded_span(
-                            &item.points,
-                            vc,
-                            lo..hi,
-                            w,
-                            |j, i0, i1, ends| {
+                    match (&item.phong, &item.vertex_colors) {
+                        (Some(ph), _) => {
+                            let mut v = vec![0.0f32; ph.stride()];
+                            tiler::for_each_attr_span(
+                                &item.points,
+                                &ph.attrs,
+                                ph.stride(),
+                                lo..hi,
+                                w,
+                                |j, i0, i1, l, r| {
+                                    for i in i0..i1 {
+                                        tiler::lerp_at(i, l, r, &mut v);
+                                        put(j, i, ph.shade(&v));
+                                    }
+                                },
+                            )
+                        }
+                        (None, Some(vc)) => {
+                            let flat: Vec<f32> = vc.iter().flatten().copied().collect();
+                            let mut v = [0.0f32; 3];
+                            tiler::for_each_attr_span(
+                                &item.points,
+                                &flat,
+                                3,
+                                lo..hi,
+                                w,
+                                |j, i0, i1, l, r| {
+                                    for i in i0..i1 {
+                                        tiler::lerp_at(i, l, r, &mut v);
+                                        put(j, i, v);
+                                    }
+                                },
+                            )
+                        }
+                        (None, None) => {
+                            tiler::for_each_span(&item.points, lo..hi, w, |j, i0, i1| {
                                 for i in i0..i1 {
-                                    put(j, i, tiler::span_value(&ends, i));
+                                    put(j, i, item.color);
                                 }
-                            },
-                        ),
-                        None => tiler::for_each_span(&item.points, lo..hi, w, |j, i0, i1| {
-                            for i in i0..i1 {
-                                put(j, i, item.color);
-                            }
-                        }),
+                            })
+                        }
                     }
                 }
                 touched
@@ -163,6 +227,7 @@ mod tests {
             id,
             transparency: 0.0,
             vertex_colors: None,
+            phong: None,
         }
     }
 

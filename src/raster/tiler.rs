@@ -16,21 +16,21 @@
 
 use glam::DVec2;
 
-/// An attribute (a colour) at the two ends of a span: `(x, value)`.
-pub type SpanEnds = ((f64, [f32; 3]), (f64, [f32; 3]));
-
-/// [`for_each_span`] with an attribute per vertex (Gouraud's vertex
-/// shades), interpolated along the edges to the span's ends, which are
-/// given to `span` with it; inside the span the attribute is linear in x.
-pub fn for_each_shaded_span(
+/// [`for_each_span`] with `stride` attributes per vertex (`attrs[k *
+/// stride..]` for vertex `k`: Gouraud's vertex shades, Phong's highlight
+/// vectors), interpolated along the edges to the span's ends. `span` gets
+/// the row, the pixel run, and the ends' x and attributes; inside the span
+/// attributes are linear in x (see [`lerp_at`]).
+pub fn for_each_attr_span(
     points: &[DVec2],
-    attrs: &[[f32; 3]],
+    attrs: &[f32],
+    stride: usize,
     rows: std::ops::Range<u32>,
     width: u32,
-    mut span: impl FnMut(u32, u32, u32, SpanEnds),
+    mut span: impl FnMut(u32, u32, u32, (f64, &[f32]), (f64, &[f32])),
 ) {
     let n = points.len();
-    if n < 3 || attrs.len() != n {
+    if n < 3 || attrs.len() != n * stride {
         return;
     }
     let (ymin, ymax) = points
@@ -40,10 +40,12 @@ pub fn for_each_shaded_span(
         });
     let first = ((ymin - 0.5).ceil().max(rows.start as f64)) as u32;
     let last_excl = ((ymax - 0.5).ceil().min(rows.end as f64)).max(first as f64) as u32;
-    let mut xs: Vec<(f64, [f32; 3])> = Vec::with_capacity(8);
+    let mut xs: Vec<(f64, usize)> = Vec::with_capacity(8);
+    let mut values: Vec<f32> = Vec::with_capacity(8 * stride);
     for j in first..last_excl {
         let yc = j as f64 + 0.5;
         xs.clear();
+        values.clear();
         for k in 0..n {
             let (a, b) = (k, (k + 1) % n);
             let (p, q) = if (points[a].y, points[a].x) <= (points[b].y, points[b].x) {
@@ -54,10 +56,11 @@ pub fn for_each_shaded_span(
             let (pp, qq) = (points[p], points[q]);
             if pp.y <= yc && yc < qq.y {
                 let t = (yc - pp.y) / (qq.y - pp.y);
-                let x = pp.x + t * (qq.x - pp.x);
-                let c =
-                    std::array::from_fn(|i| attrs[p][i] + (attrs[q][i] - attrs[p][i]) * t as f32);
-                xs.push((x, c));
+                xs.push((pp.x + t * (qq.x - pp.x), values.len()));
+                for i in 0..stride {
+                    let (va, vb) = (attrs[p * stride + i], attrs[q * stride + i]);
+                    values.push(va + (vb - va) * t as f32);
+                }
             }
         }
         xs.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -65,21 +68,25 @@ pub fn for_each_shaded_span(
             let i0 = (pair[0].0 - 0.5).ceil().clamp(0.0, width as f64) as u32;
             let i1 = (pair[1].0 - 0.5).ceil().clamp(0.0, width as f64) as u32;
             if i1 > i0 {
-                span(j, i0, i1, (pair[0], pair[1]));
+                let left = &values[pair[0].1..pair[0].1 + stride];
+                let right = &values[pair[1].1..pair[1].1 + stride];
+                span(j, i0, i1, (pair[0].0, left), (pair[1].0, right));
             }
         }
     }
 }
 
-/// The attribute at pixel column `i` of a span with ends `ends`.
-pub fn span_value(ends: &SpanEnds, i: u32) -> [f32; 3] {
-    let ((x0, a0), (x1, a1)) = *ends;
+/// The attributes at pixel column `i` of a span from `(x0, a0)` to
+/// `(x1, a1)`, written to `out`.
+pub fn lerp_at(i: u32, (x0, a0): (f64, &[f32]), (x1, a1): (f64, &[f32]), out: &mut [f32]) {
     let t = if x1 > x0 {
         (((i as f64 + 0.5) - x0) / (x1 - x0)).clamp(0.0, 1.0)
     } else {
         0.0
     } as f32;
-    std::array::from_fn(|k| a0[k] + (a1[k] - a0[k]) * t)
+    for k in 0..out.len() {
+        out[k] = a0[k] + (a1[k] - a0[k]) * t;
+    }
 }
 
 /// Calls `span(j, i0, i1)` for each row `j` (counted from the bottom) in
@@ -201,14 +208,15 @@ mod tests {
         // A right triangle with value x + y at its corners (a linear
         // function): every pixel gets its centre's x + y.
         let pts = [pt(0.0, 0.0), pt(0.0, 8.0), pt(8.0, 0.0)];
-        let attrs = [[0.0; 3], [8.0; 3], [8.0; 3]];
+        let attrs = [0.0, 8.0, 8.0];
         let mut count = 0;
-        for_each_shaded_span(&pts, &attrs, 0..8, 8, |j, i0, i1, ends| {
+        let mut v = [0.0f32];
+        for_each_attr_span(&pts, &attrs, 1, 0..8, 8, |j, i0, i1, l, r| {
             for i in i0..i1 {
-                let v = span_value(&ends, i)[0];
+                lerp_at(i, l, r, &mut v);
                 assert!(
-                    (v - (i as f32 + 0.5 + j as f32 + 0.5)).abs() < 1e-4,
-                    "{i} {j} {v}"
+                    (v[0] - (i as f32 + 0.5 + j as f32 + 0.5)).abs() < 1e-4,
+                    "{i} {j} {v:?}"
                 );
                 count += 1;
             }
