@@ -171,6 +171,34 @@ impl VirtualImageTree {
     }
 }
 
+/// The refraction matrix used for refractive polygons.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Refraction {
+    /// `M_t` linearized exactly about the ray through the polygon's centre
+    /// (the improvement of 004 section 6.4.3; the default).
+    #[default]
+    Linearized,
+    /// `M_to`, exact for rays parallel to the line of sight (004 section
+    /// 4.6; exact under an orthographic projection).
+    Orthographic,
+    /// The paraxial approximation `M_tp = I + (eta - 1) L N`.
+    Paraxial,
+}
+
+impl std::str::FromStr for Refraction {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "linearized" | "linearised" => Ok(Refraction::Linearized),
+            "orthographic" => Ok(Refraction::Orthographic),
+            "paraxial" => Ok(Refraction::Paraxial),
+            _ => Err(format!(
+                "unknown refraction model `{s}`; expected linearized, orthographic or paraxial"
+            )),
+        }
+    }
+}
+
 /// Options of the tree builder.
 #[derive(Debug, Clone, Copy)]
 pub struct TreeOptions {
@@ -182,6 +210,8 @@ pub struct TreeOptions {
     pub nns: bool,
     /// Cast shadows from Point lights (`run y`).
     pub shadows: bool,
+    /// Which refraction matrix (004 sections 4.6 and 6.4.3).
+    pub refraction: Refraction,
     /// `setmode h on`: shade every shadow polygon at its own centroid;
     /// off: all shadows of one light on one target share the target's
     /// shade without that light (004 section 4.7).
@@ -491,8 +521,22 @@ impl Builder<'_> {
             {
                 let eta = 1.0 / object.surface.index;
                 let centre = c.points.iter().copied().sum::<DVec3>() / c.points.len() as f64;
-                let dir = -self.view.to_eye(centre);
-                if let Some(m) = math::refraction(plane, dir, eta) {
+                let matrix = match self.options.refraction {
+                    Refraction::Linearized => {
+                        math::refraction(plane, -self.view.to_eye(centre), eta)
+                    }
+                    Refraction::Orthographic => {
+                        // All rays parallel to the line of sight: the
+                        // direction from the eye through the view centre.
+                        let axis = self
+                            .view
+                            .ray(self.view.width / 2.0, self.view.height / 2.0)
+                            .map(|(_, d)| d);
+                        axis.and_then(|d| math::refraction(plane, d, eta))
+                    }
+                    Refraction::Paraxial => Some(math::refraction_paraxial(plane, eta)),
+                };
+                if let Some(m) = matrix {
                     let t2 = t.mul(&m);
                     let planes = self.volume(&c.points, plane);
                     let found = self.mapped_level(&t2, &planes);

@@ -33,6 +33,7 @@ struct Options {
     id_image: Option<PathBuf>,
     visibility: Option<Algorithm>,
     profile: bool,
+    refraction: plytrace::image_tree::Refraction,
     quiet: bool,
 }
 
@@ -76,6 +77,8 @@ MODERN CONVENIENCES:
                        (well-tesselated surfaces), ray-cast (the oracle)
     --quiet            print only errors and warnings
     --profile          print the run-time profile in the categories of 004 table 6.2
+    --refraction M     refraction matrix: linearized (default; exact for the ray through
+                       the polygon's centre), orthographic (M_to), paraxial (M_tp)
     --help, --version
 
 COMMANDS of the scene descriptor language (shortest unique prefix accepted):
@@ -140,6 +143,10 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
             "--id-image" => o.id_image = Some(value("a file name")?.into()),
             "--quiet" | "-q" => o.quiet = true,
             "--profile" => o.profile = true,
+            "--refraction" => {
+                let v = value("linearized, orthographic or paraxial")?;
+                o.refraction = v.parse().map_err(|e| format!("--refraction: {e}"))?;
+            }
             "--visibility" => {
                 let v = value("an algorithm name")?;
                 o.visibility = Some(
@@ -211,6 +218,7 @@ struct CliHost {
     id_image: Option<PathBuf>,
     visibility: Option<Algorithm>,
     profile: bool,
+    refraction: plytrace::image_tree::Refraction,
     scene_stem: Option<String>,
     quiet: bool,
     interactive: bool,
@@ -250,6 +258,7 @@ impl Host for CliHost {
                 shadows,
                 visibility: self.visibility,
                 profile: self.profile,
+                refraction: self.refraction,
             },
         )?;
         if scene.display {
@@ -531,6 +540,7 @@ fn main() -> ExitCode {
         id_image: options.id_image.clone(),
         visibility: options.visibility,
         profile: options.profile,
+        refraction: options.refraction,
         scene_stem: options
             .scene
             .as_ref()

@@ -34,6 +34,8 @@ pub struct RenderOptions {
     pub visibility: Option<Algorithm>,
     /// Time the parts of the tree builder (table 6.2, `--profile`).
     pub profile: bool,
+    /// The refraction matrix (`--refraction`).
+    pub refraction: crate::image_tree::Refraction,
 }
 
 /// Figures of one render.
@@ -707,6 +709,7 @@ fn paint_tree(
             threshold: scene.threshold,
             nns: algorithm == Algorithm::Nns,
             shadows: options.shadows,
+            refraction: options.refraction,
             explicit_shadow_shades: scene.modes.shadow_shades,
         },
         &profile,

@@ -128,6 +128,7 @@ fn cube_on_mirror_output_orders() {
             nns: false,
             shadows: false,
             explicit_shadow_shades: false,
+            refraction: Default::default(),
         },
     );
     let label = |n: usize| {
@@ -214,4 +215,71 @@ fn tree_file_of_the_cube_on_a_mirror() {
             assert!((-1e-6..=1.0 + 1e-6).contains(&p[0]) && (-1e-6..=1.0 + 1e-6).contains(&p[1]));
         }
     }
+}
+
+/// Refraction through the water of underwater.des: the pool floor is seen
+/// through the surface as a refracted branch, and the three matrices of
+/// 004 sections 4.6 and 6.4.3 place it differently.
+#[test]
+fn refraction_models_map_the_pool_floor() {
+    let Some(path) = support::shared_scene("underwater.des") else {
+        return;
+    };
+    let scene = plytrace::scene::load(&path).unwrap().0;
+    let view = View::new(&scene, 128, 128).unwrap();
+    let centroid_of_refracted = |model: image_tree::Refraction| {
+        let tree = image_tree::build(
+            &scene,
+            &view,
+            TreeOptions {
+                max_level: 2,
+                threshold: 0.0,
+                nns: true,
+                shadows: false,
+                explicit_shadow_shades: false,
+                refraction: model,
+            },
+        );
+        let refracted: Vec<_> = tree
+            .nodes
+            .iter()
+            .filter(|f| f.branch == Branch::Refracted)
+            .collect();
+        assert!(
+            !refracted.is_empty(),
+            "{model:?}: nothing seen through the water"
+        );
+        let pts: Vec<DVec3> = refracted
+            .iter()
+            .flat_map(|f| f.screen.iter().copied())
+            .collect();
+        pts.iter().copied().sum::<DVec3>() / pts.len() as f64
+    };
+    // Each model sees something through the water.
+    for model in [
+        image_tree::Refraction::Linearized,
+        image_tree::Refraction::Paraxial,
+        image_tree::Refraction::Orthographic,
+    ] {
+        assert!(centroid_of_refracted(model).is_finite());
+    }
+    // And they show the checkerboard differently.
+    let ids = |model| {
+        let r = render(
+            &scene,
+            &RenderOptions {
+                size: Some((128, 128)),
+                refraction: model,
+                ..RenderOptions::default()
+            },
+        )
+        .unwrap();
+        support::painted_ids(&r)
+    };
+    let (lin, par) = (
+        ids(image_tree::Refraction::Linearized),
+        ids(image_tree::Refraction::Paraxial),
+    );
+    let differing = lin.iter().zip(&par).filter(|(a, b)| a != b).count();
+    assert!(differing > 50, "only {differing} pixels differ");
 }

@@ -144,6 +144,7 @@ fn shadow_polygons_lie_in_their_target() {
             nns: true,
             shadows: true,
             explicit_shadow_shades: false,
+            refraction: Default::default(),
         },
     );
     let mut count = 0;
