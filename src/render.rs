@@ -431,6 +431,7 @@ fn tree_file(
     scene: &Scene,
     tree: &crate::image_tree::VirtualImageTree,
     order: &[usize],
+    vertex_blend: &[Option<Vec<Color>>],
     width: u32,
     height: u32,
 ) -> crate::tree_file::TreeFile {
@@ -450,8 +451,22 @@ fn tree_file(
             } else {
                 f.shade
             };
-            let shades = match f.kind {
-                crate::image_tree::FragmentKind::Restore => Shades::Special,
+            let shades = match (f.kind, &vertex_blend[n]) {
+                (crate::image_tree::FragmentKind::Restore, _) => Shades::Special,
+                (_, Some(vs)) => Shades::Gouraud(
+                    vs.iter()
+                        .map(|v| {
+                            // Without pre-blending, the fragment's own shades.
+                            let own = if scene.modes.blend {
+                                *v
+                            } else {
+                                (*v - (f.blended - f.shade * f.weight))
+                                    / f.weight.max(f64::MIN_POSITIVE)
+                            };
+                            [byte(own.x), byte(own.y), byte(own.z)]
+                        })
+                        .collect(),
+                ),
                 _ => Shades::Faceted([byte(c.x), byte(c.y), byte(c.z)]),
             };
             Record {
@@ -670,6 +685,92 @@ pub fn transparency_of(scene: &Scene, eye: DVec4, object: u32, polygon: u32, bac
     if power > 0.0 { k * cos.powf(power) } else { k }
 }
 
+/// Gouraud vertex shades of every polygon fragment of the tree
+/// (`setmode v on`), pre-blended: a fragment's vertex shade is its parent's
+/// blended shade at that screen point, interpolated as in 004 figure 4.16
+/// (along the two parent edges crossing the point's row, then across),
+/// plus `k` times its own vertex shade. `None` for other fragments, or all
+/// when vertex shades are off.
+fn gouraud_tree_shades(
+    scene: &Scene,
+    tree: &crate::image_tree::VirtualImageTree,
+) -> Vec<Option<Vec<Color>>> {
+    let mut out: Vec<Option<Vec<Color>>> = vec![None; tree.nodes.len()];
+    if !scene.modes.vertex_shades {
+        return out;
+    }
+    // Parents are pushed before their children.
+    for n in 0..tree.nodes.len() {
+        let f = &tree.nodes[n];
+        if f.kind != crate::image_tree::FragmentKind::Polygon {
+            continue;
+        }
+        let own = vertex_shades(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world);
+        let blended = match f.parent.and_then(|p| out[p].as_ref().map(|vs| (p, vs))) {
+            Some((p, parent_shades)) => {
+                let parent = &tree.nodes[p];
+                f.screen
+                    .iter()
+                    .zip(&own)
+                    .map(|(s, c)| {
+                        interpolate_in_polygon(&parent.screen, parent_shades, s.x, s.y)
+                            + *c * f.weight
+                    })
+                    .collect()
+            }
+            None => {
+                let base = f.blended - f.shade * f.weight;
+                own.iter().map(|c| base + *c * f.weight).collect()
+            }
+        };
+        out[n] = Some(blended);
+    }
+    out
+}
+
+/// The value at screen point `(x, y)` of a convex polygon with `values` at
+/// its vertices: linear along the two edges crossing row `y`, then
+/// linear between them in x (004 figure 4.16). Points outside take the
+/// nearest crossing's value, or the nearest vertex's.
+pub fn interpolate_in_polygon(screen: &[DVec3], values: &[Color], x: f64, y: f64) -> Color {
+    let n = screen.len();
+    let mut crossings: Vec<(f64, Color)> = Vec::with_capacity(4);
+    for k in 0..n {
+        let (a, b) = (screen[k], screen[(k + 1) % n]);
+        let (lo, hi) = if a.y <= b.y { (a.y, b.y) } else { (b.y, a.y) };
+        if hi > lo && y >= lo && y <= hi {
+            let t = (y - a.y) / (b.y - a.y);
+            crossings.push((
+                a.x + (b.x - a.x) * t,
+                values[k] + (values[(k + 1) % n] - values[k]) * t,
+            ));
+        }
+    }
+    if crossings.is_empty() {
+        let nearest = (0..n)
+            .min_by(|&i, &j| {
+                let di = (screen[i].x - x).powi(2) + (screen[i].y - y).powi(2);
+                let dj = (screen[j].x - x).powi(2) + (screen[j].y - y).powi(2);
+                di.total_cmp(&dj)
+            })
+            .unwrap_or(0);
+        return values.get(nearest).copied().unwrap_or(Color::ZERO);
+    }
+    let left = crossings
+        .iter()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .expect("not empty");
+    let right = crossings
+        .iter()
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .expect("not empty");
+    if right.0 <= left.0 {
+        return left.1;
+    }
+    let t = ((x - left.0) / (right.0 - left.0)).clamp(0.0, 1.0);
+    left.1 + (right.1 - left.1) * t
+}
+
 /// Whether the scene has a shadow-casting light.
 pub fn has_point_light(scene: &Scene) -> bool {
     scene
@@ -718,6 +819,7 @@ fn paint_tree(
     stats.geometry = tree.geometry;
     stats.max_depth = tree.max_depth;
     let order = tree.output_order(scene.sort_order);
+    let vertex_blend = gouraud_tree_shades(scene, &tree);
     let items: Vec<PaintItem> = order
         .iter()
         .enumerate()
@@ -745,27 +847,11 @@ fn paint_tree(
                 } else {
                     None
                 },
-                vertex_colors: (scene.modes.vertex_shades
-                    && f.kind == crate::image_tree::FragmentKind::Polygon)
-                    .then(|| {
-                        let eye_real = f.eye;
-                        vertex_shades(
-                            scene,
-                            eye_real,
-                            f.object,
-                            f.polygon,
-                            f.back_facing,
-                            &f.world,
-                        )
-                        .into_iter()
-                        .map(|c| {
-                            (f.blended - f.shade * f.weight + c * f.weight)
-                                .clamp(DVec3::ZERO, DVec3::ONE)
-                                .as_vec3()
-                                .to_array()
-                        })
+                vertex_colors: vertex_blend[n].as_ref().map(|vs| {
+                    vs.iter()
+                        .map(|c| c.clamp(DVec3::ZERO, DVec3::ONE).as_vec3().to_array())
                         .collect()
-                    }),
+                }),
                 transparency: if f.kind == crate::image_tree::FragmentKind::Polygon {
                     // At level n the eye seen by the fragment is mapped back;
                     // the view direction only matters for the roll-off.
@@ -802,7 +888,7 @@ fn paint_tree(
         tree: scene
             .modes
             .output_tree
-            .then(|| tree_file(scene, &tree, &order, size.0, size.1)),
+            .then(|| tree_file(scene, &tree, &order, &vertex_blend, size.0, size.1)),
         profile: options.profile.then_some(profile),
         stats,
     }

@@ -235,3 +235,67 @@ fn phong_keeps_a_highlight_inside_a_polygon() {
     );
     assert!(phong > gouraud + 0.3);
 }
+
+/// 004 figure 4.16: a parent's shade under a child vertex is interpolated
+/// along the two parent edges crossing the vertex's row, then across.
+#[test]
+fn parent_shade_interpolation_of_figure_4_16() {
+    use glam::DVec3;
+    use plytrace::render::interpolate_in_polygon;
+    // A triangle with a linear value x + 2y: exact everywhere inside.
+    let tri = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(4.0, 0.0, 0.0),
+        DVec3::new(0.0, 4.0, 0.0),
+    ];
+    let f = |x: f64, y: f64| DVec3::splat(x + 2.0 * y);
+    let vals: Vec<DVec3> = tri.iter().map(|p| f(p.x, p.y)).collect();
+    for (x, y) in [(1.0, 1.0), (0.5, 2.5), (3.0, 0.5)] {
+        assert!((interpolate_in_polygon(&tri, &vals, x, y) - f(x, y)).length() < 1e-12);
+    }
+    // A unit square with corner values a, b, c, d (counter-clockwise from
+    // the origin): the centre gets the mean; (0.25, 0.5) gets the left
+    // edge's midpoint value blended a quarter of the way to the right's.
+    let sq = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.0, 0.0),
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::new(0.0, 1.0, 0.0),
+    ];
+    let (a, b, c, d) = (0.0, 1.0, 2.0, 3.0);
+    let vals: Vec<DVec3> = [a, b, c, d].iter().map(|&v| DVec3::splat(v)).collect();
+    assert!((interpolate_in_polygon(&sq, &vals, 0.5, 0.5).x - (a + b + c + d) / 4.0).abs() < 1e-12);
+    let left = (a + d) / 2.0;
+    let right = (b + c) / 2.0;
+    assert!(
+        (interpolate_in_polygon(&sq, &vals, 0.25, 0.5).x - (left + (right - left) * 0.25)).abs()
+            < 1e-12
+    );
+}
+
+/// Gouraud shading inside the tree writes Gouraud records.
+#[test]
+fn gouraud_tree_records() {
+    let Some(path) = support::shared_scene("mirror.des") else {
+        return;
+    };
+    let mut scene = scene::load(&path).unwrap().0;
+    scene.modes.vertex_shades = true;
+    scene.modes.output_tree = true;
+    scene.modes.blend = true;
+    let r = render(
+        &scene,
+        &RenderOptions {
+            size: Some((64, 64)),
+            ..RenderOptions::default()
+        },
+    )
+    .unwrap();
+    let tree = r.tree.unwrap();
+    let gouraud = tree
+        .records
+        .iter()
+        .filter(|r| matches!(r.shades, plytrace::tree_file::Shades::Gouraud(_)))
+        .count();
+    assert!(gouraud > 10 && tree.records.iter().any(|r| r.level == 2));
+}
