@@ -220,6 +220,9 @@ pub struct TreeOptions {
 
 struct Builder<'a> {
     profile: &'a Profile,
+    /// Every polygon in world coordinates, for shadow casting at any level
+    /// (built on the first shadow).
+    casters: Option<std::rc::Rc<CasterIndex>>,
     scene: &'a Scene,
     view: &'a View,
     options: TreeOptions,
@@ -259,6 +262,7 @@ pub fn build_profiled(
         .collect();
     let mut b = Builder {
         profile,
+        casters: None,
         scene,
         view,
         options,
@@ -446,7 +450,7 @@ impl Builder<'_> {
             .unwrap_or(self.view.eye);
         let mut ids = Vec::new();
         // The casters of this level, built when the first shadow is cast.
-        let mut caster_index: Option<CasterIndex> = None;
+
         for c in self.sort(candidates) {
             let own = {
                 let _t = self.profile.time(Category::Shading);
@@ -476,11 +480,16 @@ impl Builder<'_> {
             });
             ids.push(id);
             if self.options.shadows {
-                if caster_index.is_none() {
-                    let _t = self.profile.time(Category::Transform);
-                    caster_index = Some(CasterIndex::new(self.scene, t));
-                }
-                let index = caster_index.as_ref().expect("just built");
+                let index = match &self.casters {
+                    Some(i) => i.clone(),
+                    None => {
+                        let _t = self.profile.time(Category::Transform);
+                        let i = std::rc::Rc::new(CasterIndex::new(self.scene, &Matrix4::IDENTITY));
+                        self.casters = Some(i.clone());
+                        i
+                    }
+                };
+                let index = &*index;
                 let start = std::time::Instant::now();
                 let shadows =
                     self.shadows_on(index, &c, t, &eye_real, weight, parent_blend, id, level);
@@ -637,9 +646,18 @@ impl Builder<'_> {
                 &others,
                 None,
             );
+            // The index is in world coordinates: map the volume's planes
+            // back (a plane L of the virtual space is t L in world space).
+            let identity = *t == Matrix4::IDENTITY;
+            let world_volume: Vec<DVec4> = if identity {
+                volume.clone()
+            } else {
+                let tt = t.transpose();
+                volume.iter().map(|pl| tt.transform(*pl)).collect()
+            };
             let candidates = {
                 let _t = self.profile.time(Category::ChkBbox);
-                index.query(&volume)
+                index.query(&world_volume)
             };
             for k in candidates {
                 let caster = &index.casters[k];
@@ -649,12 +667,23 @@ impl Builder<'_> {
                 {
                     continue;
                 }
+                // Facing the light: the same test in world coordinates.
                 let plane = caster.plane;
-                if plane.truncate().dot(lv) + plane.w <= 0.0 && !caster.open {
+                if plane.truncate().dot(light.position) + plane.w <= 0.0 && !caster.open {
                     continue;
                 }
                 {
-                    let pts = &caster.points;
+                    let mapped: Vec<DVec3>;
+                    let pts: &[DVec3] = if identity {
+                        &caster.points
+                    } else {
+                        mapped = caster
+                            .points
+                            .iter()
+                            .map(|p| t.transform_point(*p))
+                            .collect();
+                        &mapped
+                    };
                     let outside = {
                         let _t = self.profile.time(Category::ChkPly);
                         volume
