@@ -315,7 +315,8 @@ impl Builder<'_> {
     }
 
     /// Lower levels: the scene mapped by `t`, clipped to `planes` (front
-    /// sides kept) with the splitter.
+    /// sides kept) with the splitter. `planes[0]` is the plane of the
+    /// fragment seen through.
     fn mapped_level(&self, t: &Matrix4, planes: &[DVec4]) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Addobj);
         let mirrored = linear_determinant(t) < 0.0;
@@ -356,6 +357,16 @@ impl Builder<'_> {
                 let Ok(plane) = polygon::outward_plane(&pts) else {
                     continue;
                 };
+                // Polygons in the mirror's (or refracting surface's) own
+                // plane, itself included, map onto it: they are not seen
+                // through it.
+                let front_plane = planes[0];
+                if pts
+                    .iter()
+                    .all(|p| (front_plane.truncate().dot(*p) + front_plane.w).abs() <= self.eps)
+                {
+                    continue;
+                }
                 let front = self.view.faces_eye(plane);
                 if !front && !object.surface_type.open {
                     continue;
@@ -423,10 +434,42 @@ impl Builder<'_> {
             })
             .collect();
         let mut slots: Vec<Option<Candidate>> = candidates.into_iter().map(Some).collect();
-        depth_sort::sorted_order(&keys)
-            .into_iter()
-            .map(|k| slots[k].take().expect("a permutation"))
-            .collect()
+        if self.scene.modes.expand {
+            // `setmode x on`: one composite list.
+            return depth_sort::sorted_order(&keys)
+                .into_iter()
+                .map(|k| slots[k].take().expect("a permutation"))
+                .collect();
+        }
+        // `setmode x off` (004 section 4.4): objects one at a time, by the
+        // farthest depth of their polygons, each object's polygons sorted.
+        let mut objects: Vec<u32> = slots
+            .iter()
+            .map(|c| c.as_ref().expect("full").object)
+            .collect();
+        objects.sort_unstable();
+        objects.dedup();
+        let object_key = |o: u32| {
+            slots
+                .iter()
+                .zip(&keys)
+                .filter(|(c, _)| c.as_ref().is_some_and(|c| c.object == o))
+                .map(|(_, k)| *k)
+                .fold(f64::INFINITY, f64::min)
+        };
+        let object_keys: Vec<f64> = objects.iter().map(|&o| object_key(o)).collect();
+        let mut out = Vec::with_capacity(slots.len());
+        for oi in depth_sort::sorted_order(&object_keys) {
+            let o = objects[oi];
+            let members: Vec<usize> = (0..slots.len())
+                .filter(|&k| slots[k].as_ref().is_some_and(|c| c.object == o))
+                .collect();
+            let member_keys: Vec<f64> = members.iter().map(|&k| keys[k]).collect();
+            for m in depth_sort::sorted_order(&member_keys) {
+                out.push(slots[members[m]].take().expect("each once"));
+            }
+        }
+        out
     }
 
     /// Sorts `candidates` (the polygons of one level, in virtual coordinates

@@ -249,6 +249,20 @@ fn refraction_models_map_the_pool_floor() {
             !refracted.is_empty(),
             "{model:?}: nothing seen through the water"
         );
+        // The floor is seen through the water, and the water surface does
+        // not see itself (regression: it mapped onto itself and hid all).
+        let name = |f: &&image_tree::Fragment| scene.objects[f.object as usize].name.clone();
+        assert!(
+            refracted.iter().any(|f| name(f).starts_with("checker")),
+            "{model:?}: no floor"
+        );
+        for f in &refracted {
+            let parent = &tree.nodes[f.parent.unwrap()];
+            assert!(
+                (f.object, f.polygon) != (parent.object, parent.polygon),
+                "{model:?}: the surface sees itself"
+            );
+        }
         let pts: Vec<DVec3> = refracted
             .iter()
             .flat_map(|f| f.screen.iter().copied())
