@@ -28,9 +28,9 @@ pub struct PaintItem {
     pub color: [f32; 3],
     /// Identifier written to the id buffer (never 0, which is background).
     pub id: u32,
-    /// Transparency `k_t` (0 opaque): painting over a pixel gives
-    /// `I_new = I_old k_t + I_cur` (004 section 4.9), back to front only;
-    /// front to back, transparent polygons are painted opaque.
+    /// Transparency `k_t` (0 opaque): back to front, painting over a pixel
+    /// gives `I_new = I_old k_t + I_cur` (004 section 4.9); front to back,
+    /// what lies behind is seen through it with weight `k_t`.
     pub transparency: f32,
     /// Gouraud vertex shades (one per point), else the single `color`.
     pub vertex_colors: Option<Vec<[f32; 3]>>,
@@ -140,6 +140,14 @@ impl FrameBuffer {
                 let lo = h - (top_row + rows_here);
                 let hi = h - top_row;
                 let mut touched = vec![false; items.len()];
+                // Front to back: what is in front is accumulated, with the
+                // fraction of light still passing (`I = sum T_k I_k`,
+                // `T_k = prod of the k_t in front`); what was in the buffer
+                // is behind everything and is added at the end.
+                let first_wins = mode == PaintMode::FirstWins;
+                let n = if first_wins { colors.len() } else { 0 };
+                let mut front = vec![[0.0f32; 3]; n];
+                let mut passing = vec![1.0f32; n];
                 for (k, item) in items.iter().enumerate() {
                     let (ymin, ymax) = bounds[k];
                     if ymax < lo as f64 || ymin > hi as f64 + 1.0 {
@@ -147,10 +155,21 @@ impl FrameBuffer {
                     }
                     let mut put = |j: u32, i: u32, color: [f32; 3]| {
                         let px = (hi - 1 - j) as usize * w as usize + i as usize;
-                        if mode == PaintMode::FirstWins && ids[px] != 0 {
+                        if first_wins {
+                            if passing[px] <= 0.0 {
+                                return;
+                            }
+                            for c in 0..3 {
+                                front[px][c] += passing[px] * color[c];
+                            }
+                            passing[px] *= item.transparency.max(0.0);
+                            if ids[px] == 0 {
+                                ids[px] = item.id;
+                            }
+                            touched[k] = true;
                             return;
                         }
-                        colors[px] = if item.transparency > 0.0 && mode == PaintMode::Overwrite {
+                        colors[px] = if item.transparency > 0.0 {
                             let old = colors[px];
                             std::array::from_fn(|c| old[c] * item.transparency + color[c])
                         } else {
@@ -201,6 +220,10 @@ impl FrameBuffer {
                             })
                         }
                     }
+                }
+                for px in 0..n {
+                    colors[px] =
+                        std::array::from_fn(|c| front[px][c] + passing[px] * colors[px][c]);
                 }
                 touched
             })
@@ -256,6 +279,25 @@ mod tests {
         assert!(
             (c[0] - 0.6).abs() < 1e-6 && (c[1] - 0.4).abs() < 1e-6 && (c[2] - 0.2).abs() < 1e-6
         );
+    }
+
+    #[test]
+    fn transparency_is_the_same_in_both_orders() {
+        // A transparent square over an opaque one over the background:
+        // back to front and front to back give the same colours.
+        let mut glass = square(0.0, 0.0, 4.0, 4.0, 2);
+        glass.transparency = 0.5;
+        let wall = square(2.0, 0.0, 6.0, 4.0, 1);
+        let mut a = FrameBuffer::new(8, 4, [0.8, 0.4, 0.0]);
+        a.paint(&[wall.clone(), glass.clone()], PaintMode::Overwrite);
+        let mut b = FrameBuffer::new(8, 4, [0.8, 0.4, 0.0]);
+        b.paint(&[glass, wall], PaintMode::FirstWins);
+        for (p, q) in a.color.iter().zip(&b.color) {
+            for c in 0..3 {
+                assert!((p[c] - q[c]).abs() < 1e-6, "{p:?} {q:?}");
+            }
+        }
+        assert_eq!(a.ids, b.ids);
     }
 
     #[test]
