@@ -451,6 +451,69 @@ fn tree_file(
             } else {
                 f.shade
             };
+            let phong = (f.kind == crate::image_tree::FragmentKind::Polygon)
+                .then(|| {
+                    let (offset, weight) = if scene.modes.blend {
+                        (f.blended - f.shade * f.weight, f.weight)
+                    } else {
+                        (Color::ZERO, 1.0)
+                    };
+                    phong_vertices(
+                        scene,
+                        f.eye,
+                        f.object,
+                        f.polygon,
+                        f.back_facing,
+                        &f.world,
+                        offset,
+                        weight,
+                    )
+                })
+                .flatten();
+            if let Some(ph) = phong {
+                let t = byte(transparency_of(
+                    scene,
+                    f.eye,
+                    f.object,
+                    f.polygon,
+                    f.back_facing,
+                ));
+                let stride = ph.stride();
+                let vertices: Vec<&[f32]> = ph.attrs.chunks(stride).collect();
+                let fb = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+                // One highlight colour per light (figure 4.14): the mean
+                // of the vertices' intensities.
+                let light_colors = (0..ph.lights)
+                    .map(|l| {
+                        let mean = |c: usize| {
+                            vertices.iter().map(|v| v[6 + 6 * l + c]).sum::<f32>()
+                                / vertices.len() as f32
+                        };
+                        [fb(mean(0)), fb(mean(1)), fb(mean(2))]
+                    })
+                    .collect();
+                let shades = Shades::Phong(crate::tree_file::PhongShades {
+                    shininess: ph.shininess as f64,
+                    light_colors,
+                    rgbt: vertices
+                        .iter()
+                        .map(|v| [fb(v[0]), fb(v[1]), fb(v[2]), t])
+                        .collect(),
+                    normals: vertices
+                        .iter()
+                        .map(|v| {
+                            (0..ph.lights)
+                                .map(|l| [v[3 + 6 * l], v[4 + 6 * l], v[5 + 6 * l]])
+                                .collect()
+                        })
+                        .collect(),
+                });
+                return Record {
+                    level: f.level.min(u16::MAX as u32) as u16,
+                    points,
+                    shades,
+                };
+            }
             let shades = match (f.kind, &vertex_blend[n]) {
                 (crate::image_tree::FragmentKind::Restore, _) => Shades::Special,
                 (_, Some(vs)) => Shades::Gouraud(

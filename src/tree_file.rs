@@ -19,6 +19,8 @@
 //!          faceted: r g b (u8 each), then nvtx x (x f32, y f32)
 //!          special: nvtx x (x f32, y f32)
 //!          gouraud: nvtx x (x f32, y f32, r g b u8)
+//!          phong (type b'3'): hilite f64, nlt u16, nlt x (r g b u8),
+//!                 then nvtx x (x f32, y f32, r g b t u8, nlt x (nx ny nz f32))
 //! ```
 //!
 //! x and y are normalized screen coordinates, 0 to 1 from the lower left
@@ -39,6 +41,22 @@ pub enum Shades {
     Faceted([u8; 3]),
     /// Type 2: one shade per vertex.
     Gouraud(Vec<[u8; 3]>),
+    /// Type 3: Phong, with highlight vectors per vertex and light.
+    Phong(PhongShades),
+}
+
+/// The Phong parameters of figure 4.14: `<hilite> <nlt> <hltclr>` and, per
+/// vertex, `<r g b t>` and `nlt` highlight normal vectors.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhongShades {
+    /// Shininess of the surface (`hilite`, a double).
+    pub shininess: f64,
+    /// The highlight colour of each light (`hltclr`).
+    pub light_colors: Vec<[u8; 3]>,
+    /// Per vertex: shade without highlights and transparency.
+    pub rgbt: Vec<[u8; 4]>,
+    /// Per vertex, per light: the highlight normal vector (`hltnmals`).
+    pub normals: Vec<Vec<[f32; 3]>>,
 }
 
 /// One polygon of the tree.
@@ -86,17 +104,33 @@ impl TreeFile {
                 Shades::Special => b'0',
                 Shades::Faceted(_) => b'1',
                 Shades::Gouraud(_) => b'2',
+                Shades::Phong(_) => b'3',
             });
             b.extend_from_slice(&r.level.to_le_bytes());
             b.extend_from_slice(&(r.points.len() as u16).to_le_bytes());
             if let Shades::Faceted(c) = &r.shades {
                 b.extend_from_slice(c);
             }
+            if let Shades::Phong(ph) = &r.shades {
+                b.extend_from_slice(&ph.shininess.to_le_bytes());
+                b.extend_from_slice(&(ph.light_colors.len() as u16).to_le_bytes());
+                for c in &ph.light_colors {
+                    b.extend_from_slice(c);
+                }
+            }
             for (k, p) in r.points.iter().enumerate() {
                 b.extend_from_slice(&p[0].to_le_bytes());
                 b.extend_from_slice(&p[1].to_le_bytes());
                 if let Shades::Gouraud(cs) = &r.shades {
                     b.extend_from_slice(&cs[k]);
+                }
+                if let Shades::Phong(ph) = &r.shades {
+                    b.extend_from_slice(&ph.rgbt[k]);
+                    for n in &ph.normals[k] {
+                        for v in n {
+                            b.extend_from_slice(&v.to_le_bytes());
+                        }
+                    }
                 }
             }
         }
@@ -135,9 +169,29 @@ impl TreeFile {
             } else {
                 None
             };
-            if !matches!(kind, b'0' | b'1' | b'2') {
+            if !matches!(kind, b'0' | b'1' | b'2' | b'3') {
                 return Err(r.error(format!("unknown record type {kind}")));
             }
+            let mut phong = if kind == b'3' {
+                let shininess = f64::from_le_bytes(r.take(8)?.try_into().expect("8 bytes"));
+                if !shininess.is_finite() {
+                    return Err(r.error("non-finite shininess"));
+                }
+                let nlt = r.u16()? as usize;
+                let mut light_colors = Vec::with_capacity(nlt.min(bytes.len() / 3));
+                for _ in 0..nlt {
+                    let c = r.take(3)?;
+                    light_colors.push([c[0], c[1], c[2]]);
+                }
+                Some(PhongShades {
+                    shininess,
+                    light_colors,
+                    rgbt: Vec::new(),
+                    normals: Vec::new(),
+                })
+            } else {
+                None
+            };
             let mut points = Vec::with_capacity(n.min(bytes.len() / 8));
             let mut colors = Vec::new();
             for _ in 0..n {
@@ -151,10 +205,24 @@ impl TreeFile {
                     let c = r.take(3)?;
                     colors.push([c[0], c[1], c[2]]);
                 }
+                if let Some(ph) = &mut phong {
+                    let c = r.take(4)?;
+                    ph.rgbt.push([c[0], c[1], c[2], c[3]]);
+                    let mut ns = Vec::with_capacity(ph.light_colors.len());
+                    for _ in 0..ph.light_colors.len() {
+                        let n = [r.f32()?, r.f32()?, r.f32()?];
+                        if !n.iter().all(|v| v.is_finite()) {
+                            return Err(r.error("non-finite highlight vector"));
+                        }
+                        ns.push(n);
+                    }
+                    ph.normals.push(ns);
+                }
             }
             let shades = match kind {
                 b'0' => Shades::Special,
                 b'1' => Shades::Faceted(faceted.expect("read above")),
+                b'3' => Shades::Phong(phong.expect("read above")),
                 _ => Shades::Gouraud(colors),
             };
             records.push(Record {
@@ -197,11 +265,30 @@ impl TreeFile {
                 Shades::Gouraud(_) => {
                     let _ = write!(s, "gouraud {} {n}", r.level);
                 }
+                Shades::Phong(ph) => {
+                    let _ = write!(
+                        s,
+                        "phong {} {n} {} {}",
+                        r.level,
+                        ph.shininess,
+                        ph.light_colors.len()
+                    );
+                    for c in &ph.light_colors {
+                        let _ = write!(s, " {} {} {}", c[0], c[1], c[2]);
+                    }
+                }
             }
             for (k, p) in r.points.iter().enumerate() {
                 let _ = write!(s, " {} {}", p[0], p[1]);
                 if let Shades::Gouraud(cs) = &r.shades {
                     let _ = write!(s, " {} {} {}", cs[k][0], cs[k][1], cs[k][2]);
+                }
+                if let Shades::Phong(ph) = &r.shades {
+                    let c = ph.rgbt[k];
+                    let _ = write!(s, " {} {} {} {}", c[0], c[1], c[2], c[3]);
+                    for v in &ph.normals[k] {
+                        let _ = write!(s, " {} {} {}", v[0], v[1], v[2]);
+                    }
                 }
             }
             s.push('\n');
@@ -242,6 +329,7 @@ impl TreeFile {
                 }
                 "order" => tree.front_to_back = num(1)? == "ftb",
                 "blended" => tree.blended = num(1)? == "on",
+                "phong" => tree.records.push(phong_record(&words, &err)?),
                 kind @ ("special" | "faceted" | "gouraud") => {
                     let level: u16 = num(1)?
                         .parse()
@@ -304,6 +392,88 @@ impl TreeFile {
         }
         Ok(tree)
     }
+}
+
+/// A `phong LEVEL NVTX HILITE NLT (R G B)*NLT (X Y R G B T (NX NY NZ)*NLT)*NVTX`
+/// line of the text form.
+fn phong_record(words: &[&str], err: &dyn Fn(String) -> Error) -> Result<Record> {
+    let num = |i: usize| -> Result<&str> {
+        words
+            .get(i)
+            .copied()
+            .ok_or_else(|| err("`phong` line ends early".into()))
+    };
+    let level: u16 = num(1)?
+        .parse()
+        .map_err(|_| err("expected a level".into()))?;
+    let n: usize = num(2)?
+        .parse()
+        .map_err(|_| err("expected a vertex count".into()))?;
+    let shininess: f64 = num(3)?
+        .parse()
+        .map_err(|_| err("expected a shininess".into()))?;
+    let nlt: usize = num(4)?
+        .parse()
+        .map_err(|_| err("expected a light count".into()))?;
+    if !shininess.is_finite() {
+        return Err(err("non-finite shininess".into()));
+    }
+    let per = 6 + 3 * nlt;
+    let head = 5 + 3 * nlt;
+    if n.checked_mul(per).and_then(|v| v.checked_add(head)) != Some(words.len()) {
+        return Err(err(format!(
+            "expected {} words per vertex after {head}, found {} words",
+            per,
+            words.len()
+        )));
+    }
+    let u8_at = |i: usize| -> Result<u8> {
+        num(i)?
+            .parse()
+            .map_err(|_| err(format!("expected a byte at word {}", i + 1)))
+    };
+    let f32_at = |i: usize| -> Result<f32> {
+        let v: f32 = num(i)?
+            .parse()
+            .map_err(|_| err(format!("expected a number at word {}", i + 1)))?;
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(err("non-finite number".into()))
+        }
+    };
+    let light_colors = (0..nlt)
+        .map(|l| Ok([u8_at(5 + 3 * l)?, u8_at(6 + 3 * l)?, u8_at(7 + 3 * l)?]))
+        .collect::<Result<Vec<_>>>()?;
+    let (mut points, mut rgbt, mut normals) = (Vec::new(), Vec::new(), Vec::new());
+    for v in 0..n {
+        let at = head + v * per;
+        points.push([f32_at(at)?, f32_at(at + 1)?]);
+        rgbt.push([
+            u8_at(at + 2)?,
+            u8_at(at + 3)?,
+            u8_at(at + 4)?,
+            u8_at(at + 5)?,
+        ]);
+        normals.push(
+            (0..nlt)
+                .map(|l| {
+                    let b = at + 6 + 3 * l;
+                    Ok([f32_at(b)?, f32_at(b + 1)?, f32_at(b + 2)?])
+                })
+                .collect::<Result<Vec<_>>>()?,
+        );
+    }
+    Ok(Record {
+        level,
+        points,
+        shades: Shades::Phong(PhongShades {
+            shininess,
+            light_colors,
+            rgbt,
+            normals,
+        }),
+    })
 }
 
 struct Reader<'a> {
@@ -373,6 +543,20 @@ mod tests {
                     level: 1,
                     points: vec![[0.1, 0.2], [0.5, 0.25], [0.3, 0.9]],
                     shades: Shades::Special,
+                },
+                Record {
+                    level: 3,
+                    points: vec![[0.1, 0.2], [0.5, 0.25], [0.3, 0.9]],
+                    shades: Shades::Phong(PhongShades {
+                        shininess: 120.5,
+                        light_colors: vec![[255, 250, 240], [10, 20, 30]],
+                        rgbt: vec![[1, 2, 3, 0], [4, 5, 6, 128], [7, 8, 9, 255]],
+                        normals: vec![
+                            vec![[0.1, 0.2, 0.97], [0.0, 0.0, 1.0]],
+                            vec![[-0.3, 0.1, 0.9], [0.2, -0.2, 0.95]],
+                            vec![[0.0, 0.5, 0.8], [1.0 / 3.0, 0.1, 0.5]],
+                        ],
+                    }),
                 },
             ],
         }

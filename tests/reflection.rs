@@ -297,3 +297,48 @@ fn refraction_models_map_the_pool_floor() {
     let differing = lin.iter().zip(&par).filter(|(a, b)| a != b).count();
     assert!(differing > 50, "only {differing} pixels differ");
 }
+
+/// With `setmode s on`, specular polygons are written as Phong records
+/// (type 3) with one highlight vector per vertex and light.
+#[test]
+fn phong_tree_records() {
+    let Some(path) = support::shared_scene("mirror.des") else {
+        return;
+    };
+    let mut scene = plytrace::scene::load(&path).unwrap().0;
+    scene.modes.phong = true;
+    scene.modes.output_tree = true;
+    let r = render(
+        &scene,
+        &RenderOptions {
+            size: Some((64, 64)),
+            ..RenderOptions::default()
+        },
+    )
+    .unwrap();
+    let tree = r.tree.unwrap();
+    let phong: Vec<_> = tree
+        .records
+        .iter()
+        .filter_map(|r| match &r.shades {
+            plytrace::tree_file::Shades::Phong(p) => Some((r, p)),
+            _ => None,
+        })
+        .collect();
+    // The red ball has specular 0.3: it and its reflection are Phong.
+    assert!(phong.len() > 5);
+    for (rec, p) in &phong {
+        assert_eq!(p.rgbt.len(), rec.points.len());
+        assert!(p.normals.iter().all(|n| n.len() == scene.lights.len()));
+        assert_eq!(p.shininess, 150.0);
+    }
+    let path = std::path::Path::new("m.out");
+    assert_eq!(
+        plytrace::tree_file::TreeFile::from_bytes(&tree.to_bytes(), path).unwrap(),
+        tree
+    );
+    assert_eq!(
+        plytrace::tree_file::TreeFile::from_text(&tree.to_text(), path).unwrap(),
+        tree
+    );
+}
