@@ -88,8 +88,8 @@ COMMANDS of the scene descriptor language (shortest unique prefix accepted):
         s.push_str(&format!("    {:<13} {:<38} {}\n", c.name, c.usage, c.help));
     }
     s.push_str(
-        "\nNot yet acted on (parsed, checked and kept): per-vertex .vcl colours in vertex\n\
-         shades, clear. The anti-aliasing scan converters (rftb1-4) are not built yet.\n",
+        "\nNot yet acted on (parsed, checked and kept): clear (every run starts from the\n\
+         background). The anti-aliasing scan converters (rftb1-4) are not built yet.\n",
     );
     s
 }

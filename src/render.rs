@@ -276,6 +276,15 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
                         .map(|c| c.as_vec3().to_array())
                         .collect()
                 }),
+                vertex_transparency: if scene.modes.vertex_shades {
+                    let world: Vec<DVec3> = points
+                        .iter()
+                        .map(|q| view.unproject(*q).unwrap_or(DVec3::ZERO))
+                        .collect();
+                    vertex_transparency(scene, view.eye, *o, *p, *back, &world)
+                } else {
+                    None
+                },
             })
             .collect();
         let mode = match order {
@@ -548,17 +557,18 @@ fn tree_file(
     }
 }
 
-/// The vertex normal at world point `p` of polygon `pi` of `o`: for `type
-/// curved` objects interpolated along the nearest edge of the original
-/// polygon, else the polygon's normal; turned to the viewer when `back`.
-fn vertex_normal_at(o: &crate::scene::model::Object, pi: usize, back: bool, p: DVec3) -> DVec3 {
+/// Where world point `p` lies on the outline of polygon `pi` of `o`: the
+/// nearest edge, as its two vertex indices and the parameter along it.
+/// Clipping and splitting only make new vertices on edges, so this finds
+/// the vertex attributes to interpolate (004 section 4.8: "world space
+/// vertex normals are carried along with each polygon").
+fn edge_position(o: &crate::scene::model::Object, pi: usize, p: DVec3) -> (usize, usize, f64) {
     let poly = &o.polygons[pi];
-    let flat = if back { -poly.normal() } else { poly.normal() };
-    let Some(normals) = &o.vertex_normals else {
-        return flat;
-    };
     let m = poly.indices.len();
-    let mut best = (f64::INFINITY, flat);
+    let mut best = (
+        f64::INFINITY,
+        (poly.indices[0] as usize, poly.indices[0] as usize, 0.0),
+    );
     for k in 0..m {
         let (ia, ib) = (poly.indices[k] as usize, poly.indices[(k + 1) % m] as usize);
         let (a, b) = (o.vertices[ia], o.vertices[ib]);
@@ -570,11 +580,76 @@ fn vertex_normal_at(o: &crate::scene::model::Object, pi: usize, back: bool, p: D
         };
         let d = (a + ab * t).distance(p);
         if d < best.0 {
-            let n = (normals[ia] * (1.0 - t) + normals[ib] * t).normalize_or_zero();
-            best = (d, if back { -n } else { n });
+            best = (d, (ia, ib, t));
         }
     }
     best.1
+}
+
+/// The vertex normal at world point `p` of polygon `pi` of `o`: for `type
+/// curved` objects interpolated along the nearest edge of the original
+/// polygon, else the polygon's normal; turned to the viewer when `back`.
+fn vertex_normal_at(o: &crate::scene::model::Object, pi: usize, back: bool, p: DVec3) -> DVec3 {
+    let poly = &o.polygons[pi];
+    let flat = if back { -poly.normal() } else { poly.normal() };
+    let Some(normals) = &o.vertex_normals else {
+        return flat;
+    };
+    let (ia, ib, t) = edge_position(o, pi, p);
+    let n = (normals[ia] * (1.0 - t) + normals[ib] * t).normalize_or_zero();
+    if back { -n } else { n }
+}
+
+/// The material at world point `p` of polygon `pi`: the polygon's, or with
+/// `.vcl` vertex colours the entries of the nearest edge's vertices,
+/// interpolated.
+fn material_at(o: &crate::scene::model::Object, pi: usize, p: DVec3) -> crate::shading::Material {
+    let base = polygon_material(o, pi);
+    let (Some(vcl), None) = (&o.vertex_colors, &o.polygon_colors) else {
+        return base;
+    };
+    let (ia, ib, t) = edge_position(o, pi, p);
+    let (a, b) = (vcl[ia], vcl[ib]);
+    let lerp = |x: f64, y: f64| x + (y - x) * t;
+    base.with_entry(&crate::scene::object_file::ColorEntry {
+        color: a.color + (b.color - a.color) * t,
+        diffuse: lerp(a.diffuse, b.diffuse),
+        reflectance: lerp(a.reflectance, b.reflectance),
+        transmittance: lerp(a.transmittance, b.transmittance),
+    })
+}
+
+/// The transparency `k_t = k_trp (E.N)^tpwr` at each world point of a
+/// polygon (004 section 4.9: "carried along as a per-vertex component"),
+/// or `None` for an opaque object.
+pub fn vertex_transparency(
+    scene: &Scene,
+    eye: DVec4,
+    object: u32,
+    polygon: u32,
+    back: bool,
+    world: &[DVec3],
+) -> Option<Vec<f32>> {
+    let o = &scene.objects[object as usize];
+    let (k, power) = o.surface.transparency;
+    if k <= 0.0 {
+        return None;
+    }
+    Some(
+        world
+            .iter()
+            .map(|&p| {
+                let n = vertex_normal_at(o, polygon as usize, back, p);
+                let e = if eye.w != 0.0 {
+                    (eye.truncate() / eye.w - p).normalize_or_zero()
+                } else {
+                    eye.truncate().normalize_or_zero()
+                };
+                let cos = e.dot(n).clamp(0.0, 1.0);
+                (if power > 0.0 { k * cos.powf(power) } else { k }) as f32
+            })
+            .collect(),
+    )
 }
 
 /// Phong polygons with highlight vectors (004 section 4.8, `setmode s
@@ -666,8 +741,8 @@ fn rotate_to_z(h: DVec3, v: DVec3) -> DVec3 {
 /// Gouraud vertex shades (004 section 4.8): the illumination model at each
 /// world point of a polygon (or a piece of it) with the vertex normal,
 /// interpolated along the original polygon's edges for `type curved`
-/// objects, or the polygon's own normal otherwise. Per-vertex `.vcl`
-/// colours are not interpolated yet (the polygon's material is used).
+/// objects, or the polygon's own normal otherwise; `.vcl` vertex colours
+/// are interpolated the same way.
 pub fn vertex_shades(
     scene: &Scene,
     eye: DVec4,
@@ -678,40 +753,14 @@ pub fn vertex_shades(
 ) -> Vec<Color> {
     let o = &scene.objects[object as usize];
     let pi = polygon as usize;
-    let poly = &o.polygons[pi];
-    let material = polygon_material(o, pi);
-    if o.surface_type.ltsrc {
-        return vec![material.color; world.len()];
-    }
-    let flat = if back { -poly.normal() } else { poly.normal() };
     world
         .iter()
         .map(|&p| {
-            let n = match &o.vertex_normals {
-                Some(normals) => {
-                    // The nearest point on the original outline.
-                    let m = poly.indices.len();
-                    let mut best = (f64::INFINITY, flat);
-                    for k in 0..m {
-                        let (ia, ib) =
-                            (poly.indices[k] as usize, poly.indices[(k + 1) % m] as usize);
-                        let (a, b) = (o.vertices[ia], o.vertices[ib]);
-                        let ab = b - a;
-                        let t = if ab.length_squared() > 0.0 {
-                            ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
-                        } else {
-                            0.0
-                        };
-                        let d = (a + ab * t).distance(p);
-                        if d < best.0 {
-                            let n = (normals[ia] * (1.0 - t) + normals[ib] * t).normalize_or_zero();
-                            best = (d, if back { -n } else { n });
-                        }
-                    }
-                    best.1
-                }
-                None => flat,
-            };
+            let material = material_at(o, pi, p);
+            if o.surface_type.ltsrc {
+                return material.color;
+            }
+            let n = vertex_normal_at(o, pi, back, p);
             let to_eye = if eye.w != 0.0 {
                 (eye.truncate() / eye.w - p).normalize_or_zero()
             } else {
@@ -907,6 +956,11 @@ fn paint_tree(
                         f.blended - f.shade * f.weight,
                         f.weight,
                     )
+                } else {
+                    None
+                },
+                vertex_transparency: if vertex_blend[n].is_some() {
+                    vertex_transparency(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world)
                 } else {
                     None
                 },

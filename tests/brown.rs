@@ -150,6 +150,7 @@ fn priority_order_is_reused_under_perspective_and_radial_change() {
                 id: p.polygon + 1,
                 transparency: 0.0,
                 vertex_colors: None,
+                vertex_transparency: None,
                 phong: None,
             })
             .collect();
@@ -200,6 +201,7 @@ fn a_wrong_order_fails_the_same_check() {
             id: p.polygon + 1,
             transparency: 0.0,
             vertex_colors: None,
+            vertex_transparency: None,
             phong: None,
         })
         .collect();

@@ -299,3 +299,69 @@ fn gouraud_tree_records() {
         .count();
     assert!(gouraud > 10 && tree.records.iter().any(|r| r.level == 2));
 }
+
+fn square_scene(extra_det: &[(&str, &str)], body: &str) -> Scene {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("det")).unwrap();
+    std::fs::write(
+        dir.path().join("det/square.det"),
+        "title\ndata\n4 1\n-1 -1 0\n-1 1 0\n1 1 0\n1 -1 0\n4 1 2 3 4\n",
+    )
+    .unwrap();
+    for (name, text) in extra_det {
+        std::fs::write(dir.path().join("det").join(name), text).unwrap();
+    }
+    let path = dir.path().join("s.des");
+    std::fs::write(
+        &path,
+        format!("resolution 65 65\nperspective 60 1 0.1 100\npushmatrix\nident\npolarview 4 0 0 0\n{body}\npopmatrix\n"),
+    )
+    .unwrap();
+    scene::load(&path).unwrap().0
+}
+
+/// `.vcl` vertex colours with `setmode v on`: with no lights and diffuse
+/// 0 (so the ambient coefficient is 1), the square's centre shows the mean
+/// of its four vertex colours (double-linear interpolation).
+#[test]
+fn vertex_colours_are_interpolated() {
+    let vcl = "title\ndata 4\n1 0 0 0 0 0\n0 1 0 0 0 0\n0 0 1 0 0 0\n1 1 1 0 0 0\n";
+    let mut scene = square_scene(
+        &[("square.vcl", vcl)],
+        "defobj square\n vcolors square\n scale 2 2 1\nendobj",
+    );
+    scene.modes.vertex_shades = true;
+    let r = render(&scene, &RenderOptions::default()).unwrap();
+    let c = r.frame.pixel(32, 32);
+    let want = [0.5, 0.5, 0.5];
+    for k in 0..3 {
+        assert!((c[k] - want[k]).abs() < 0.03, "{c:?}");
+    }
+    // Near a corner, that corner's colour dominates: the vertex (-1,-1)
+    // (red) is at the lower left of the image.
+    let corner = r.frame.pixel(12, 52);
+    assert!(corner[0] > 0.6 && corner[1] < 0.4, "{corner:?}");
+}
+
+/// Non-linear transparency per vertex (004 section 4.9): `k_t = k_trp
+/// (E.N)^tpwr`; for the square facing the eye 4 away, a corner at distance
+/// sqrt(2) off-axis has E.N = 4 / sqrt(18).
+#[test]
+fn transparency_per_vertex_follows_the_roll_off() {
+    let scene = square_scene(&[], "defobj square\n transparency 0.8 2\nendobj");
+    let view = plytrace::geometry::view::View::new(&scene, 65, 65).unwrap();
+    let o = &scene.objects[0];
+    let world: Vec<glam::DVec3> = o.polygons[0]
+        .indices
+        .iter()
+        .map(|&i| o.vertices[i as usize])
+        .collect();
+    let kt = plytrace::render::vertex_transparency(&scene, view.eye, 0, 0, false, &world).unwrap();
+    let cos = 4.0 / 18f64.sqrt();
+    for k in kt {
+        assert!((k as f64 - 0.8 * cos * cos).abs() < 1e-6, "{k}");
+    }
+    let centre = [world.iter().copied().sum::<glam::DVec3>() / 4.0];
+    let kt = plytrace::render::vertex_transparency(&scene, view.eye, 0, 0, false, &centre).unwrap();
+    assert!((kt[0] - 0.8).abs() < 1e-6);
+}

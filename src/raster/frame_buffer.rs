@@ -34,6 +34,9 @@ pub struct PaintItem {
     pub transparency: f32,
     /// Gouraud vertex shades (one per point), else the single `color`.
     pub vertex_colors: Option<Vec<[f32; 3]>>,
+    /// With vertex shades: a transparency per point, interpolated like a
+    /// colour component (004 section 4.9), else `transparency` throughout.
+    pub vertex_transparency: Option<Vec<f32>>,
     /// Phong highlight vectors (004 section 4.8), overriding the others.
     pub phong: Option<PhongVertices>,
 }
@@ -153,7 +156,7 @@ impl FrameBuffer {
                     if ymax < lo as f64 || ymin > hi as f64 + 1.0 {
                         continue;
                     }
-                    let mut put = |j: u32, i: u32, color: [f32; 3]| {
+                    let mut put = |j: u32, i: u32, color: [f32; 3], kt: f32| {
                         let px = (hi - 1 - j) as usize * w as usize + i as usize;
                         if first_wins {
                             if passing[px] <= 0.0 {
@@ -162,16 +165,16 @@ impl FrameBuffer {
                             for c in 0..3 {
                                 front[px][c] += passing[px] * color[c];
                             }
-                            passing[px] *= item.transparency.max(0.0);
+                            passing[px] *= kt.max(0.0);
                             if ids[px] == 0 {
                                 ids[px] = item.id;
                             }
                             touched[k] = true;
                             return;
                         }
-                        colors[px] = if item.transparency > 0.0 {
+                        colors[px] = if kt > 0.0 {
                             let old = colors[px];
-                            std::array::from_fn(|c| old[c] * item.transparency + color[c])
+                            std::array::from_fn(|c| old[c] * kt + color[c])
                         } else {
                             color
                         };
@@ -190,24 +193,32 @@ impl FrameBuffer {
                                 |j, i0, i1, l, r| {
                                     for i in i0..i1 {
                                         tiler::lerp_at(i, l, r, &mut v);
-                                        put(j, i, ph.shade(&v));
+                                        put(j, i, ph.shade(&v), item.transparency);
                                     }
                                 },
                             )
                         }
                         (None, Some(vc)) => {
-                            let flat: Vec<f32> = vc.iter().flatten().copied().collect();
-                            let mut v = [0.0f32; 3];
+                            // r, g, b and the vertex transparency.
+                            let kts = item.vertex_transparency.as_deref();
+                            let flat: Vec<f32> = vc
+                                .iter()
+                                .enumerate()
+                                .flat_map(|(q, c)| {
+                                    [c[0], c[1], c[2], kts.map_or(item.transparency, |t| t[q])]
+                                })
+                                .collect();
+                            let mut v = [0.0f32; 4];
                             tiler::for_each_attr_span(
                                 &item.points,
                                 &flat,
-                                3,
+                                4,
                                 lo..hi,
                                 w,
                                 |j, i0, i1, l, r| {
                                     for i in i0..i1 {
                                         tiler::lerp_at(i, l, r, &mut v);
-                                        put(j, i, v);
+                                        put(j, i, [v[0], v[1], v[2]], v[3]);
                                     }
                                 },
                             )
@@ -215,7 +226,7 @@ impl FrameBuffer {
                         (None, None) => {
                             tiler::for_each_span(&item.points, lo..hi, w, |j, i0, i1| {
                                 for i in i0..i1 {
-                                    put(j, i, item.color);
+                                    put(j, i, item.color, item.transparency);
                                 }
                             })
                         }
@@ -250,6 +261,7 @@ mod tests {
             id,
             transparency: 0.0,
             vertex_colors: None,
+            vertex_transparency: None,
             phong: None,
         }
     }
