@@ -337,33 +337,38 @@ fn brown_sorted(scene: &Scene, view: &View, list: Vec<ScreenPolygon>) -> Vec<Scr
     list
 }
 
-/// Lists already in back-to-front order, ordered among themselves by the
-/// simple sort of their depth ranges (front to back reverses each list).
-fn simple_sorted_lists(lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> Vec<Listed> {
-    let key_of = |range: (f64, f64)| depth_sort::sort_key(range, order);
+/// The order of whole lists (objects) by the simple sort of their depth
+/// ranges (004 section 4.4, `setmode x off`).
+fn list_order(lists: &[Vec<ScreenPolygon>], order: SortOrder) -> Vec<usize> {
     let keys: Vec<f64> = lists
         .iter()
         .map(|l| {
-            key_of(
-                l.iter()
-                    .map(ScreenPolygon::z_range)
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (c, d)| {
-                        (a.min(c), b.max(d))
-                    }),
-            )
+            let range = l
+                .iter()
+                .map(ScreenPolygon::z_range)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (c, d)| {
+                    (a.min(c), b.max(d))
+                });
+            depth_sort::sort_key(range, order)
         })
         .collect();
-    let mut lists: Vec<Option<Vec<ScreenPolygon>>> = lists.into_iter().map(Some).collect();
+    depth_sort::sorted_order(&keys)
+}
+
+fn listed(p: ScreenPolygon) -> Listed {
+    (p.points, (p.object, p.polygon), p.back_facing)
+}
+
+/// Lists already in back-to-front order, ordered among themselves by the
+/// simple sort (front to back reverses each list).
+fn simple_sorted_lists(mut lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> Vec<Listed> {
     let mut out = Vec::new();
-    for li in depth_sort::sorted_order(&keys) {
-        let mut list = lists[li].take().expect("a permutation");
+    for li in list_order(&lists, order) {
+        let mut list = std::mem::take(&mut lists[li]);
         if order == SortOrder::FrontToBack {
             list.reverse();
         }
-        out.extend(
-            list.into_iter()
-                .map(|p| (p.points, (p.object, p.polygon), p.back_facing)),
-        );
+        out.extend(list.into_iter().map(listed));
     }
     out
 }
@@ -371,27 +376,16 @@ fn simple_sorted_lists(lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> Vec<
 /// The simple depth sort: lists (objects) by their depth range, then the
 /// polygons of each list.
 fn simple_sorted(mut lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> Vec<Listed> {
-    let key_of = |range: (f64, f64)| depth_sort::sort_key(range, order);
-    let list_keys: Vec<f64> = lists
-        .iter()
-        .map(|l| {
-            key_of(
-                l.iter()
-                    .map(ScreenPolygon::z_range)
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (c, d)| {
-                        (a.min(c), b.max(d))
-                    }),
-            )
-        })
-        .collect();
     let mut sorted = Vec::new();
-    for li in depth_sort::sorted_order(&list_keys) {
+    for li in list_order(&lists, order) {
         let list = std::mem::take(&mut lists[li]);
-        let keys: Vec<f64> = list.iter().map(|p| key_of(p.z_range())).collect();
+        let keys: Vec<f64> = list
+            .iter()
+            .map(|p| depth_sort::sort_key(p.z_range(), order))
+            .collect();
         let mut slots: Vec<Option<ScreenPolygon>> = list.into_iter().map(Some).collect();
         for k in depth_sort::sorted_order(&keys) {
-            let p = slots[k].take().expect("a permutation");
-            sorted.push((p.points, (p.object, p.polygon), p.back_facing));
+            sorted.push(listed(slots[k].take().expect("a permutation")));
         }
     }
     sorted

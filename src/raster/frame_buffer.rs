@@ -95,7 +95,53 @@ pub struct FrameBuffer {
 /// Rows per parallel band.
 const BAND: u32 = 16;
 
+/// A band of rows of a frame buffer, painted by one thread: screen rows
+/// `lo..hi`, counted from the bottom of the image.
+pub struct Band<'a> {
+    /// First screen row (from the bottom).
+    pub lo: u32,
+    /// One past the last screen row.
+    pub hi: u32,
+    /// Image width.
+    pub width: u32,
+    /// The band's colours, rows from the top.
+    pub colors: &'a mut [[f32; 3]],
+    /// The band's ids.
+    pub ids: &'a mut [u32],
+}
+
+impl Band<'_> {
+    /// Index in `colors`/`ids` of pixel column `i` of screen row `j`.
+    pub fn index(&self, j: u32, i: u32) -> usize {
+        (self.hi - 1 - j) as usize * self.width as usize + i as usize
+    }
+}
+
 impl FrameBuffer {
+    /// Runs `f` on bands of rows in parallel and collects the results in
+    /// band order. Each band must see the same inputs in the same order, so
+    /// that the image does not depend on the number of threads.
+    pub fn par_bands<R: Send>(&mut self, f: impl Fn(Band<'_>) -> R + Sync + Send) -> Vec<R> {
+        let (w, h) = (self.width, self.height);
+        let band_len = (BAND * w) as usize;
+        self.color
+            .par_chunks_mut(band_len)
+            .zip(self.ids.par_chunks_mut(band_len))
+            .enumerate()
+            .map(|(b, (colors, ids))| {
+                let top_row = b as u32 * BAND;
+                let rows_here = (colors.len() / w as usize) as u32;
+                f(Band {
+                    lo: h - (top_row + rows_here),
+                    hi: h - top_row,
+                    width: w,
+                    colors,
+                    ids,
+                })
+            })
+            .collect()
+    }
+
     /// A buffer cleared to `background`.
     pub fn new(width: u32, height: u32, background: [f32; 3]) -> FrameBuffer {
         let n = width as usize * height as usize;
@@ -119,7 +165,7 @@ impl FrameBuffer {
 
     /// Paints `items` in order. Returns how many covered at least one pixel.
     pub fn paint(&mut self, items: &[PaintItem], mode: PaintMode) -> usize {
-        let (w, h) = (self.width, self.height);
+        let w = self.width;
         let bounds: Vec<(f64, f64)> = items
             .iter()
             .map(|it| {
@@ -130,115 +176,107 @@ impl FrameBuffer {
                     })
             })
             .collect();
-        let band_len = (BAND * w) as usize;
-        let touched: Vec<Vec<bool>> = self
-            .color
-            .par_chunks_mut(band_len)
-            .zip(self.ids.par_chunks_mut(band_len))
-            .enumerate()
-            .map(|(b, (colors, ids))| {
-                let top_row = b as u32 * BAND;
-                let rows_here = (colors.len() / w as usize) as u32;
-                // Screen rows (from the bottom) covered by this band.
-                let lo = h - (top_row + rows_here);
-                let hi = h - top_row;
-                let mut touched = vec![false; items.len()];
-                // Front to back: what is in front is accumulated, with the
-                // fraction of light still passing (`I = sum T_k I_k`,
-                // `T_k = prod of the k_t in front`); what was in the buffer
-                // is behind everything and is added at the end.
-                let first_wins = mode == PaintMode::FirstWins;
-                let n = if first_wins { colors.len() } else { 0 };
-                let mut front = vec![[0.0f32; 3]; n];
-                let mut passing = vec![1.0f32; n];
-                for (k, item) in items.iter().enumerate() {
-                    let (ymin, ymax) = bounds[k];
-                    if ymax < lo as f64 || ymin > hi as f64 + 1.0 {
-                        continue;
-                    }
-                    let mut put = |j: u32, i: u32, color: [f32; 3], kt: f32| {
-                        let px = (hi - 1 - j) as usize * w as usize + i as usize;
-                        if first_wins {
-                            if passing[px] <= 0.0 {
-                                return;
-                            }
-                            for c in 0..3 {
-                                front[px][c] += passing[px] * color[c];
-                            }
-                            passing[px] *= kt.max(0.0);
-                            if ids[px] == 0 {
-                                ids[px] = item.id;
-                            }
-                            touched[k] = true;
+        let touched: Vec<Vec<bool>> = self.par_bands(|band| {
+            let Band {
+                lo,
+                hi,
+                colors,
+                ids,
+                ..
+            } = band;
+            let mut touched = vec![false; items.len()];
+            // Front to back: what is in front is accumulated, with the
+            // fraction of light still passing (`I = sum T_k I_k`,
+            // `T_k = prod of the k_t in front`); what was in the buffer
+            // is behind everything and is added at the end.
+            let first_wins = mode == PaintMode::FirstWins;
+            let n = if first_wins { colors.len() } else { 0 };
+            let mut front = vec![[0.0f32; 3]; n];
+            let mut passing = vec![1.0f32; n];
+            for (k, item) in items.iter().enumerate() {
+                let (ymin, ymax) = bounds[k];
+                if ymax < lo as f64 || ymin > hi as f64 + 1.0 {
+                    continue;
+                }
+                let mut put = |j: u32, i: u32, color: [f32; 3], kt: f32| {
+                    let px = (hi - 1 - j) as usize * w as usize + i as usize;
+                    if first_wins {
+                        if passing[px] <= 0.0 {
                             return;
                         }
-                        colors[px] = if kt > 0.0 {
-                            let old = colors[px];
-                            std::array::from_fn(|c| old[c] * kt + color[c])
-                        } else {
-                            color
-                        };
-                        ids[px] = item.id;
+                        for c in 0..3 {
+                            front[px][c] += passing[px] * color[c];
+                        }
+                        passing[px] *= kt.max(0.0);
+                        if ids[px] == 0 {
+                            ids[px] = item.id;
+                        }
                         touched[k] = true;
-                    };
-                    match (&item.phong, &item.vertex_colors) {
-                        (Some(ph), _) => {
-                            let mut v = vec![0.0f32; ph.stride()];
-                            tiler::for_each_attr_span(
-                                &item.points,
-                                &ph.attrs,
-                                ph.stride(),
-                                lo..hi,
-                                w,
-                                |j, i0, i1, l, r| {
-                                    for i in i0..i1 {
-                                        tiler::lerp_at(i, l, r, &mut v);
-                                        put(j, i, ph.shade(&v), item.transparency);
-                                    }
-                                },
-                            )
-                        }
-                        (None, Some(vc)) => {
-                            // r, g, b and the vertex transparency.
-                            let kts = item.vertex_transparency.as_deref();
-                            let flat: Vec<f32> = vc
-                                .iter()
-                                .enumerate()
-                                .flat_map(|(q, c)| {
-                                    [c[0], c[1], c[2], kts.map_or(item.transparency, |t| t[q])]
-                                })
-                                .collect();
-                            let mut v = [0.0f32; 4];
-                            tiler::for_each_attr_span(
-                                &item.points,
-                                &flat,
-                                4,
-                                lo..hi,
-                                w,
-                                |j, i0, i1, l, r| {
-                                    for i in i0..i1 {
-                                        tiler::lerp_at(i, l, r, &mut v);
-                                        put(j, i, [v[0], v[1], v[2]], v[3]);
-                                    }
-                                },
-                            )
-                        }
-                        (None, None) => {
-                            tiler::for_each_span(&item.points, lo..hi, w, |j, i0, i1| {
-                                for i in i0..i1 {
-                                    put(j, i, item.color, item.transparency);
-                                }
-                            })
-                        }
+                        return;
                     }
+                    colors[px] = if kt > 0.0 {
+                        let old = colors[px];
+                        std::array::from_fn(|c| old[c] * kt + color[c])
+                    } else {
+                        color
+                    };
+                    ids[px] = item.id;
+                    touched[k] = true;
+                };
+                match (&item.phong, &item.vertex_colors) {
+                    (Some(ph), _) => {
+                        let mut v = vec![0.0f32; ph.stride()];
+                        tiler::for_each_attr_span(
+                            &item.points,
+                            &ph.attrs,
+                            ph.stride(),
+                            lo..hi,
+                            w,
+                            |j, i0, i1, l, r| {
+                                for i in i0..i1 {
+                                    tiler::lerp_at(i, l, r, &mut v);
+                                    put(j, i, ph.shade(&v), item.transparency);
+                                }
+                            },
+                        )
+                    }
+                    (None, Some(vc)) => {
+                        // r, g, b and the vertex transparency.
+                        let kts = item.vertex_transparency.as_deref();
+                        let flat: Vec<f32> = vc
+                            .iter()
+                            .enumerate()
+                            .flat_map(|(q, c)| {
+                                [c[0], c[1], c[2], kts.map_or(item.transparency, |t| t[q])]
+                            })
+                            .collect();
+                        let mut v = [0.0f32; 4];
+                        tiler::for_each_attr_span(
+                            &item.points,
+                            &flat,
+                            4,
+                            lo..hi,
+                            w,
+                            |j, i0, i1, l, r| {
+                                for i in i0..i1 {
+                                    tiler::lerp_at(i, l, r, &mut v);
+                                    put(j, i, [v[0], v[1], v[2]], v[3]);
+                                }
+                            },
+                        )
+                    }
+                    (None, None) => tiler::for_each_span(&item.points, lo..hi, w, |j, i0, i1| {
+                        for i in i0..i1 {
+                            put(j, i, item.color, item.transparency);
+                        }
+                    }),
                 }
-                for px in 0..n {
-                    colors[px] =
-                        std::array::from_fn(|c| front[px][c] + passing[px] * colors[px][c]);
-                }
-                touched
-            })
-            .collect();
+            }
+            for px in 0..n {
+                colors[px] = std::array::from_fn(|c| front[px][c] + passing[px] * colors[px][c]);
+            }
+            touched
+        });
         (0..items.len())
             .filter(|&k| touched.iter().any(|t| t[k]))
             .count()

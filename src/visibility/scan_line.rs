@@ -14,10 +14,9 @@
 //! edge-on are skipped (they cover no area).
 
 use glam::DVec3;
-use rayon::prelude::*;
 
 use super::z_buffer::{DepthItem, depth_plane};
-use crate::raster::frame_buffer::FrameBuffer;
+use crate::raster::frame_buffer::{Band, FrameBuffer};
 
 /// An edge in the edge table, filed under the first row it covers; it
 /// covers rows up to `last` (exclusive).
@@ -70,61 +69,56 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
     }
     // Rows are independent once the active edge list of a row is known; it
     // is rebuilt per band from the table and then carried line to line.
-    const BAND: u32 = 16;
-    let band_len = (BAND * w) as usize;
-    let touched: Vec<Vec<u32>> = frame
-        .color
-        .par_chunks_mut(band_len)
-        .zip(frame.ids.par_chunks_mut(band_len))
-        .enumerate()
-        .map(|(b, (colors, ids))| {
-            let top_row = b as u32 * BAND;
-            let rows_here = (colors.len() / w as usize) as u32;
-            let lo = h - (top_row + rows_here);
-            let hi = h - top_row;
-            // Active edges entering before this band and still active.
-            let mut active: Vec<Edge> = table[..lo as usize]
-                .iter()
-                .flatten()
-                .filter(|e| e.last > lo)
-                .copied()
-                .collect();
-            let mut seen = Vec::new();
-            let mut spans: Vec<(u32, u32, u32)> = Vec::new();
-            let mut crossings: Vec<(u32, f64)> = Vec::new();
-            for j in lo..hi {
-                active.retain(|e| e.last > j);
-                active.extend(table[j as usize].iter().copied());
-                let yc = j as f64 + 0.5;
-                crossings.clear();
-                crossings.extend(
-                    active
-                        .iter()
-                        .map(|e| (e.polygon, e.x0 + (yc - e.y0) * e.dxdy)),
-                );
-                crossings.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
-                spans.clear();
-                for pair in crossings.chunk_by(|a, b| a.0 == b.0) {
-                    for two in pair.chunks_exact(2) {
-                        let i0 = (two[0].1 - 0.5).ceil().clamp(0.0, w as f64) as u32;
-                        let i1 = (two[1].1 - 0.5).ceil().clamp(0.0, w as f64) as u32;
-                        if i1 > i0 {
-                            spans.push((i0, i1, two[0].0));
-                        }
+    let touched: Vec<Vec<u32>> = frame.par_bands(|band| {
+        let Band {
+            lo,
+            hi,
+            colors,
+            ids,
+            ..
+        } = band;
+        // Active edges entering before this band and still active.
+        let mut active: Vec<Edge> = table[..lo as usize]
+            .iter()
+            .flatten()
+            .filter(|e| e.last > lo)
+            .copied()
+            .collect();
+        let mut seen = Vec::new();
+        let mut spans: Vec<(u32, u32, u32)> = Vec::new();
+        let mut crossings: Vec<(u32, f64)> = Vec::new();
+        for j in lo..hi {
+            active.retain(|e| e.last > j);
+            active.extend(table[j as usize].iter().copied());
+            let yc = j as f64 + 0.5;
+            crossings.clear();
+            crossings.extend(
+                active
+                    .iter()
+                    .map(|e| (e.polygon, e.x0 + (yc - e.y0) * e.dxdy)),
+            );
+            crossings.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+            spans.clear();
+            for pair in crossings.chunk_by(|a, b| a.0 == b.0) {
+                for two in pair.chunks_exact(2) {
+                    let i0 = (two[0].1 - 0.5).ceil().clamp(0.0, w as f64) as u32;
+                    let i1 = (two[1].1 - 0.5).ceil().clamp(0.0, w as f64) as u32;
+                    if i1 > i0 {
+                        spans.push((i0, i1, two[0].0));
                     }
                 }
-                let row = (hi - 1 - j) as usize * w as usize;
-                resolve_line(&spans, yc, &planes, |i, k| {
-                    colors[row + i as usize] = items[k as usize].color;
-                    ids[row + i as usize] = items[k as usize].id;
-                    seen.push(k);
-                });
             }
-            seen.sort_unstable();
-            seen.dedup();
-            seen
-        })
-        .collect();
+            let row = (hi - 1 - j) as usize * w as usize;
+            resolve_line(&spans, yc, &planes, |i, k| {
+                colors[row + i as usize] = items[k as usize].color;
+                ids[row + i as usize] = items[k as usize].id;
+                seen.push(k);
+            });
+        }
+        seen.sort_unstable();
+        seen.dedup();
+        seen
+    });
     let mut all: Vec<u32> = touched.into_iter().flatten().collect();
     all.sort_unstable();
     all.dedup();

@@ -12,9 +12,8 @@
 //! edge-on (no depth gradient defined) are skipped, as they cover no area.
 
 use glam::{DVec2, DVec3};
-use rayon::prelude::*;
 
-use crate::raster::frame_buffer::FrameBuffer;
+use crate::raster::frame_buffer::{Band, FrameBuffer};
 use crate::raster::tiler;
 
 /// A polygon for the z-buffer: screen points, colour, id (never 0).
@@ -41,14 +40,12 @@ pub fn depth_plane(points: &[DVec3]) -> Option<(f64, f64, f64)> {
     Some((a, b, centre.z - a * centre.x - b * centre.y))
 }
 
-const BAND: u32 = 16;
-
 /// Screen outline, depth plane, and y range of an item.
 type Prepared = (Vec<DVec2>, (f64, f64, f64), f64, f64);
 
 /// Paints `items` by depth. Returns how many covered at least one pixel.
 pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
-    let (w, h) = (frame.width, frame.height);
+    let w = frame.width;
     let prepared: Vec<Option<Prepared>> = items
         .iter()
         .map(|it| {
@@ -62,45 +59,41 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
             Some((pts, plane, lo, hi))
         })
         .collect();
-    let band_len = (BAND * w) as usize;
-    let touched: Vec<Vec<u32>> = frame
-        .color
-        .par_chunks_mut(band_len)
-        .zip(frame.ids.par_chunks_mut(band_len))
-        .enumerate()
-        .map(|(b, (colors, ids))| {
-            let top_row = b as u32 * BAND;
-            let rows_here = (colors.len() / w as usize) as u32;
-            let lo = h - (top_row + rows_here);
-            let hi = h - top_row;
-            let mut depth = vec![f64::INFINITY; colors.len()];
-            for (k, prep) in prepared.iter().enumerate() {
-                let Some((pts, (a, bb, c), ymin, ymax)) = prep else {
-                    continue;
-                };
-                if *ymax < lo as f64 || *ymin > hi as f64 + 1.0 {
-                    continue;
-                }
-                tiler::for_each_span(pts, lo..hi, w, |j, i0, i1| {
-                    let row = (hi - 1 - j) as usize;
-                    let yc = j as f64 + 0.5;
-                    for i in i0..i1 {
-                        let px = row * w as usize + i as usize;
-                        let z = a * (i as f64 + 0.5) + bb * yc + c;
-                        if z < depth[px] {
-                            depth[px] = z;
-                            colors[px] = items[k].color;
-                            ids[px] = items[k].id;
-                        }
-                    }
-                });
+    let touched: Vec<Vec<u32>> = frame.par_bands(|band| {
+        let Band {
+            lo,
+            hi,
+            colors,
+            ids,
+            ..
+        } = band;
+        let mut depth = vec![f64::INFINITY; colors.len()];
+        for (k, prep) in prepared.iter().enumerate() {
+            let Some((pts, (a, bb, c), ymin, ymax)) = prep else {
+                continue;
+            };
+            if *ymax < lo as f64 || *ymin > hi as f64 + 1.0 {
+                continue;
             }
-            let mut seen: Vec<u32> = ids.iter().copied().filter(|&i| i != 0).collect();
-            seen.sort_unstable();
-            seen.dedup();
-            seen
-        })
-        .collect();
+            tiler::for_each_span(pts, lo..hi, w, |j, i0, i1| {
+                let row = (hi - 1 - j) as usize;
+                let yc = j as f64 + 0.5;
+                for i in i0..i1 {
+                    let px = row * w as usize + i as usize;
+                    let z = a * (i as f64 + 0.5) + bb * yc + c;
+                    if z < depth[px] {
+                        depth[px] = z;
+                        colors[px] = items[k].color;
+                        ids[px] = items[k].id;
+                    }
+                }
+            });
+        }
+        let mut seen: Vec<u32> = ids.iter().copied().filter(|&i| i != 0).collect();
+        seen.sort_unstable();
+        seen.dedup();
+        seen
+    });
     let mut all: Vec<u32> = touched.into_iter().flatten().collect();
     all.sort_unstable();
     all.dedup();
