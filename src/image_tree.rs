@@ -813,11 +813,7 @@ impl Builder<'_> {
         let eye = self.view.eye;
         for i in 0..points.len() {
             let (a, b) = (points[i], points[(i + 1) % points.len()]);
-            let to_eye = if eye.w != 0.0 {
-                eye.truncate() / eye.w - a
-            } else {
-                eye.truncate()
-            };
+            let to_eye = crate::geometry::view::towards_eye(eye, a);
             let Some(n) = (b - a).cross(to_eye).try_normalize() else {
                 continue;
             };

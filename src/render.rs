@@ -315,11 +315,7 @@ fn brown_sorted(scene: &Scene, view: &View, list: Vec<ScreenPolygon>) -> Vec<Scr
     };
     let object = &scene.objects[first.object as usize];
     let centre = object.transform.transform_point(DVec3::ZERO);
-    let axis = if view.eye.w != 0.0 {
-        view.eye.truncate() / view.eye.w - centre
-    } else {
-        view.eye.truncate()
-    };
+    let axis = crate::geometry::view::towards_eye(view.eye, centre);
     let faces: Vec<Vec<u32>> = object.polygons.iter().map(|p| p.indices.clone()).collect();
     let order = brown::priority_order(
         &object.vertices,
@@ -634,11 +630,7 @@ pub fn vertex_transparency(
             .iter()
             .map(|&p| {
                 let n = vertex_normal_at(o, polygon as usize, back, p);
-                let e = if eye.w != 0.0 {
-                    (eye.truncate() / eye.w - p).normalize_or_zero()
-                } else {
-                    eye.truncate().normalize_or_zero()
-                };
+                let e = crate::geometry::view::direction_to_eye(eye, p);
                 let cos = e.dot(n).clamp(0.0, 1.0);
                 (if power > 0.0 { k * cos.powf(power) } else { k }) as f32
             })
@@ -679,11 +671,7 @@ pub fn phong_vertices(
     let mut attrs = Vec::with_capacity(world.len() * (3 + 6 * scene.lights.len()));
     for &p in world {
         let n = vertex_normal_at(o, pi, back, p);
-        let e = if eye.w != 0.0 {
-            (eye.truncate() / eye.w - p).normalize_or_zero()
-        } else {
-            eye.truncate().normalize_or_zero()
-        };
+        let e = crate::geometry::view::direction_to_eye(eye, p);
         let base =
             offset + shading::shade(&base_material, p, n, e, &scene.lights, scene.ambient) * weight;
         attrs.extend(base.as_vec3().to_array());
@@ -755,11 +743,7 @@ pub fn vertex_shades(
                 return material.color;
             }
             let n = vertex_normal_at(o, pi, back, p);
-            let to_eye = if eye.w != 0.0 {
-                (eye.truncate() / eye.w - p).normalize_or_zero()
-            } else {
-                eye.truncate().normalize_or_zero()
-            };
+            let to_eye = crate::geometry::view::direction_to_eye(eye, p);
             shading::shade(&material, p, n, to_eye, &scene.lights, scene.ambient)
         })
         .collect()
@@ -781,11 +765,7 @@ pub fn transparency_of(scene: &Scene, eye: DVec4, object: u32, polygon: u32, bac
         .map(|&i| o.vertices[i as usize])
         .sum::<DVec3>()
         / poly.indices.len() as f64;
-    let e = if eye.w != 0.0 {
-        (eye.truncate() / eye.w - c).normalize_or_zero()
-    } else {
-        eye.truncate().normalize_or_zero()
-    };
+    let e = crate::geometry::view::direction_to_eye(eye, c);
     let n = if back { -poly.normal() } else { poly.normal() };
     let cos = e.dot(n).clamp(0.0, 1.0);
     if power > 0.0 { k * cos.powf(power) } else { k }
@@ -1172,10 +1152,6 @@ pub fn facet_shade_with(
     } else {
         polygon.normal()
     };
-    let to_eye = if eye.w != 0.0 {
-        (eye.truncate() / eye.w - centroid).normalize_or_zero()
-    } else {
-        eye.truncate().normalize_or_zero()
-    };
+    let to_eye = crate::geometry::view::direction_to_eye(eye, centroid);
     shading::shade(&material, centroid, normal, to_eye, lights, scene.ambient)
 }

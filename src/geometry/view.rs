@@ -15,6 +15,21 @@ use super::clip::{self, ClipVertex, Containment};
 use crate::math::Matrix4;
 use crate::scene::model::{Object, Scene};
 
+/// The vector from world point `p` towards the homogeneous eye `eye`
+/// (for an eye at infinity, `w = 0`, its direction), not normalized.
+pub fn towards_eye(eye: DVec4, p: DVec3) -> DVec3 {
+    if eye.w != 0.0 {
+        eye.truncate() / eye.w - p
+    } else {
+        eye.truncate()
+    }
+}
+
+/// The unit direction from world point `p` towards the homogeneous eye.
+pub fn direction_to_eye(eye: DVec4, p: DVec3) -> DVec3 {
+    towards_eye(eye, p).normalize_or_zero()
+}
+
 /// A polygon ready for visibility and painting.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScreenPolygon {
@@ -116,11 +131,7 @@ impl View {
 
     /// Direction from world point `p` towards the eye (unit).
     pub fn to_eye(&self, p: DVec3) -> DVec3 {
-        if self.eye.w.abs() > 0.0 {
-            (self.eye.truncate() / self.eye.w - p).normalize_or_zero()
-        } else {
-            self.eye.truncate().normalize_or_zero()
-        }
+        direction_to_eye(self.eye, p)
     }
 
     fn screen_point(&self, c: DVec4) -> DVec3 {

@@ -385,11 +385,7 @@ impl Sorter<'_> {
         let planes: Vec<DVec4> = (0..pts.len())
             .filter_map(|i| {
                 let (a, b) = (pts[i], pts[(i + 1) % pts.len()]);
-                let towards_eye = if eye.w != 0.0 {
-                    eye.truncate() / eye.w - a
-                } else {
-                    eye.truncate()
-                };
+                let towards_eye = crate::geometry::view::towards_eye(eye, a);
                 let n = (b - a).cross(towards_eye).try_normalize()?;
                 Some(n.extend(-n.dot(a)))
             })
