@@ -39,8 +39,8 @@ use crate::geometry::polygon;
 use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
 use crate::profile::{Category, Profile};
-use crate::render::{facet_shade_from, polygon_material, scene_scale};
 use crate::scene::model::{Color, Scene, SortOrder};
+use crate::shading::{facet_shade_from, facet_shade_with, polygon_material};
 use crate::visibility::{depth_sort, nns};
 
 /// What a fragment of the tree is.
@@ -266,7 +266,7 @@ pub fn build_profiled(
         scene,
         view,
         options,
-        eps: scene.modes.epsilon * scene_scale(scene).max(f64::MIN_POSITIVE),
+        eps: scene.modes.epsilon * scene.size().max(f64::MIN_POSITIVE),
         frustum,
         tree: VirtualImageTree {
             max_depth: 1,
@@ -680,7 +680,7 @@ impl Builder<'_> {
                 .filter(|&(k, _)| k != j)
                 .map(|(_, l)| *l)
                 .collect();
-            let average = crate::render::facet_shade_with(
+            let average = facet_shade_with(
                 scene,
                 *eye_real,
                 c.object,
@@ -763,7 +763,7 @@ impl Builder<'_> {
                             let at =
                                 projected.iter().copied().sum::<DVec3>() / projected.len() as f64;
                             let at_world = inverse.map_or(at, |i| i.transform_point(at));
-                            crate::render::facet_shade_with(
+                            facet_shade_with(
                                 scene,
                                 *eye_real,
                                 c.object,

@@ -10,14 +10,16 @@
 
 use std::time::{Duration, Instant};
 
-use glam::{DVec2, DVec3, DVec4};
+use glam::{DVec2, DVec3};
 
 use crate::error::{Error, Result};
 use crate::geometry::view::{self, GeometryStats, ScreenPolygon, View};
 use crate::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
 use crate::scene::model::{Color, Scene, SortOrder};
-use crate::shading;
-pub use crate::shading::polygon_material;
+pub use crate::shading::{
+    facet_shade, facet_shade_from, facet_shade_with, interpolate_in_polygon, phong_vertices,
+    polygon_material, transparency_of, vertex_shades, vertex_transparency,
+};
 use crate::visibility::nns::{self, NnsFace, NnsStats};
 use crate::visibility::ray_cast::RayCaster;
 use crate::visibility::z_buffer::{self, DepthItem};
@@ -547,230 +549,6 @@ fn tree_file(
     }
 }
 
-/// Where world point `p` lies on the outline of polygon `pi` of `o`: the
-/// nearest edge, as its two vertex indices and the parameter along it.
-/// Clipping and splitting only make new vertices on edges, so this finds
-/// the vertex attributes to interpolate (004 section 4.8: "world space
-/// vertex normals are carried along with each polygon").
-fn edge_position(o: &crate::scene::model::Object, pi: usize, p: DVec3) -> (usize, usize, f64) {
-    let poly = &o.polygons[pi];
-    let m = poly.indices.len();
-    let mut best = (
-        f64::INFINITY,
-        (poly.indices[0] as usize, poly.indices[0] as usize, 0.0),
-    );
-    for k in 0..m {
-        let (ia, ib) = (poly.indices[k] as usize, poly.indices[(k + 1) % m] as usize);
-        let (a, b) = (o.vertices[ia], o.vertices[ib]);
-        let ab = b - a;
-        let t = if ab.length_squared() > 0.0 {
-            ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let d = (a + ab * t).distance(p);
-        if d < best.0 {
-            best = (d, (ia, ib, t));
-        }
-    }
-    best.1
-}
-
-/// The vertex normal at world point `p` of polygon `pi` of `o`: for `type
-/// curved` objects interpolated along the nearest edge of the original
-/// polygon, else the polygon's normal; turned to the viewer when `back`.
-fn vertex_normal_at(o: &crate::scene::model::Object, pi: usize, back: bool, p: DVec3) -> DVec3 {
-    let poly = &o.polygons[pi];
-    let flat = if back { -poly.normal() } else { poly.normal() };
-    let Some(normals) = &o.vertex_normals else {
-        return flat;
-    };
-    let (ia, ib, t) = edge_position(o, pi, p);
-    let n = (normals[ia] * (1.0 - t) + normals[ib] * t).normalize_or_zero();
-    if back { -n } else { n }
-}
-
-/// The material at world point `p` of polygon `pi`: the polygon's, or with
-/// `.vcl` vertex colours the entries of the nearest edge's vertices,
-/// interpolated.
-fn material_at(o: &crate::scene::model::Object, pi: usize, p: DVec3) -> crate::shading::Material {
-    let base = polygon_material(o, pi);
-    let (Some(vcl), None) = (&o.vertex_colors, &o.polygon_colors) else {
-        return base;
-    };
-    let (ia, ib, t) = edge_position(o, pi, p);
-    let (a, b) = (vcl[ia], vcl[ib]);
-    let lerp = |x: f64, y: f64| x + (y - x) * t;
-    base.with_entry(&crate::scene::object_file::ColorEntry {
-        color: a.color + (b.color - a.color) * t,
-        diffuse: lerp(a.diffuse, b.diffuse),
-        reflectance: lerp(a.reflectance, b.reflectance),
-        transmittance: lerp(a.transmittance, b.transmittance),
-    })
-}
-
-/// The transparency `k_t = k_trp (E.N)^tpwr` at each world point of a
-/// polygon (004 section 4.9: "carried along as a per-vertex component"),
-/// or `None` for an opaque object.
-pub fn vertex_transparency(
-    scene: &Scene,
-    eye: DVec4,
-    object: u32,
-    polygon: u32,
-    back: bool,
-    world: &[DVec3],
-) -> Option<Vec<f32>> {
-    let o = &scene.objects[object as usize];
-    let (k, power) = o.surface.transparency;
-    if k <= 0.0 {
-        return None;
-    }
-    Some(
-        world
-            .iter()
-            .map(|&p| {
-                let n = vertex_normal_at(o, polygon as usize, back, p);
-                let e = crate::geometry::view::direction_to_eye(eye, p);
-                let cos = e.dot(n).clamp(0.0, 1.0);
-                (if power > 0.0 { k * cos.powf(power) } else { k }) as f32
-            })
-            .collect(),
-    )
-}
-
-/// Phong polygons with highlight vectors (004 section 4.8, `setmode s
-/// on`): for polygons with a specular coefficient, per vertex the shade
-/// without highlights and, per light, the vertex normal rotated into a
-/// frame whose z axis is the halfway vector, with the light's highlight
-/// intensity; the painter interpolates them and evaluates `(h_z/|h|)^n` at
-/// every pixel, so highlights inside a polygon survive. The result is
-/// `offset + weight * I` (pre-blending under a parent). `None` when not
-/// asked for or not specular.
-#[allow(clippy::too_many_arguments)]
-pub fn phong_vertices(
-    scene: &Scene,
-    eye: DVec4,
-    object: u32,
-    polygon: u32,
-    back: bool,
-    world: &[DVec3],
-    offset: Color,
-    weight: f64,
-) -> Option<crate::raster::frame_buffer::PhongVertices> {
-    if !scene.modes.phong {
-        return None;
-    }
-    let o = &scene.objects[object as usize];
-    let pi = polygon as usize;
-    let material = polygon_material(o, pi);
-    if o.surface_type.ltsrc || material.specular <= 0.0 {
-        return None;
-    }
-    let mut base_material = material;
-    base_material.specular = 0.0;
-    let mut attrs = Vec::with_capacity(world.len() * (3 + 6 * scene.lights.len()));
-    for &p in world {
-        let n = vertex_normal_at(o, pi, back, p);
-        let e = crate::geometry::view::direction_to_eye(eye, p);
-        let base =
-            offset + shading::shade(&base_material, p, n, e, &scene.lights, scene.ambient) * weight;
-        attrs.extend(base.as_vec3().to_array());
-        for light in &scene.lights {
-            let to_light = light.position - p;
-            let d = to_light.length();
-            let l = to_light / d.max(f64::MIN_POSITIVE);
-            let k = shading::range_attenuation(d, light.range);
-            let h = (l + e).normalize_or_zero();
-            if n.dot(l) <= 0.0 || k == 0.0 || h == DVec3::ZERO {
-                attrs.extend([0.0; 6]);
-                continue;
-            }
-            let hlt = rotate_to_z(h, n);
-            attrs.extend([hlt.x as f32, hlt.y as f32, hlt.z as f32]);
-            attrs.extend(
-                (light.color * (material.specular * k * weight))
-                    .as_vec3()
-                    .to_array(),
-            );
-        }
-    }
-    Some(crate::raster::frame_buffer::PhongVertices {
-        lights: scene.lights.len(),
-        shininess: material.shininess as f32,
-        attrs,
-    })
-}
-
-/// `v` turned by the smallest rotation that takes the unit vector `h` to
-/// +z, so that nearby vertices get consistent frames and their highlight
-/// vectors interpolate smoothly.
-fn rotate_to_z(h: DVec3, v: DVec3) -> DVec3 {
-    let axis = h.cross(DVec3::Z);
-    let s = axis.length();
-    let c = h.z;
-    if s < 1e-12 {
-        return if c > 0.0 {
-            v
-        } else {
-            DVec3::new(v.x, -v.y, -v.z)
-        };
-    }
-    let k = axis / s;
-    // Rodrigues: v cos + (k x v) sin + k (k.v)(1 - cos).
-    v * c + k.cross(v) * s + k * k.dot(v) * (1.0 - c)
-}
-
-/// Gouraud vertex shades (004 section 4.8): the illumination model at each
-/// world point of a polygon (or a piece of it) with the vertex normal,
-/// interpolated along the original polygon's edges for `type curved`
-/// objects, or the polygon's own normal otherwise; `.vcl` vertex colours
-/// are interpolated the same way.
-pub fn vertex_shades(
-    scene: &Scene,
-    eye: DVec4,
-    object: u32,
-    polygon: u32,
-    back: bool,
-    world: &[DVec3],
-) -> Vec<Color> {
-    let o = &scene.objects[object as usize];
-    let pi = polygon as usize;
-    world
-        .iter()
-        .map(|&p| {
-            let material = material_at(o, pi, p);
-            if o.surface_type.ltsrc {
-                return material.color;
-            }
-            let n = vertex_normal_at(o, pi, back, p);
-            let to_eye = crate::geometry::view::direction_to_eye(eye, p);
-            shading::shade(&material, p, n, to_eye, &scene.lights, scene.ambient)
-        })
-        .collect()
-}
-
-/// The transparency `k_t = k_trp (E.N)^tpwr` of a polygon (004 section
-/// 4.9) from the object's `transparency k_trp tpwr`, at its centroid; 0 for
-/// opaque polygons. With `tpwr = 0` it is the linear transparency `k_trp`.
-pub fn transparency_of(scene: &Scene, eye: DVec4, object: u32, polygon: u32, back: bool) -> f64 {
-    let o = &scene.objects[object as usize];
-    let (k, power) = o.surface.transparency;
-    if k <= 0.0 {
-        return 0.0;
-    }
-    let poly = &o.polygons[polygon as usize];
-    let c = poly
-        .indices
-        .iter()
-        .map(|&i| o.vertices[i as usize])
-        .sum::<DVec3>()
-        / poly.indices.len() as f64;
-    let e = crate::geometry::view::direction_to_eye(eye, c);
-    let n = if back { -poly.normal() } else { poly.normal() };
-    let cos = e.dot(n).clamp(0.0, 1.0);
-    if power > 0.0 { k * cos.powf(power) } else { k }
-}
-
 /// Gouraud vertex shades of every polygon fragment of the tree
 /// (`setmode v on`), pre-blended: a fragment's vertex shade is its parent's
 /// blended shade at that screen point, interpolated as in 004 figure 4.16
@@ -812,49 +590,6 @@ fn gouraud_tree_shades(
         out[n] = Some(blended);
     }
     out
-}
-
-/// The value at screen point `(x, y)` of a convex polygon with `values` at
-/// its vertices: linear along the two edges crossing row `y`, then
-/// linear between them in x (004 figure 4.16). Points outside take the
-/// nearest crossing's value, or the nearest vertex's.
-pub fn interpolate_in_polygon(screen: &[DVec3], values: &[Color], x: f64, y: f64) -> Color {
-    let n = screen.len();
-    let mut crossings: Vec<(f64, Color)> = Vec::with_capacity(4);
-    for k in 0..n {
-        let (a, b) = (screen[k], screen[(k + 1) % n]);
-        let (lo, hi) = if a.y <= b.y { (a.y, b.y) } else { (b.y, a.y) };
-        if hi > lo && y >= lo && y <= hi {
-            let t = (y - a.y) / (b.y - a.y);
-            crossings.push((
-                a.x + (b.x - a.x) * t,
-                values[k] + (values[(k + 1) % n] - values[k]) * t,
-            ));
-        }
-    }
-    if crossings.is_empty() {
-        let nearest = (0..n)
-            .min_by(|&i, &j| {
-                let di = (screen[i].x - x).powi(2) + (screen[i].y - y).powi(2);
-                let dj = (screen[j].x - x).powi(2) + (screen[j].y - y).powi(2);
-                di.total_cmp(&dj)
-            })
-            .unwrap_or(0);
-        return values.get(nearest).copied().unwrap_or(Color::ZERO);
-    }
-    let left = crossings
-        .iter()
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .expect("not empty");
-    let right = crossings
-        .iter()
-        .max_by(|a, b| a.0.total_cmp(&b.0))
-        .expect("not empty");
-    if right.0 <= left.0 {
-        return left.1;
-    }
-    let t = ((x - left.0) / (right.0 - left.0)).clamp(0.0, 1.0);
-    left.1 + (right.1 - left.1) * t
 }
 
 /// Whether the scene has a shadow-casting light.
@@ -1035,17 +770,9 @@ pub fn bounding_box_scene(scene: &Scene) -> Scene {
     out
 }
 
-/// The size of the scene: the diagonal of the box around every vertex.
+/// The size of the scene ([`Scene::size`]).
 pub fn scene_scale(scene: &Scene) -> f64 {
-    let (lo, hi) = scene.objects.iter().flat_map(|o| o.vertices.iter()).fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    if lo.x.is_finite() {
-        (hi - lo).length()
-    } else {
-        1.0
-    }
+    scene.size()
 }
 
 /// Casts a ray per pixel and paints the faceted shade of what it hits.
@@ -1104,54 +831,4 @@ impl ShadeCache {
                     .to_array()
             })
     }
-}
-
-/// One shade for the whole polygon (faceted): the illumination model at the
-/// centroid of the world polygon, with its plane normal turned towards the
-/// viewer (`back` when the viewer sees its back, for `type open`).
-pub fn facet_shade(scene: &Scene, view: &View, object: u32, polygon: u32, back: bool) -> Color {
-    facet_shade_from(scene, view.eye, object, polygon, back)
-}
-
-/// [`facet_shade`] seen from the homogeneous world point `eye` (for
-/// fragments seen by reflection or refraction, the eye mapped back into
-/// world space).
-pub fn facet_shade_from(scene: &Scene, eye: DVec4, object: u32, polygon: u32, back: bool) -> Color {
-    facet_shade_with(scene, eye, object, polygon, back, &scene.lights, None)
-}
-
-/// [`facet_shade_from`] with a given set of lights, and optionally at a
-/// given world point instead of the polygon's centroid (for shadow shades,
-/// 004 section 4.7: the target's shade without the shadowing light).
-pub fn facet_shade_with(
-    scene: &Scene,
-    eye: DVec4,
-    object: u32,
-    polygon: u32,
-    back: bool,
-    lights: &[crate::scene::model::Light],
-    at: Option<DVec3>,
-) -> Color {
-    let object = &scene.objects[object as usize];
-    let pi = polygon as usize;
-    let polygon = &object.polygons[pi];
-    let material = polygon_material(object, pi);
-    if object.surface_type.ltsrc {
-        return material.color;
-    }
-    let centroid = at.unwrap_or_else(|| {
-        polygon
-            .indices
-            .iter()
-            .map(|&i| object.vertices[i as usize])
-            .sum::<DVec3>()
-            / polygon.indices.len() as f64
-    });
-    let normal = if back {
-        -polygon.normal()
-    } else {
-        polygon.normal()
-    };
-    let to_eye = crate::geometry::view::direction_to_eye(eye, centroid);
-    shading::shade(&material, centroid, normal, to_eye, lights, scene.ambient)
 }

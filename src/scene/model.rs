@@ -314,4 +314,18 @@ impl Scene {
     pub fn polygon_count(&self) -> usize {
         self.objects.iter().map(|o| o.polygons.len()).sum()
     }
+
+    /// The size of the scene: the diagonal of the box around every vertex
+    /// (1 for an empty scene). Tolerances relative to the scene use it.
+    pub fn size(&self) -> f64 {
+        let (lo, hi) = self.objects.iter().flat_map(|o| o.vertices.iter()).fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        if lo.x.is_finite() {
+            (hi - lo).length()
+        } else {
+            1.0
+        }
+    }
 }
