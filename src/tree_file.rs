@@ -337,25 +337,14 @@ impl TreeFile {
                     let n: usize = num(2)?
                         .parse()
                         .map_err(|_| err("expected a vertex count".into()))?;
-                    let u8_at = |i: usize| -> Result<u8> {
-                        num(i)?
-                            .parse()
-                            .map_err(|_| err(format!("expected a colour byte at word {}", i + 1)))
-                    };
-                    let f32_at = |i: usize| -> Result<f32> {
-                        let v: f32 = num(i)?
-                            .parse()
-                            .map_err(|_| err(format!("expected a coordinate at word {}", i + 1)))?;
-                        if v.is_finite() {
-                            Ok(v)
-                        } else {
-                            Err(err("non-finite coordinate".into()))
-                        }
-                    };
                     let mut at = 3;
                     let faceted = if kind == "faceted" {
                         at += 3;
-                        Some([u8_at(3)?, u8_at(4)?, u8_at(5)?])
+                        Some([
+                            word::<u8>(&words, 3, "a colour byte", &err)?,
+                            word::<u8>(&words, 4, "a colour byte", &err)?,
+                            word::<u8>(&words, 5, "a colour byte", &err)?,
+                        ])
                     } else {
                         None
                     };
@@ -370,9 +359,13 @@ impl TreeFile {
                     let mut points = Vec::with_capacity(n);
                     let mut colors = Vec::new();
                     for _ in 0..n {
-                        points.push([f32_at(at)?, f32_at(at + 1)?]);
+                        points.push([finite(&words, at, &err)?, finite(&words, at + 1, &err)?]);
                         if kind == "gouraud" {
-                            colors.push([u8_at(at + 2)?, u8_at(at + 3)?, u8_at(at + 4)?]);
+                            colors.push([
+                                word::<u8>(&words, at + 2, "a colour byte", &err)?,
+                                word::<u8>(&words, at + 3, "a colour byte", &err)?,
+                                word::<u8>(&words, at + 4, "a colour byte", &err)?,
+                            ]);
                         }
                         at += per;
                     }
@@ -391,6 +384,30 @@ impl TreeFile {
             }
         }
         Ok(tree)
+    }
+}
+
+/// Word `i` of a text record parsed as `T`, or an error saying `what`.
+fn word<T: std::str::FromStr>(
+    words: &[&str],
+    i: usize,
+    what: &str,
+    err: &dyn Fn(String) -> Error,
+) -> Result<T> {
+    let w = words
+        .get(i)
+        .ok_or_else(|| err(format!("the line ends before {what} (word {})", i + 1)))?;
+    w.parse()
+        .map_err(|_| err(format!("expected {what} at word {}, found `{w}`", i + 1)))
+}
+
+/// A finite `f32` at word `i`.
+fn finite(words: &[&str], i: usize, err: &dyn Fn(String) -> Error) -> Result<f32> {
+    let v: f32 = word(words, i, "a number", err)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(err(format!("non-finite number at word {}", i + 1)))
     }
 }
 
@@ -427,39 +444,34 @@ fn phong_record(words: &[&str], err: &dyn Fn(String) -> Error) -> Result<Record>
             words.len()
         )));
     }
-    let u8_at = |i: usize| -> Result<u8> {
-        num(i)?
-            .parse()
-            .map_err(|_| err(format!("expected a byte at word {}", i + 1)))
-    };
-    let f32_at = |i: usize| -> Result<f32> {
-        let v: f32 = num(i)?
-            .parse()
-            .map_err(|_| err(format!("expected a number at word {}", i + 1)))?;
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(err("non-finite number".into()))
-        }
-    };
     let light_colors = (0..nlt)
-        .map(|l| Ok([u8_at(5 + 3 * l)?, u8_at(6 + 3 * l)?, u8_at(7 + 3 * l)?]))
+        .map(|l| {
+            Ok([
+                word::<u8>(words, 5 + 3 * l, "a colour byte", &err)?,
+                word::<u8>(words, 6 + 3 * l, "a colour byte", &err)?,
+                word::<u8>(words, 7 + 3 * l, "a colour byte", &err)?,
+            ])
+        })
         .collect::<Result<Vec<_>>>()?;
     let (mut points, mut rgbt, mut normals) = (Vec::new(), Vec::new(), Vec::new());
     for v in 0..n {
         let at = head + v * per;
-        points.push([f32_at(at)?, f32_at(at + 1)?]);
+        points.push([finite(words, at, &err)?, finite(words, at + 1, &err)?]);
         rgbt.push([
-            u8_at(at + 2)?,
-            u8_at(at + 3)?,
-            u8_at(at + 4)?,
-            u8_at(at + 5)?,
+            word::<u8>(words, at + 2, "a colour byte", &err)?,
+            word::<u8>(words, at + 3, "a colour byte", &err)?,
+            word::<u8>(words, at + 4, "a colour byte", &err)?,
+            word::<u8>(words, at + 5, "a colour byte", &err)?,
         ]);
         normals.push(
             (0..nlt)
                 .map(|l| {
                     let b = at + 6 + 3 * l;
-                    Ok([f32_at(b)?, f32_at(b + 1)?, f32_at(b + 2)?])
+                    Ok([
+                        finite(words, b, &err)?,
+                        finite(words, b + 1, &err)?,
+                        finite(words, b + 2, &err)?,
+                    ])
                 })
                 .collect::<Result<Vec<_>>>()?,
         );
@@ -590,6 +602,22 @@ mod tests {
         let mut bad = bytes.clone();
         bad[0] = b'X';
         assert!(TreeFile::from_bytes(&bad, Path::new("t.out")).is_err());
+    }
+
+    #[test]
+    fn bad_text_names_line_and_word() {
+        let text = "resolution 4 4\nfaceted 1 3 1 2 3 0 0 1 0 x 1\n";
+        let e = TreeFile::from_text(text, Path::new("t.txt"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("t.txt:2:1:") && e.contains("word 11") && e.contains("`x`"),
+            "{e}"
+        );
+        let e = TreeFile::from_text("phong 1 1 2.0 1 255 255\n", Path::new("t.txt"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("t.txt:1:1:"), "{e}");
     }
 
     proptest! {

@@ -158,6 +158,14 @@ impl FrameBuffer {
         self.color[(y * self.width + x) as usize]
     }
 
+    /// How many different polygons (non-zero ids) the image shows.
+    pub fn distinct_ids(&self) -> usize {
+        let mut ids: Vec<u32> = self.ids.iter().copied().filter(|&i| i != 0).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        ids.len()
+    }
+
     /// Id at pixel column `x`, row `y` from the top.
     pub fn id(&self, x: u32, y: u32) -> u32 {
         self.ids[(y * self.width + x) as usize]

@@ -69,7 +69,7 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
     }
     // Rows are independent once the active edge list of a row is known; it
     // is rebuilt per band from the table and then carried line to line.
-    let touched: Vec<Vec<u32>> = frame.par_bands(|band| {
+    frame.par_bands(|band| {
         let Band {
             lo,
             hi,
@@ -84,7 +84,6 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
             .filter(|e| e.last > lo)
             .copied()
             .collect();
-        let mut seen = Vec::new();
         let mut spans: Vec<(u32, u32, u32)> = Vec::new();
         let mut crossings: Vec<(u32, f64)> = Vec::new();
         for j in lo..hi {
@@ -112,17 +111,10 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
             resolve_line(&spans, yc, &planes, |i, k| {
                 colors[row + i as usize] = items[k as usize].color;
                 ids[row + i as usize] = items[k as usize].id;
-                seen.push(k);
             });
         }
-        seen.sort_unstable();
-        seen.dedup();
-        seen
     });
-    let mut all: Vec<u32> = touched.into_iter().flatten().collect();
-    all.sort_unstable();
-    all.dedup();
-    all.len()
+    frame.distinct_ids()
 }
 
 /// Sweeps the spans of one line left to right; between consecutive span

@@ -59,7 +59,7 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
             Some((pts, plane, lo, hi))
         })
         .collect();
-    let touched: Vec<Vec<u32>> = frame.par_bands(|band| {
+    frame.par_bands(|band| {
         let Band {
             lo,
             hi,
@@ -89,15 +89,8 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
                 }
             });
         }
-        let mut seen: Vec<u32> = ids.iter().copied().filter(|&i| i != 0).collect();
-        seen.sort_unstable();
-        seen.dedup();
-        seen
     });
-    let mut all: Vec<u32> = touched.into_iter().flatten().collect();
-    all.sort_unstable();
-    all.dedup();
-    all.len()
+    frame.distinct_ids()
 }
 
 #[cfg(test)]
