@@ -527,7 +527,7 @@ impl Builder<'_> {
                     Some(i) => i.clone(),
                     None => {
                         let _t = self.profile.time(Category::Transform);
-                        let i = std::rc::Rc::new(CasterIndex::new(self.scene, &Matrix4::IDENTITY));
+                        let i = std::rc::Rc::new(CasterIndex::new(self.scene));
                         self.casters = Some(i.clone());
                         i
                     }
@@ -852,34 +852,21 @@ struct CasterIndex {
 }
 
 impl CasterIndex {
-    fn new(scene: &Scene, t: &Matrix4) -> CasterIndex {
-        let identity = *t == Matrix4::IDENTITY;
-        let mirrored = linear_determinant(t) < 0.0;
+    /// The index of every displayed polygon of `scene`, in world
+    /// coordinates (levels below 1 map their shadow volumes back to them).
+    fn new(scene: &Scene) -> CasterIndex {
         let mut casters = Vec::new();
         for (oi, object) in scene.objects.iter().enumerate() {
             if object.surface_type.hidden {
                 continue;
             }
             for (pi, poly) in object.polygons.iter().enumerate() {
-                let mut points: Vec<DVec3> = poly
+                let points: Vec<DVec3> = poly
                     .indices
                     .iter()
-                    .map(|&i| {
-                        let v = object.vertices[i as usize];
-                        if identity { v } else { t.transform_point(v) }
-                    })
+                    .map(|&i| object.vertices[i as usize])
                     .collect();
-                let plane = if identity {
-                    poly.plane
-                } else {
-                    if mirrored {
-                        points.reverse();
-                    }
-                    let Ok(pl) = polygon::outward_plane(&points) else {
-                        continue;
-                    };
-                    pl
-                };
+                let plane = poly.plane;
                 let (lo, hi) = points.iter().fold(
                     (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
                     |(lo, hi), p| (lo.min(*p), hi.max(*p)),
