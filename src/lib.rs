@@ -21,7 +21,7 @@ pub mod raster;
 pub mod render;
 pub mod scene;
 pub mod shading;
-pub mod tree_file;
+pub mod tree;
 pub mod visibility;
 
 pub use error::{Error, Result};

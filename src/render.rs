@@ -77,7 +77,7 @@ pub struct Rendered {
     /// shadow polygons); empty when no shadows were cast.
     pub shadows: Vec<Option<u32>>,
     /// The virtual image tree in file form, with `setmode o on`.
-    pub tree: Option<crate::tree_file::TreeFile>,
+    pub tree: Option<crate::tree::RecordStream>,
     /// The run-time profile, with [`RenderOptions::profile`] (tree path).
     pub profile: Option<crate::profile::Profile>,
     /// Figures.
@@ -435,8 +435,8 @@ fn tree_file(
     vertex_blend: &[Option<Vec<Color>>],
     width: u32,
     height: u32,
-) -> crate::tree_file::TreeFile {
-    use crate::tree_file::{Record, Shades, TreeFile};
+) -> crate::tree::RecordStream {
+    use crate::tree::{Record, RecordStream, Shades};
     let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
     let records = order
         .iter()
@@ -493,7 +493,7 @@ fn tree_file(
                         [fb(mean(0)), fb(mean(1)), fb(mean(2))]
                     })
                     .collect();
-                let shades = Shades::Phong(crate::tree_file::PhongShades {
+                let shades = Shades::Phong(crate::tree::PhongShades {
                     shininess: ph.shininess as f64,
                     light_colors,
                     rgbt: vertices
@@ -540,9 +540,9 @@ fn tree_file(
             }
         })
         .collect();
-    TreeFile {
-        width,
-        height,
+    let _ = (width, height);
+    RecordStream {
+        background: Some(scene.background.as_vec3().to_array().map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)),
         front_to_back: scene.sort_order == SortOrder::FrontToBack,
         blended: scene.modes.blend,
         records,

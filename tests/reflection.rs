@@ -202,11 +202,11 @@ fn tree_file_of_the_cube_on_a_mirror() {
     assert!(tree.blended && !tree.front_to_back);
     let path = std::path::Path::new("m.out");
     assert_eq!(
-        plytrace::tree_file::TreeFile::from_bytes(&tree.to_bytes(), path).unwrap(),
+        plytrace::tree::RecordStream::from_bytes(&tree.to_bytes(), path).unwrap(),
         tree
     );
     assert_eq!(
-        plytrace::tree_file::TreeFile::from_text(&tree.to_text(), path).unwrap(),
+        plytrace::tree::RecordStream::from_text(&tree.to_text(), path).unwrap(),
         tree
     );
     // Normalized coordinates.
@@ -321,7 +321,7 @@ fn phong_tree_records() {
         .records
         .iter()
         .filter_map(|r| match &r.shades {
-            plytrace::tree_file::Shades::Phong(p) => Some((r, p)),
+            plytrace::tree::Shades::Phong(p) => Some((r, p)),
             _ => None,
         })
         .collect();
@@ -334,11 +334,11 @@ fn phong_tree_records() {
     }
     let path = std::path::Path::new("m.out");
     assert_eq!(
-        plytrace::tree_file::TreeFile::from_bytes(&tree.to_bytes(), path).unwrap(),
+        plytrace::tree::RecordStream::from_bytes(&tree.to_bytes(), path).unwrap(),
         tree
     );
     assert_eq!(
-        plytrace::tree_file::TreeFile::from_text(&tree.to_text(), path).unwrap(),
+        plytrace::tree::RecordStream::from_text(&tree.to_text(), path).unwrap(),
         tree
     );
 }

@@ -295,7 +295,7 @@ fn gouraud_tree_records() {
     let gouraud = tree
         .records
         .iter()
-        .filter(|r| matches!(r.shades, plytrace::tree_file::Shades::Gouraud(_)))
+        .filter(|r| matches!(r.shades, plytrace::tree::Shades::Gouraud(_)))
         .count();
     assert!(gouraud > 10 && tree.records.iter().any(|r| r.level == 2));
 }

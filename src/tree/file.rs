@@ -1,105 +1,146 @@
-//! Virtual image tree files (Garcia 1986, 004 section 4.10, figure 4.14):
-//! the polygons of the tree in output order, each with its level, as
-//! *Special* (type 0: the restore polygon between a reflected and a
-//! refracted branch), *Faceted* (type 1: one shade) or *Gouraud* (type 2:
-//! a shade per vertex) records. Written with `setmode o on`.
+//! Virtual image tree files (Garcia 1986, 004 section 4.10, figure 4.14,
+//! and the plytrace and rftb manual pages): a [`RecordStream`] written as
+//! `FNAME.out` (binary) and `FNAME.txt` (text).
 //!
-//! Binary form (little-endian), `FNAME.out`:
+//! The binary form is nothing but figure 4.14's records, one after the
+//! other, little-endian, with no header:
 //!
 //! ```text
-//! magic    4 bytes  "VIT1"
-//! version  u16      1
-//! width    u32      image width the tree was made for
-//! height   u32      image height
-//! order    u8       0 back to front, 1 front to back
-//! blended  u8       1 if shades are pre-blended (setmode b on)
-//! count    u32      number of records
-//! record:  type u8 (b'0' special, b'1' faceted, b'2' gouraud)
+//! record:  type u8 (b'0' special, b'1' faceted, b'2' gouraud, b'3' phong)
 //!          level u16, nvtx u16
-//!          faceted: r g b (u8 each), then nvtx x (x f32, y f32)
 //!          special: nvtx x (x f32, y f32)
+//!          faceted: r g b (u8 each), then nvtx x (x f32, y f32)
 //!          gouraud: nvtx x (x f32, y f32, r g b u8)
-//!          phong (type b'3'): hilite f64, nlt u16, nlt x (r g b u8),
-//!                 then nvtx x (x f32, y f32, r g b t u8, nlt x (nx ny nz f32))
+//!          phong:   hilite f64, nlt u16, nlt x (r g b u8),
+//!                   then nvtx x (x f32, y f32, r g b t u8, nlt x (nx ny nz f32))
 //! ```
 //!
 //! x and y are normalized screen coordinates, 0 to 1 from the lower left
-//! corner, as the figure says. The text form, `FNAME.txt`, has the same
-//! content one record per line (`faceted LEVEL NVTX R G B X Y ...`), with
-//! numbers printed so that they read back to the same bits.
+//! corner, as the figure says, so one file renders at any resolution.
+//!
+//! The background polygon. The rftb manual page's `-B` paints "a
+//! background polygon, with color specified in the input data file": it is
+//! a record at level 0 (tree levels run from 1 to 31), the unit square
+//! `(0,0) (0,1) (1,1) (1,0)` in the background colour. Its place says the
+//! order, its type the blending mode, so that rftb can refuse a tree made
+//! for another method:
+//!
+//! - first record: back to front; last record: front to back;
+//! - type 1 (faceted): pre-blended shades (`setmode b on`); type 2
+//!   (Gouraud, four equal shades): post-blended.
+//!
+//! A file without a level-0 record is read as front to back with
+//! post-blended shades and no background. The text form, `FNAME.txt`, has
+//! the same records one per line (`faceted LEVEL NVTX R G B X Y ...`), the
+//! background record among them, with numbers printed so that they read
+//! back to the same bits.
 
 use std::fmt::Write as _;
 
 use crate::error::{Error, Location, Result};
+use crate::tree::record::{PhongShades, Record, RecordStream, Shades};
 
-/// A record's type (figure 4.14).
-#[derive(Debug, Clone, PartialEq)]
-pub enum Shades {
-    /// Type 0: no shade (the restore polygon).
-    Special,
-    /// Type 1: one shade.
-    Faceted([u8; 3]),
-    /// Type 2: one shade per vertex.
-    Gouraud(Vec<[u8; 3]>),
-    /// Type 3: Phong, with highlight vectors per vertex and light.
-    Phong(PhongShades),
-}
+/// The corners of the background record, clockwise from the lower left.
+const UNIT_SQUARE: [[f32; 2]; 4] = [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]];
 
-/// The Phong parameters of figure 4.14: `<hilite> <nlt> <hltclr>` and, per
-/// vertex, `<r g b t>` and `nlt` highlight normal vectors.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PhongShades {
-    /// Shininess of the surface (`hilite`, a double).
-    pub shininess: f64,
-    /// The highlight colour of each light (`hltclr`).
-    pub light_colors: Vec<[u8; 3]>,
-    /// Per vertex: shade without highlights and transparency.
-    pub rgbt: Vec<[u8; 4]>,
-    /// Per vertex, per light: the highlight normal vector (`hltnmals`).
-    pub normals: Vec<Vec<[f32; 3]>>,
-}
+impl RecordStream {
+    /// The records as written: the background record (if any) first for
+    /// back to front, last for front to back.
+    pub fn file_records(&self) -> Vec<std::borrow::Cow<'_, Record>> {
+        use std::borrow::Cow;
+        let mut out: Vec<Cow<'_, Record>> = self.records.iter().map(Cow::Borrowed).collect();
+        if let Some(c) = self.background {
+            let shades = if self.blended {
+                Shades::Faceted(c)
+            } else {
+                Shades::Gouraud(vec![c; 4])
+            };
+            let bg = Cow::Owned(Record {
+                level: 0,
+                points: UNIT_SQUARE.to_vec(),
+                shades,
+            });
+            if self.front_to_back {
+                out.push(bg);
+            } else {
+                out.insert(0, bg);
+            }
+        }
+        out
+    }
 
-/// One polygon of the tree.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Record {
-    /// Tree level, from 1.
-    pub level: u16,
-    /// Vertices, normalized screen coordinates.
-    pub points: Vec<[f32; 2]>,
-    /// Its shades.
-    pub shades: Shades,
-}
+    /// The stream read back from `records` as they stand in a file: the
+    /// level-0 background record is taken out and gives the order and the
+    /// blending mode.
+    fn from_file_records(mut records: Vec<Record>, file: &std::path::Path) -> Result<RecordStream> {
+        let err = |msg: String| Error::at(Location::file(file), msg);
+        for (i, r) in records.iter().enumerate() {
+            if r.level > 31 {
+                return Err(err(format!(
+                    "record {}: level {}; levels run from 1 to 31 (0 for the background)",
+                    i + 1,
+                    r.level
+                )));
+            }
+            if r.points.len() < 3 {
+                return Err(err(format!(
+                    "record {}: {} vertices; a polygon has at least 3",
+                    i + 1,
+                    r.points.len()
+                )));
+            }
+        }
+        let zeros: Vec<usize> = (0..records.len())
+            .filter(|&i| records[i].level == 0)
+            .collect();
+        let mut stream = RecordStream {
+            records: Vec::new(),
+            background: None,
+            front_to_back: true,
+            blended: false,
+        };
+        match zeros.as_slice() {
+            [] => {}
+            [i] if *i == 0 || *i + 1 == records.len() => {
+                let bg = records.remove(*i);
+                if bg.points.len() != 4 {
+                    return Err(err(format!(
+                        "record {}: the level-0 background record has {} vertices, not 4",
+                        i + 1,
+                        bg.points.len()
+                    )));
+                }
+                let (color, blended) = match &bg.shades {
+                    Shades::Faceted(c) => (*c, true),
+                    Shades::Gouraud(cs) if cs.iter().all(|c| *c == cs[0]) => (cs[0], false),
+                    _ => {
+                        return Err(err(format!(
+                            "record {}: the level-0 background record must be faceted or \
+                             Gouraud with one colour",
+                            i + 1
+                        )));
+                    }
+                };
+                stream.background = Some(color);
+                stream.blended = blended;
+                // A lone record is both first and last: front to back.
+                stream.front_to_back = *i != 0 || records.is_empty();
+            }
+            _ => {
+                return Err(err(format!(
+                    "record {}: level 0 is only for the background record, first or last",
+                    zeros.iter().find(|&&i| i != 0 && i + 1 != records.len()).unwrap_or(&zeros[1]) + 1
+                )));
+            }
+        }
+        stream.records = records;
+        Ok(stream)
+    }
 
-/// A whole tree file.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TreeFile {
-    /// Image width the tree was made for.
-    pub width: u32,
-    /// Image height.
-    pub height: u32,
-    /// Front to back (else back to front).
-    pub front_to_back: bool,
-    /// Shades pre-blended.
-    pub blended: bool,
-    /// Records in output order.
-    pub records: Vec<Record>,
-}
-
-const MAGIC: &[u8; 4] = b"VIT1";
-const VERSION: u16 = 1;
-
-impl TreeFile {
     /// The binary form.
     pub fn to_bytes(&self) -> Vec<u8> {
         let mut b = Vec::new();
-        b.extend_from_slice(MAGIC);
-        b.extend_from_slice(&VERSION.to_le_bytes());
-        b.extend_from_slice(&self.width.to_le_bytes());
-        b.extend_from_slice(&self.height.to_le_bytes());
-        b.push(self.front_to_back as u8);
-        b.push(self.blended as u8);
-        b.extend_from_slice(&(self.records.len() as u32).to_le_bytes());
-        for r in &self.records {
+        for r in self.file_records() {
             b.push(match r.shades {
                 Shades::Special => b'0',
                 Shades::Faceted(_) => b'1',
@@ -138,28 +179,11 @@ impl TreeFile {
     }
 
     /// Reads the binary form; `file` names it in errors.
-    pub fn from_bytes(bytes: &[u8], file: &std::path::Path) -> Result<TreeFile> {
+    pub fn from_bytes(bytes: &[u8], file: &std::path::Path) -> Result<RecordStream> {
         let mut r = Reader { bytes, at: 0, file };
-        if r.take(4)? != MAGIC {
-            return Err(r.error("not a virtual image tree file (expected the magic `VIT1`)"));
-        }
-        let version = r.u16()?;
-        if version != VERSION {
-            return Err(r.error(format!(
-                "version {version}; this program reads version {VERSION}"
-            )));
-        }
-        let width = r.u32()?;
-        let height = r.u32()?;
-        let order = r.u8()?;
-        let blended = r.u8()?;
-        if order > 1 || blended > 1 {
-            return Err(r.error("order and blended flags must be 0 or 1"));
-        }
-        let count = r.u32()?;
-        // Each record takes at least 5 bytes: do not trust the count.
-        let mut records = Vec::with_capacity((count as usize).min(bytes.len() / 5));
-        for _ in 0..count {
+        // Each record takes at least 5 bytes.
+        let mut records = Vec::with_capacity((bytes.len() / 5).min(1 << 16));
+        while r.at < bytes.len() {
             let kind = r.u8()?;
             let level = r.u16()?;
             let n = r.u16()? as usize;
@@ -170,8 +194,11 @@ impl TreeFile {
                 None
             };
             if !matches!(kind, b'0' | b'1' | b'2' | b'3') {
-                return Err(r.error(format!("unknown record type {kind}")));
+                return Err(r.error(format!(
+                    "not a virtual image tree record: type byte {kind} (expected '0' to '3')"
+                )));
             }
+
             let mut phong = if kind == b'3' {
                 let shininess = f64::from_le_bytes(r.take(8)?.try_into().expect("8 bytes"));
                 if !shininess.is_finite() {
@@ -231,29 +258,15 @@ impl TreeFile {
                 shades,
             });
         }
-        if r.at != bytes.len() {
-            return Err(r.error("unexpected bytes after the last record"));
-        }
-        Ok(TreeFile {
-            width,
-            height,
-            front_to_back: order == 1,
-            blended: blended == 1,
-            records,
-        })
+        RecordStream::from_file_records(records, file)
     }
 
     /// The text form.
     pub fn to_text(&self) -> String {
-        let mut s = String::from("# plytrace virtual image tree, version 1 (004 figure 4.14)\n");
-        let _ = writeln!(s, "resolution {} {}", self.width, self.height);
-        let _ = writeln!(
-            s,
-            "order {}",
-            if self.front_to_back { "ftb" } else { "btf" }
+        let mut s = String::from(
+            "# plytrace virtual image tree (004 figure 4.14); level 0 is the background\n",
         );
-        let _ = writeln!(s, "blended {}", if self.blended { "on" } else { "off" });
-        for r in &self.records {
+        for r in self.file_records() {
             let n = r.points.len();
             match &r.shades {
                 Shades::Special => {
@@ -297,14 +310,8 @@ impl TreeFile {
     }
 
     /// Reads the text form.
-    pub fn from_text(text: &str, file: &std::path::Path) -> Result<TreeFile> {
-        let mut tree = TreeFile {
-            width: 0,
-            height: 0,
-            front_to_back: false,
-            blended: false,
-            records: Vec::new(),
-        };
+    pub fn from_text(text: &str, file: &std::path::Path) -> Result<RecordStream> {
+        let mut records = Vec::new();
         for (ln, line) in text.lines().enumerate() {
             let line_no = ln + 1;
             let words: Vec<&str> = line.split_whitespace().collect();
@@ -319,17 +326,7 @@ impl TreeFile {
                     .ok_or_else(|| err(format!("`{}` line ends early", words[0])))
             };
             match words[0] {
-                "resolution" => {
-                    tree.width = num(1)?
-                        .parse()
-                        .map_err(|_| err("expected a width".into()))?;
-                    tree.height = num(2)?
-                        .parse()
-                        .map_err(|_| err("expected a height".into()))?;
-                }
-                "order" => tree.front_to_back = num(1)? == "ftb",
-                "blended" => tree.blended = num(1)? == "on",
-                "phong" => tree.records.push(phong_record(&words, &err)?),
+                "phong" => records.push(phong_record(&words, &err)?),
                 kind @ ("special" | "faceted" | "gouraud") => {
                     let level: u16 = num(1)?
                         .parse()
@@ -374,7 +371,7 @@ impl TreeFile {
                         "faceted" => Shades::Faceted(faceted.expect("read above")),
                         _ => Shades::Gouraud(colors),
                     };
-                    tree.records.push(Record {
+                    records.push(Record {
                         level,
                         points,
                         shades,
@@ -383,7 +380,7 @@ impl TreeFile {
                 other => return Err(err(format!("unknown record `{other}`"))),
             }
         }
-        Ok(tree)
+        RecordStream::from_file_records(records, file)
     }
 }
 
@@ -516,11 +513,6 @@ impl Reader<'_> {
             self.take(2)?.try_into().expect("2 bytes"),
         ))
     }
-    fn u32(&mut self) -> Result<u32> {
-        Ok(u32::from_le_bytes(
-            self.take(4)?.try_into().expect("4 bytes"),
-        ))
-    }
     fn f32(&mut self) -> Result<f32> {
         Ok(f32::from_le_bytes(
             self.take(4)?.try_into().expect("4 bytes"),
@@ -534,10 +526,9 @@ mod tests {
     use proptest::prelude::*;
     use std::path::Path;
 
-    fn sample() -> TreeFile {
-        TreeFile {
-            width: 512,
-            height: 480,
+    fn sample() -> RecordStream {
+        RecordStream {
+            background: Some([3, 4, 5]),
             front_to_back: false,
             blended: true,
             records: vec![
@@ -578,11 +569,11 @@ mod tests {
     fn both_forms_round_trip() {
         let t = sample();
         assert_eq!(
-            TreeFile::from_bytes(&t.to_bytes(), Path::new("t.out")).unwrap(),
+            RecordStream::from_bytes(&t.to_bytes(), Path::new("t.out")).unwrap(),
             t
         );
         assert_eq!(
-            TreeFile::from_text(&t.to_text(), Path::new("t.txt")).unwrap(),
+            RecordStream::from_text(&t.to_text(), Path::new("t.txt")).unwrap(),
             t
         );
     }
@@ -590,31 +581,33 @@ mod tests {
     #[test]
     fn hostile_binary_is_a_clean_error() {
         let bytes = sample().to_bytes();
+        let whole = sample();
         for cut in 0..bytes.len() {
-            assert!(
-                TreeFile::from_bytes(&bytes[..cut], Path::new("t.out")).is_err(),
-                "cut {cut}"
-            );
+            // A cut between records is a shorter tree; any other is an error.
+            if let Ok(t) = RecordStream::from_bytes(&bytes[..cut], Path::new("t.out")) {
+                let n = t.records.len();
+                assert_eq!(t.records[..], whole.records[..n], "cut {cut}");
+            }
         }
-        let mut huge = bytes[..17].to_vec();
-        huge.extend_from_slice(&u32::MAX.to_le_bytes());
-        assert!(TreeFile::from_bytes(&huge, Path::new("t.out")).is_err());
+        let mut huge = bytes[..5].to_vec();
+        huge.extend_from_slice(&u16::MAX.to_le_bytes());
+        assert!(RecordStream::from_bytes(&huge, Path::new("t.out")).is_err());
         let mut bad = bytes.clone();
         bad[0] = b'X';
-        assert!(TreeFile::from_bytes(&bad, Path::new("t.out")).is_err());
+        assert!(RecordStream::from_bytes(&bad, Path::new("t.out")).is_err());
     }
 
     #[test]
     fn bad_text_names_line_and_word() {
-        let text = "resolution 4 4\nfaceted 1 3 1 2 3 0 0 1 0 x 1\n";
-        let e = TreeFile::from_text(text, Path::new("t.txt"))
+        let text = "# a comment\nfaceted 1 3 1 2 3 0 0 1 0 x 1\n";
+        let e = RecordStream::from_text(text, Path::new("t.txt"))
             .unwrap_err()
             .to_string();
         assert!(
             e.starts_with("t.txt:2:1:") && e.contains("word 11") && e.contains("`x`"),
             "{e}"
         );
-        let e = TreeFile::from_text("phong 1 1 2.0 1 255 255\n", Path::new("t.txt"))
+        let e = RecordStream::from_text("phong 1 1 2.0 1 255 255\n", Path::new("t.txt"))
             .unwrap_err()
             .to_string();
         assert!(e.contains("t.txt:1:1:"), "{e}");
@@ -623,7 +616,7 @@ mod tests {
     proptest! {
         #[test]
         fn random_trees_round_trip(
-            recs in prop::collection::vec((1u16..15, prop::collection::vec((0f32..1.0, 0f32..1.0), 3..8), 0u8..3, any::<u8>()), 0..20)
+            recs in prop::collection::vec((1u16..15, prop::collection::vec((0f32..1.0, 0f32..1.0), 3..8), 0u8..3, any::<u8>()), 0..20), ftb in any::<bool>(), blended in any::<bool>()
         ) {
             let records = recs.into_iter().map(|(level, pts, kind, c)| {
                 let points: Vec<[f32; 2]> = pts.into_iter().map(|(x, y)| [x, y]).collect();
@@ -634,9 +627,10 @@ mod tests {
                 };
                 Record { level, points, shades }
             }).collect();
-            let t = TreeFile { width: 64, height: 32, front_to_back: true, blended: false, records };
-            prop_assert_eq!(TreeFile::from_bytes(&t.to_bytes(), Path::new("x")).unwrap(), t.clone());
-            prop_assert_eq!(TreeFile::from_text(&t.to_text(), Path::new("x")).unwrap(), t);
+            let front_to_back = ftb || records.is_empty();
+            let t = RecordStream { background: Some([9, 8, 7]), front_to_back, blended, records };
+            prop_assert_eq!(RecordStream::from_bytes(&t.to_bytes(), Path::new("x")).unwrap(), t.clone());
+            prop_assert_eq!(RecordStream::from_text(&t.to_text(), Path::new("x")).unwrap(), t);
         }
     }
 }
