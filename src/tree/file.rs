@@ -618,7 +618,7 @@ mod tests {
         fn random_trees_round_trip(
             recs in prop::collection::vec((1u16..15, prop::collection::vec((0f32..1.0, 0f32..1.0), 3..8), 0u8..3, any::<u8>()), 0..20), ftb in any::<bool>(), blended in any::<bool>()
         ) {
-            let records = recs.into_iter().map(|(level, pts, kind, c)| {
+            let records: Vec<Record> = recs.into_iter().map(|(level, pts, kind, c)| {
                 let points: Vec<[f32; 2]> = pts.into_iter().map(|(x, y)| [x, y]).collect();
                 let shades = match kind {
                     0 => Shades::Special,
