@@ -4,3 +4,4 @@
 
 pub mod frame_buffer;
 pub mod tiler;
+pub mod scan;
