@@ -34,6 +34,8 @@ struct Options {
     visibility: Option<Algorithm>,
     profile: bool,
     refraction: plytrace::image_tree::Refraction,
+    aa: Option<plytrace::raster::scan::Method>,
+    threads: usize,
     quiet: bool,
 }
 
@@ -79,6 +81,11 @@ MODERN CONVENIENCES:
     --profile          print the run-time profile in the categories of 004 table 6.2
     --refraction M     refraction matrix: linearized (default; exact for the ray through
                        the polygon's centre), orthographic (M_to), paraxial (M_tp)
+    --aa METHOD        scan conversion (004 chapter 5): none (point sampled preview),
+                       area (1), mask (2), hybrid (3), multilevel (4); default: the
+                       best for the scene (multilevel: every tree level blended)
+    --supersample N    Donovan's N x N samples per pixel instead (N from 1 to 16)
+    --threads N        worker threads (default: all cores); the image does not depend on it
     --help, --version
 
 COMMANDS of the scene descriptor language (shortest unique prefix accepted):
@@ -89,7 +96,7 @@ COMMANDS of the scene descriptor language (shortest unique prefix accepted):
     }
     s.push_str(
         "\nNot yet acted on (parsed, checked and kept): clear (every run starts from the\n\
-         background). The anti-aliasing scan converters (rftb1-4) are not built yet.\n",
+         background).\n",
     );
     s
 }
@@ -142,6 +149,24 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
             "--id-image" => o.id_image = Some(value("a file name")?.into()),
             "--quiet" | "-q" => o.quiet = true,
             "--profile" => o.profile = true,
+            "--aa" => {
+                let v = value("none, area, mask, hybrid or multilevel (or 1 to 4)")?;
+                o.aa = Some(parse_aa(&v)?);
+            }
+            "--supersample" => {
+                let v = value("N from 1 to 16")?;
+                match v.parse::<u32>() {
+                    Ok(n @ 1..=16) => o.aa = Some(plytrace::raster::scan::Method::Supersample(n)),
+                    _ => return Err(format!("--supersample: expected N from 1 to 16, found `{v}`")),
+                }
+            }
+            "--threads" => {
+                let v = value("a thread count")?;
+                o.threads = match v.parse::<usize>() {
+                    Ok(n @ 1..=1024) => n,
+                    _ => return Err(format!("--threads: expected 1 to 1024, found `{v}`")),
+                };
+            }
             "--refraction" => {
                 let v = value("linearized, orthographic or paraxial")?;
                 o.refraction = v.parse().map_err(|e| format!("--refraction: {e}"))?;
@@ -192,6 +217,34 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
     Ok(Parsed::Run(o))
 }
 
+fn method_name(m: plytrace::raster::scan::Method) -> String {
+    use plytrace::raster::scan::Method;
+    match m {
+        Method::Point => "point sampled (--aa none)".into(),
+        Method::Area => "method 1, area coverage".into(),
+        Method::Mask => "method 2, 4x4 pixel masks".into(),
+        Method::Hybrid => "method 3, hybrid area/mask".into(),
+        Method::Multilevel => "method 4, multi-level pixel masks".into(),
+        Method::Supersample(n) => format!("Donovan's {n} x {n} supersampling"),
+    }
+}
+
+fn parse_aa(v: &str) -> std::result::Result<plytrace::raster::scan::Method, String> {
+    use plytrace::raster::scan::Method;
+    Ok(match v.to_ascii_lowercase().as_str() {
+        "none" | "point" | "0" => Method::Point,
+        "area" | "1" => Method::Area,
+        "mask" | "2" => Method::Mask,
+        "hybrid" | "3" => Method::Hybrid,
+        "multilevel" | "4" => Method::Multilevel,
+        _ => {
+            return Err(format!(
+                "--aa: expected none, area, mask, hybrid, multilevel or 1 to 4, found `{v}`"
+            ));
+        }
+    })
+}
+
 fn parse_size(s: &str) -> Option<(u32, u32)> {
     let (w, h) = s.split_once(['x', 'X'])?;
     let (w, h): (u32, u32) = (w.trim().parse().ok()?, h.trim().parse().ok()?);
@@ -218,6 +271,8 @@ struct CliHost {
     visibility: Option<Algorithm>,
     profile: bool,
     refraction: plytrace::image_tree::Refraction,
+    aa: Option<plytrace::raster::scan::Method>,
+    threads: usize,
     scene_stem: Option<String>,
     quiet: bool,
     interactive: bool,
@@ -258,6 +313,8 @@ impl Host for CliHost {
                 visibility: self.visibility,
                 profile: self.profile,
                 refraction: self.refraction,
+                aa: self.aa,
+                threads: self.threads,
             },
         )?;
         if scene.display {
@@ -299,6 +356,17 @@ impl Host for CliHost {
             "{} Polygons tiled, Max depth = {}",
             s.polygons_tiled, s.max_depth
         ));
+        if let Some(m) = s.method {
+            let fragments = if s.scan.total_fragments > 0 {
+                format!(
+                    ", {} pixel-fragments at most at once, {} in all",
+                    s.scan.peak_fragments, s.scan.total_fragments
+                )
+            } else {
+                String::new()
+            };
+            self.say(&format!("Scan conversion: {}{fragments}", method_name(m)));
+        }
         if let Some(p) = &rendered.profile {
             print!("{p}");
         } else if self.profile {
@@ -540,6 +608,8 @@ fn main() -> ExitCode {
         visibility: options.visibility,
         profile: options.profile,
         refraction: options.refraction,
+        aa: options.aa,
+        threads: options.threads,
         scene_stem: options
             .scene
             .as_ref()

@@ -1,26 +1,35 @@
-//! The rendering pipeline of Garcia 1986 (004 figure 3.2, level 1 of the
-//! virtual image tree): geometry (cull, clip, project) -> visibility (simple
-//! depth sort, object by object or as one composite list, `setmode x`) ->
-//! faceted shading -> painting into a frame buffer.
+//! The rendering pipeline of Garcia 1986 (004 figure 3.2): geometry ->
+//! visibility -> the virtual image tree -> one stream of tree records ->
+//! scan conversion -> a frame buffer.
 //!
-//! The visible-surface algorithm is chosen per run or by `setmode n`
-//! ([`crate::visibility::Algorithm`]). Not yet here: reflection and
-//! refraction (levels below 1), shadows, Gouraud and Phong polygons,
-//! transparency.
+//! The list-priority algorithms (the simple depth sort and NNS) always go
+//! through the tree ([`crate::image_tree`]), even at level 1, and the tree
+//! always leaves as records ([`crate::emit`]): the picture is the scan
+//! conversion of a front-to-back record stream ([`crate::raster::scan`]),
+//! and `setmode o` writes the same tree in the scene's order and blending.
+//! So light kinds and `-o on` never change the picture.
+//!
+//! Brown's priority order and the image-space algorithms (z-buffer,
+//! scan-line, Warnock, ray casting) paint level 1 themselves, point
+//! sampled; they refuse, naming what they cannot do, a scene that needs
+//! the tree (mirrors, shadows, Gouraud or Phong polygons, transparency).
 
 use std::time::{Duration, Instant};
 
 use glam::{DVec2, DVec3};
 
+use crate::emit::{self, Emit, Source};
 use crate::error::{Error, Result};
 use crate::geometry::view::{self, GeometryStats, ScreenPolygon, View};
 use crate::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
+use crate::raster::scan::{self, Method, Row, RowSink, ScanOptions, ScanStats};
 use crate::scene::model::{Color, Scene, SortOrder};
 pub use crate::shading::{
     facet_shade, facet_shade_from, facet_shade_with, interpolate_in_polygon, phong_vertices,
     polygon_material, transparency_of, vertex_shades, vertex_transparency,
 };
-use crate::visibility::nns::{self, NnsFace, NnsStats};
+use crate::tree::RecordStream;
+use crate::visibility::nns::NnsStats;
 use crate::visibility::ray_cast::RayCaster;
 use crate::visibility::z_buffer::{self, DepthItem};
 use crate::visibility::{Algorithm, brown, depth_sort, scan_line, warnock};
@@ -38,6 +47,11 @@ pub struct RenderOptions {
     pub profile: bool,
     /// The refraction matrix (`--refraction`).
     pub refraction: crate::image_tree::Refraction,
+    /// The scan conversion method (`--aa`, `--supersample`); `None` is the
+    /// best for the scene ([`best_method`]).
+    pub aa: Option<Method>,
+    /// Worker threads for scan conversion (0: all cores).
+    pub threads: usize,
 }
 
 /// Figures of one render.
@@ -63,6 +77,10 @@ pub struct RenderStats {
     pub shading_time: Duration,
     /// Time painting (or casting rays).
     pub paint_time: Duration,
+    /// The scan conversion method, for the tree path.
+    pub method: Option<Method>,
+    /// Scan conversion figures (fragments of method 4).
+    pub scan: ScanStats,
 }
 
 /// A rendered image and what is painted where.
@@ -131,14 +149,14 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
         max_depth: 1,
         ..RenderStats::default()
     };
-    let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
-    if matches!(algorithm, Algorithm::DepthSort | Algorithm::Nns)
-        && (needs_tree(scene)
-            || scene.modes.output_tree
-            || (options.shadows && has_point_light(scene)))
-    {
-        return Ok(paint_tree(scene, &view, algorithm, options, frame, stats));
+    if matches!(algorithm, Algorithm::DepthSort | Algorithm::Nns) {
+        let prepared = prepare(scene, &view, algorithm, options, stats);
+        let mut frame = FrameBuffer::new(width, height, [0.0; 3]);
+        let rendered = scan_into(prepared, &mut FrameSink { frame: &mut frame })?;
+        return Ok(rendered.with_frame(frame));
     }
+    refuse_tree_effects(scene, options, algorithm)?;
+    let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
     if algorithm == Algorithm::RayCast {
         let polygons = ray_cast(scene, &view, &mut frame, &mut stats);
         return Ok(Rendered {
@@ -155,8 +173,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     let visible: Vec<usize> = (0..scene.objects.len())
         .filter(|&i| !scene.objects[i].surface_type.hidden)
         .collect();
-    let per_object =
-        (algorithm == Algorithm::DepthSort && !scene.modes.expand) || algorithm == Algorithm::Brown;
+    let per_object = algorithm == Algorithm::Brown;
     let mut lists: Vec<Vec<ScreenPolygon>> = Vec::new();
     if per_object {
         for &i in &visible {
@@ -179,19 +196,12 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     let order = scene.sort_order;
     // The painting list: screen points and source polygon.
     let sorted: Vec<(Vec<DVec3>, (u32, u32), bool)> = match algorithm {
-        Algorithm::DepthSort => simple_sorted(lists, order),
         Algorithm::Brown => {
             let lists = lists
                 .into_iter()
                 .map(|l| brown_sorted(scene, &view, l))
                 .collect();
             simple_sorted_lists(lists, order)
-        }
-        Algorithm::Nns => {
-            let all = lists.pop().unwrap_or_default();
-            let (list, nns_stats) = nns_sorted(scene, &view, all, order);
-            stats.nns = Some(nns_stats);
-            list
         }
         Algorithm::ZBuffer | Algorithm::ScanLine => lists
             .pop()
@@ -212,7 +222,9 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
                     .map(move |t| (t, id, back))
             })
             .collect(),
-        Algorithm::RayCast => unreachable!("handled above"),
+        Algorithm::RayCast | Algorithm::DepthSort | Algorithm::Nns => {
+            unreachable!("handled above")
+        }
     };
     stats.sort_time = t.elapsed();
     stats.polygons_listed = sorted.len();
@@ -307,6 +319,194 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     })
 }
 
+/// The method `options` ask for, or the best for the scene: multi-level
+/// masks (004 section 5.9), the only method that blends every level of
+/// the tree, shadows on partly diffuse mirrors and both branches of a
+/// polygon that reflects and transmits.
+pub fn best_method(options: &RenderOptions) -> Method {
+    options.aa.unwrap_or(Method::Multilevel)
+}
+
+/// Whether `method` wants pre-blended shades (methods 1-3: no levels).
+fn wants_pre_blending(method: Method) -> bool {
+    matches!(method, Method::Area | Method::Mask | Method::Hybrid)
+}
+
+/// A tree ready for scan conversion: the picture's record stream (front to
+/// back) and, with `setmode o on`, the file's (the scene's order and
+/// blending).
+pub struct Prepared {
+    /// The records the picture is made from.
+    pub picture: RecordStream,
+    /// Each picture record's source polygon.
+    pub sources: Vec<Source>,
+    /// The tree as `setmode o` writes it.
+    pub file: Option<RecordStream>,
+    /// How to scan convert the picture.
+    pub scan: ScanOptions,
+    /// The profile, with `--profile`.
+    pub profile: Option<crate::profile::Profile>,
+    /// Figures so far.
+    pub stats: RenderStats,
+}
+
+/// Builds the virtual image tree and emits it as records.
+pub fn prepare(
+    scene: &Scene,
+    view: &View,
+    algorithm: Algorithm,
+    options: &RenderOptions,
+    mut stats: RenderStats,
+) -> Prepared {
+    let t = Instant::now();
+    let profile = crate::profile::Profile::new(options.profile);
+    let tree = crate::image_tree::build_profiled(
+        scene,
+        view,
+        crate::image_tree::TreeOptions {
+            max_level: scene.modes.max_level,
+            threshold: scene.threshold,
+            nns: algorithm == Algorithm::Nns,
+            shadows: options.shadows,
+            refraction: options.refraction,
+            explicit_shadow_shades: scene.modes.shadow_shades,
+        },
+        &profile,
+    );
+    stats.sort_time = t.elapsed();
+    stats.geometry = tree.geometry;
+    stats.max_depth = tree.max_depth;
+    let t = Instant::now();
+    let (width, height) = (view.width as u32, view.height as u32);
+    let method = best_method(options);
+    let emit = |order, blended| Emit {
+        order,
+        blended,
+        width,
+        height,
+    };
+    let picture_how = emit(SortOrder::FrontToBack, wants_pre_blending(method));
+    let (picture, sources) = emit::records(scene, &tree, picture_how, view.eye);
+    let file = scene.modes.output_tree.then(|| {
+        let how = emit(scene.sort_order, scene.modes.blend);
+        emit::records(scene, &tree, how, view.eye).0
+    });
+    stats.shading_time = t.elapsed();
+    profile.add(crate::profile::Category::Shading, t.elapsed());
+    stats.polygons_listed = picture.records.len();
+    stats.method = Some(method);
+    Prepared {
+        picture,
+        sources,
+        file,
+        scan: ScanOptions {
+            width,
+            height,
+            method,
+            act_lines: 16,
+            paint_background: true,
+            transparency: scan::TransparencyRule::Garcia,
+            threads: options.threads,
+            ids: true,
+        },
+        profile: options.profile.then_some(profile),
+        stats,
+    }
+}
+
+/// Scan converts a prepared tree into `sink`. The result's frame buffer is
+/// empty: the rows went to the sink.
+pub fn scan_into(prepared: Prepared, sink: &mut dyn RowSink) -> Result<Rendered> {
+    let t = Instant::now();
+    let scanned = scan::scan_convert(&prepared.picture, &prepared.scan, sink)?;
+    let mut stats = prepared.stats;
+    stats.paint_time = t.elapsed();
+    stats.polygons_tiled = scanned.polygons_tiled;
+    stats.scan = scanned;
+    if let Some(p) = &prepared.profile {
+        p.add(crate::profile::Category::Misc, stats.paint_time);
+    }
+    Ok(Rendered {
+        frame: FrameBuffer::new(0, 0, [0.0; 3]),
+        polygons: prepared
+            .sources
+            .iter()
+            .map(|s| (s.object, s.polygon))
+            .collect(),
+        shadows: prepared.sources.iter().map(|s| s.shadow_of).collect(),
+        tree: prepared.file,
+        profile: prepared.profile,
+        stats,
+    })
+}
+
+/// Fills a frame buffer from scan-converted rows.
+pub struct FrameSink<'a> {
+    /// The frame buffer, of the image's size.
+    pub frame: &'a mut FrameBuffer,
+}
+
+impl RowSink for FrameSink<'_> {
+    fn row(&mut self, row: &Row<'_>) -> Result<()> {
+        let w = self.frame.width as usize;
+        let at = row.y as usize * w;
+        self.frame.color[at..at + w].copy_from_slice(row.rgb);
+        if let Some(ids) = row.ids {
+            self.frame.ids[at..at + w].copy_from_slice(ids);
+        }
+        Ok(())
+    }
+}
+
+/// What of the scene needs the virtual image tree, in words; empty when
+/// level 1 painted point by point shows all of it.
+pub fn tree_effects(scene: &Scene, options: &RenderOptions) -> Vec<String> {
+    let mut what = Vec::new();
+    if needs_tree(scene) {
+        what.push(format!(
+            "mirrors or refracting surfaces (depth {})",
+            scene.modes.max_level
+        ));
+    }
+    if options.shadows && has_point_light(scene) {
+        what.push("shadows (`run y` with a Point light)".into());
+    }
+    if scene.modes.vertex_shades {
+        what.push("Gouraud polygons (setmode v)".into());
+    }
+    if scene.modes.phong {
+        what.push("Phong polygons (setmode s)".into());
+    }
+    if scene.objects.iter().any(|o| o.surface.transparency.0 > 0.0) {
+        what.push("transparency".into());
+    }
+    if options.aa.is_some_and(|m| m != Method::Point) {
+        what.push("anti-aliasing (use --aa none)".into());
+    }
+    what
+}
+
+/// Refuses a scene that `algorithm` cannot render whole.
+fn refuse_tree_effects(scene: &Scene, options: &RenderOptions, algorithm: Algorithm) -> Result<()> {
+    let what = tree_effects(scene, options);
+    if what.is_empty() {
+        return Ok(());
+    }
+    Err(Error::Invalid(format!(
+        "--visibility {} paints level 1 only, point sampled, and cannot render: {}; \
+         use depth-sort or nns (the virtual image tree), or remove them",
+        algorithm.name(),
+        what.join(", ")
+    )))
+}
+
+impl Rendered {
+    fn with_frame(mut self, frame: FrameBuffer) -> Rendered {
+        self.frame = frame;
+        self
+    }
+}
+
 type Listed = (Vec<DVec3>, (u32, u32), bool);
 
 /// One object's polygons in Brown's priority order (back to front), for
@@ -371,227 +571,6 @@ fn simple_sorted_lists(mut lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> 
     out
 }
 
-/// The simple depth sort: lists (objects) by their depth range, then the
-/// polygons of each list.
-fn simple_sorted(mut lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> Vec<Listed> {
-    let mut sorted = Vec::new();
-    for li in list_order(&lists, order) {
-        let list = std::mem::take(&mut lists[li]);
-        let keys: Vec<f64> = list
-            .iter()
-            .map(|p| depth_sort::sort_key(p.z_range(), order))
-            .collect();
-        let mut slots: Vec<Option<ScreenPolygon>> = list.into_iter().map(Some).collect();
-        for k in depth_sort::sorted_order(&keys) {
-            sorted.push(listed(slots[k].take().expect("a permutation")));
-        }
-    }
-    sorted
-}
-
-/// The NNS sort of the composite list; non-convex polygons are cut into
-/// triangles first. Front to back is the reverse of back to front.
-fn nns_sorted(
-    scene: &Scene,
-    view: &View,
-    all: Vec<ScreenPolygon>,
-    order: SortOrder,
-) -> (Vec<Listed>, NnsStats) {
-    let mut back = std::collections::HashMap::new();
-    let mut faces = Vec::with_capacity(all.len());
-    for p in all {
-        back.insert((p.object, p.polygon), p.back_facing);
-        for world in crate::geometry::polygon::triangulate_if_needed(&p.world) {
-            faces.push(NnsFace {
-                object: p.object,
-                polygon: p.polygon,
-                world,
-            });
-        }
-    }
-    let epsilon = scene.modes.epsilon * scene_scale(scene).max(f64::MIN_POSITIVE);
-    let (mut list, stats) = nns::sort(faces, view, epsilon);
-    if order == SortOrder::FrontToBack {
-        list.reverse();
-    }
-    let listed = list
-        .into_iter()
-        .map(|f| {
-            let id = (f.object, f.polygon);
-            let points = f.world.iter().map(|p| view.project(*p)).collect();
-            (points, id, back[&id])
-        })
-        .collect();
-    (listed, stats)
-}
-
-/// The tree in the file form of 004 figure 4.14: faceted records with the
-/// pre-blended shades under `setmode b on`, the own shades otherwise;
-/// restore polygons as special records.
-fn tree_file(
-    scene: &Scene,
-    tree: &crate::image_tree::VirtualImageTree,
-    order: &[usize],
-    vertex_blend: &[Option<Vec<Color>>],
-    width: u32,
-    height: u32,
-) -> crate::tree::RecordStream {
-    use crate::tree::{Record, RecordStream, Shades};
-    let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
-    let records = order
-        .iter()
-        .map(|&n| {
-            let f = &tree.nodes[n];
-            let points = f
-                .screen
-                .iter()
-                .map(|p| [(p.x / width as f64) as f32, (p.y / height as f64) as f32])
-                .collect();
-            let c = if scene.modes.blend {
-                f.blended
-            } else {
-                f.shade
-            };
-            let phong = (f.kind == crate::image_tree::FragmentKind::Polygon)
-                .then(|| {
-                    let (offset, weight) = if scene.modes.blend {
-                        (f.blended - f.shade * f.weight, f.weight)
-                    } else {
-                        (Color::ZERO, 1.0)
-                    };
-                    phong_vertices(
-                        scene,
-                        f.eye,
-                        f.object,
-                        f.polygon,
-                        f.back_facing,
-                        &f.world,
-                        offset,
-                        weight,
-                    )
-                })
-                .flatten();
-            if let Some(ph) = phong {
-                let t = byte(transparency_of(
-                    scene,
-                    f.eye,
-                    f.object,
-                    f.polygon,
-                    f.back_facing,
-                ));
-                let stride = ph.stride();
-                let vertices: Vec<&[f32]> = ph.attrs.chunks(stride).collect();
-                let fb = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
-                // One highlight colour per light (figure 4.14): the mean
-                // of the vertices' intensities.
-                let light_colors = (0..ph.lights)
-                    .map(|l| {
-                        let mean = |c: usize| {
-                            vertices.iter().map(|v| v[6 + 6 * l + c]).sum::<f32>()
-                                / vertices.len() as f32
-                        };
-                        [fb(mean(0)), fb(mean(1)), fb(mean(2))]
-                    })
-                    .collect();
-                let shades = Shades::Phong(crate::tree::PhongShades {
-                    shininess: ph.shininess as f64,
-                    light_colors,
-                    rgbt: vertices
-                        .iter()
-                        .map(|v| [fb(v[0]), fb(v[1]), fb(v[2]), t])
-                        .collect(),
-                    normals: vertices
-                        .iter()
-                        .map(|v| {
-                            (0..ph.lights)
-                                .map(|l| [v[3 + 6 * l], v[4 + 6 * l], v[5 + 6 * l]])
-                                .collect()
-                        })
-                        .collect(),
-                });
-                return Record {
-                    level: f.level.min(u16::MAX as u32) as u16,
-                    points,
-                    shades,
-                };
-            }
-            let shades = match (f.kind, &vertex_blend[n]) {
-                (crate::image_tree::FragmentKind::Restore, _) => Shades::Special,
-                (_, Some(vs)) => Shades::Gouraud(
-                    vs.iter()
-                        .map(|v| {
-                            // Without pre-blending, the fragment's own shades.
-                            let own = if scene.modes.blend {
-                                *v
-                            } else {
-                                (*v - (f.blended - f.shade * f.weight))
-                                    / f.weight.max(f64::MIN_POSITIVE)
-                            };
-                            [byte(own.x), byte(own.y), byte(own.z)]
-                        })
-                        .collect(),
-                ),
-                _ => Shades::Faceted([byte(c.x), byte(c.y), byte(c.z)]),
-            };
-            Record {
-                level: f.level.min(u16::MAX as u32) as u16,
-                points,
-                shades,
-            }
-        })
-        .collect();
-    let _ = (width, height);
-    RecordStream {
-        background: Some(scene.background.as_vec3().to_array().map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)),
-        front_to_back: scene.sort_order == SortOrder::FrontToBack,
-        blended: scene.modes.blend,
-        records,
-    }
-}
-
-/// Gouraud vertex shades of every polygon fragment of the tree
-/// (`setmode v on`), pre-blended: a fragment's vertex shade is its parent's
-/// blended shade at that screen point, interpolated as in 004 figure 4.16
-/// (along the two parent edges crossing the point's row, then across),
-/// plus `k` times its own vertex shade. `None` for other fragments, or all
-/// when vertex shades are off.
-fn gouraud_tree_shades(
-    scene: &Scene,
-    tree: &crate::image_tree::VirtualImageTree,
-) -> Vec<Option<Vec<Color>>> {
-    let mut out: Vec<Option<Vec<Color>>> = vec![None; tree.nodes.len()];
-    if !scene.modes.vertex_shades {
-        return out;
-    }
-    // Parents are pushed before their children.
-    for n in 0..tree.nodes.len() {
-        let f = &tree.nodes[n];
-        if f.kind != crate::image_tree::FragmentKind::Polygon {
-            continue;
-        }
-        let own = vertex_shades(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world);
-        let blended = match f.parent.and_then(|p| out[p].as_ref().map(|vs| (p, vs))) {
-            Some((p, parent_shades)) => {
-                let parent = &tree.nodes[p];
-                f.screen
-                    .iter()
-                    .zip(&own)
-                    .map(|(s, c)| {
-                        interpolate_in_polygon(&parent.screen, parent_shades, s.x, s.y)
-                            + *c * f.weight
-                    })
-                    .collect()
-            }
-            None => {
-                let base = f.blended - f.shade * f.weight;
-                own.iter().map(|c| base + *c * f.weight).collect()
-            }
-        };
-        out[n] = Some(blended);
-    }
-    out
-}
-
 /// Whether the scene has a shadow-casting light.
 pub fn has_point_light(scene: &Scene) -> bool {
     scene
@@ -610,114 +589,6 @@ pub fn needs_tree(scene: &Scene) -> bool {
                     m.reflectance > 0.0 || m.transmittance > 0.0
                 })
         })
-}
-
-/// Builds the virtual image tree and paints it with pre-blended shades.
-fn paint_tree(
-    scene: &Scene,
-    view: &View,
-    algorithm: Algorithm,
-    options: &RenderOptions,
-    mut frame: FrameBuffer,
-    mut stats: RenderStats,
-) -> Rendered {
-    let t = Instant::now();
-    let profile = crate::profile::Profile::new(options.profile);
-    let tree = crate::image_tree::build_profiled(
-        scene,
-        view,
-        crate::image_tree::TreeOptions {
-            max_level: scene.modes.max_level,
-            threshold: scene.threshold,
-            nns: algorithm == Algorithm::Nns,
-            shadows: options.shadows,
-            refraction: options.refraction,
-            explicit_shadow_shades: scene.modes.shadow_shades,
-        },
-        &profile,
-    );
-    stats.sort_time = t.elapsed();
-    stats.geometry = tree.geometry;
-    stats.max_depth = tree.max_depth;
-    let order = tree.output_order(scene.sort_order);
-    let vertex_blend = gouraud_tree_shades(scene, &tree);
-    let items: Vec<PaintItem> = order
-        .iter()
-        .enumerate()
-        .map(|(k, &n)| {
-            let f = &tree.nodes[n];
-            PaintItem {
-                points: f.screen.iter().map(|q| DVec2::new(q.x, q.y)).collect(),
-                color: f
-                    .blended
-                    .clamp(DVec3::ZERO, DVec3::ONE)
-                    .as_vec3()
-                    .to_array(),
-                id: k as u32 + 1,
-                phong: if f.kind == crate::image_tree::FragmentKind::Polygon {
-                    phong_vertices(
-                        scene,
-                        f.eye,
-                        f.object,
-                        f.polygon,
-                        f.back_facing,
-                        &f.world,
-                        f.blended - f.shade * f.weight,
-                        f.weight,
-                    )
-                } else {
-                    None
-                },
-                vertex_transparency: if vertex_blend[n].is_some() {
-                    vertex_transparency(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world)
-                } else {
-                    None
-                },
-                vertex_colors: vertex_blend[n].as_ref().map(|vs| {
-                    vs.iter()
-                        .map(|c| c.clamp(DVec3::ZERO, DVec3::ONE).as_vec3().to_array())
-                        .collect()
-                }),
-                transparency: if f.kind == crate::image_tree::FragmentKind::Polygon {
-                    // At level n the eye seen by the fragment is mapped back;
-                    // the view direction only matters for the roll-off.
-                    transparency_of(scene, view.eye, f.object, f.polygon, f.back_facing) as f32
-                } else {
-                    0.0
-                },
-            }
-        })
-        .collect();
-    stats.polygons_listed = items.len();
-    let t = Instant::now();
-    let mode = match scene.sort_order {
-        SortOrder::BackToFront => PaintMode::Overwrite,
-        SortOrder::FrontToBack => PaintMode::FirstWins,
-    };
-    stats.polygons_tiled = frame.paint(&items, mode);
-    stats.paint_time = t.elapsed();
-    profile.add(crate::profile::Category::Misc, t.elapsed());
-    let size = (frame.width, frame.height);
-    Rendered {
-        frame,
-        polygons: order
-            .iter()
-            .map(|&n| (tree.nodes[n].object, tree.nodes[n].polygon))
-            .collect(),
-        shadows: order
-            .iter()
-            .map(|&n| match tree.nodes[n].kind {
-                crate::image_tree::FragmentKind::Shadow { light } => Some(light),
-                _ => None,
-            })
-            .collect(),
-        tree: scene
-            .modes
-            .output_tree
-            .then(|| tree_file(scene, &tree, &order, &vertex_blend, size.0, size.1)),
-        profile: options.profile.then_some(profile),
-        stats,
-    }
 }
 
 /// The scene with every object replaced by its bounding box (the eight

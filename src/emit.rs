@@ -1,0 +1,274 @@
+//! The virtual image tree emitted as one stream of records (Garcia 1986,
+//! 004 section 4.10, figure 4.14): the only way image generation hands
+//! its result downstream. The picture, the tree files and the rftb
+//! programs all read what [`records`] makes.
+//!
+//! Shades (004 sections 4.8-4.10): pre-blended (`setmode b on`) a
+//! fragment carries `I_parent + k I_own`; post-blended it carries `k I_own`
+//! and the scan converter adds the parent (method 4). Faceted polygons
+//! give type-1 records, Gouraud polygons (`setmode v`) type 2, Phong
+//! polygons (`setmode s`) type 3, restore polygons type 0. A transparent
+//! polygon (section 4.9) needs its `t`, which only the Phong record holds:
+//! it is written as a Phong record, with no highlights unless it has them.
+
+use glam::{DVec3, DVec4};
+
+use crate::image_tree::{Fragment, FragmentKind, VirtualImageTree};
+use crate::scene::model::{Color, Scene, SortOrder};
+use crate::shading::{
+    interpolate_in_polygon, phong_vertices, transparency_of, vertex_shades, vertex_transparency,
+};
+use crate::tree::{PhongShades, Record, RecordStream, Shades};
+
+/// Where a record came from: for id images and tests, not for files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Source {
+    /// Object index in the scene.
+    pub object: u32,
+    /// Polygon index in the object.
+    pub polygon: u32,
+    /// The light whose shadow this is, for shadow records.
+    pub shadow_of: Option<u32>,
+}
+
+/// How to emit: order and blending, and the screen the tree was made for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Emit {
+    /// Output order.
+    pub order: SortOrder,
+    /// Pre-blended shades.
+    pub blended: bool,
+    /// Screen size in pixels (to normalize coordinates).
+    pub width: u32,
+    /// Screen height in pixels.
+    pub height: u32,
+}
+
+/// The tree as a record stream, with each record's source.
+pub fn records(
+    scene: &Scene,
+    tree: &VirtualImageTree,
+    how: Emit,
+    eye: DVec4,
+) -> (RecordStream, Vec<Source>) {
+    let order = tree.output_order(how.order);
+    let gouraud = if how.blended {
+        blended_vertex_shades(scene, tree)
+    } else {
+        Vec::new()
+    };
+    let mut records = Vec::with_capacity(order.len());
+    let mut sources = Vec::with_capacity(order.len());
+    for &n in &order {
+        let f = &tree.nodes[n];
+        let pre = gouraud.get(n).and_then(|g| g.as_deref());
+        records.push(record(scene, f, how, pre, eye));
+        sources.push(Source {
+            object: f.object,
+            polygon: f.polygon,
+            shadow_of: match f.kind {
+                FragmentKind::Shadow { light } => Some(light),
+                _ => None,
+            },
+        });
+    }
+    let stream = RecordStream {
+        records,
+        background: Some(color_bytes(scene.background)),
+        front_to_back: how.order == SortOrder::FrontToBack,
+        blended: how.blended,
+    };
+    (stream, sources)
+}
+
+/// One fragment's record.
+fn record(
+    scene: &Scene,
+    f: &Fragment,
+    how: Emit,
+    pre_gouraud: Option<&[Color]>,
+    eye: DVec4,
+) -> Record {
+    let level = f.level.min(31) as u16;
+    let points = f
+        .screen
+        .iter()
+        .map(|p| {
+            [
+                (p.x / how.width as f64) as f32,
+                (p.y / how.height as f64) as f32,
+            ]
+        })
+        .collect();
+    let shades = if f.kind == FragmentKind::Restore {
+        Shades::Special
+    } else {
+        shades(scene, f, how.blended, pre_gouraud, eye)
+    };
+    Record {
+        level,
+        points,
+        shades,
+    }
+}
+
+/// A fragment's shades: `offset + weight * own`, the offset being the
+/// parent's shade when pre-blending.
+fn shades(
+    scene: &Scene,
+    f: &Fragment,
+    blended: bool,
+    pre_gouraud: Option<&[Color]>,
+    eye: DVec4,
+) -> Shades {
+    let polygon = f.kind == FragmentKind::Polygon;
+    let (offset, weight) = if blended {
+        (f.blended - f.shade * f.weight, f.weight)
+    } else {
+        (Color::ZERO, f.weight)
+    };
+    if polygon
+        && let Some(ph) = phong_vertices(
+            scene,
+            f.eye,
+            f.object,
+            f.polygon,
+            f.back_facing,
+            &f.world,
+            offset,
+            weight,
+        )
+    {
+        let t = transparency_bytes(scene, f, eye);
+        let stride = ph.stride();
+        let vertices: Vec<&[f32]> = ph.attrs.chunks(stride).collect();
+        let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+        // One highlight colour per light (figure 4.14): the vertices' mean.
+        let light_colors = (0..ph.lights)
+            .map(|l| {
+                let mean = |c: usize| {
+                    vertices.iter().map(|v| v[6 + 6 * l + c]).sum::<f32>() / vertices.len() as f32
+                };
+                [byte(mean(0)), byte(mean(1)), byte(mean(2))]
+            })
+            .collect();
+        return Shades::Phong(PhongShades {
+            shininess: ph.shininess as f64,
+            light_colors,
+            rgbt: vertices
+                .iter()
+                .enumerate()
+                .map(|(k, v)| [byte(v[0]), byte(v[1]), byte(v[2]), t[k % t.len()]])
+                .collect(),
+            normals: vertices
+                .iter()
+                .map(|v| {
+                    (0..ph.lights)
+                        .map(|l| [v[3 + 6 * l], v[4 + 6 * l], v[5 + 6 * l]])
+                        .collect()
+                })
+                .collect(),
+        });
+    }
+    let colors: Vec<Color> = match (polygon && scene.modes.vertex_shades, pre_gouraud) {
+        (true, Some(pre)) => pre.to_vec(),
+        (true, None) => {
+            vertex_shades(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world)
+                .into_iter()
+                .map(|c| offset + c * weight)
+                .collect()
+        }
+        _ => vec![if blended { f.blended } else { f.shade * f.weight }],
+    };
+    let t = if polygon {
+        transparency_bytes(scene, f, eye)
+    } else {
+        vec![0]
+    };
+    if t.iter().any(|&v| v > 0) {
+        let n = f.screen.len();
+        return Shades::Phong(PhongShades {
+            shininess: 1.0,
+            light_colors: Vec::new(),
+            rgbt: (0..n)
+                .map(|k| {
+                    let c = color_bytes(colors[k % colors.len()]);
+                    [c[0], c[1], c[2], t[k % t.len()]]
+                })
+                .collect(),
+            normals: vec![Vec::new(); n],
+        });
+    }
+    match colors.as_slice() {
+        [one] => Shades::Faceted(color_bytes(*one)),
+        many => Shades::Gouraud(many.iter().map(|c| color_bytes(*c)).collect()),
+    }
+}
+
+/// The transparency of a polygon fragment as bytes: one per vertex with
+/// vertex shades, else one for the polygon.
+fn transparency_bytes(scene: &Scene, f: &Fragment, eye: DVec4) -> Vec<u8> {
+    let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    if scene.modes.vertex_shades
+        && let Some(ts) =
+            vertex_transparency(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world)
+    {
+        return ts.into_iter().map(|t| byte(t as f64)).collect();
+    }
+    // At level n the eye is mapped back; the view direction only matters
+    // for the roll-off.
+    vec![byte(transparency_of(
+        scene,
+        eye,
+        f.object,
+        f.polygon,
+        f.back_facing,
+    ))]
+}
+
+/// A colour, clamped, as bytes.
+pub fn color_bytes(c: Color) -> [u8; 3] {
+    let c = c.clamp(DVec3::ZERO, DVec3::ONE) * 255.0;
+    [c.x.round() as u8, c.y.round() as u8, c.z.round() as u8]
+}
+
+/// Pre-blended Gouraud vertex shades of every polygon fragment
+/// (`setmode v on`): a fragment's vertex shade is its parent's blended
+/// shade at that screen point, interpolated as in 004 figure 4.16 (along
+/// the two parent edges crossing the point's row, then across), plus `k`
+/// times its own vertex shade. `None` for other fragments, or all when
+/// vertex shades are off.
+fn blended_vertex_shades(scene: &Scene, tree: &VirtualImageTree) -> Vec<Option<Vec<Color>>> {
+    let mut out: Vec<Option<Vec<Color>>> = vec![None; tree.nodes.len()];
+    if !scene.modes.vertex_shades {
+        return out;
+    }
+    // Parents are pushed before their children.
+    for n in 0..tree.nodes.len() {
+        let f = &tree.nodes[n];
+        if f.kind != FragmentKind::Polygon {
+            continue;
+        }
+        let own = vertex_shades(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world);
+        let parent = f.parent.and_then(|p| out[p].as_ref().map(|vs| (p, vs)));
+        let blended = match parent {
+            Some((p, parent_shades)) => {
+                let parent = &tree.nodes[p];
+                f.screen
+                    .iter()
+                    .zip(&own)
+                    .map(|(s, c)| {
+                        interpolate_in_polygon(&parent.screen, parent_shades, s.x, s.y)
+                            + *c * f.weight
+                    })
+                    .collect()
+            }
+            None => {
+                let base = f.blended - f.shade * f.weight;
+                own.iter().map(|c| base + *c * f.weight).collect()
+            }
+        };
+        out[n] = Some(blended);
+    }
+    out
+}
