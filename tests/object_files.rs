@@ -19,14 +19,10 @@ fn fixture(name: &str) -> PathBuf {
 /// A geometry file of the shared benchmark scenes, if they are present.
 fn shared_det(name: &str) -> Option<PathBuf> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/scenes/det")
+        .join("tests/data/scenes/det")
         .join(name);
-    if path.exists() {
-        Some(path)
-    } else {
-        eprintln!("skipped: {} not found", path.display());
-        None
-    }
+    assert!(path.exists(), "missing fixture {}", path.display());
+    Some(path)
 }
 
 /// (line, column, message) of an input error.

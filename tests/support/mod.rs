@@ -153,10 +153,16 @@ pub fn painted_ids(r: &plytrace::render::Rendered) -> Vec<Option<(u32, u32)>> {
         .collect()
 }
 
-/// Path of a scene in `../shared/scenes`, if that folder exists.
+/// Path of a benchmark scene copied into `tests/data/scenes`; a missing
+/// fixture fails loudly (never skips).
 pub fn shared_scene(name: &str) -> Option<std::path::PathBuf> {
     let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/scenes")
+        .join("tests/data/scenes")
         .join(name);
-    p.is_file().then_some(p)
+    assert!(
+        p.is_file(),
+        "missing fixture {}: the benchmark scenes are copied into tests/data/scenes",
+        p.display()
+    );
+    Some(p)
 }
