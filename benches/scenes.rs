@@ -1,17 +1,22 @@
 //! `cargo bench`: for the bundled example and every scene of
-//! `../shared/scenes` (when that folder exists):
+//! `tests/data/scenes` (copies of `../shared/scenes`):
 //!
 //! * `parse`: reading the .des and .det files;
 //! * `render/<algorithm>`: geometry, visibility, shading and painting at the
 //!   scene's own resolution, for every visible-surface algorithm;
 //! * `nns-sort-1-thread`: the NNS sort alone (face splitting included) on
-//!   one thread, the figure the part 2 issue asks for.
+//!   one thread, the figure the part 2 issue asks for;
+//! * `tree-*`: the virtual image tree with 0, 1 and 2 shadow lights;
+//! * `aa-*`: every scan conversion method at 512 x 512 on mirror, gallery
+//!   and office2 with their shadow lights (the peak and total pixel-fragments
+//!   of method 4 are printed once per scene).
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
 use plytrace::geometry::view::{self, GeometryStats, View};
+use plytrace::raster::scan::Method;
 use plytrace::render::{RenderOptions, render, scene_scale};
 use plytrace::visibility::Algorithm;
 use plytrace::visibility::nns::{self, NnsFace};
@@ -19,7 +24,7 @@ use plytrace::visibility::nns::{self, NnsFace};
 fn scenes() -> Vec<(String, PathBuf)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut v = vec![("example-ccube".to_string(), root.join("examples/ccube.des"))];
-    if let Ok(dir) = std::fs::read_dir(root.join("../shared/scenes")) {
+    if let Ok(dir) = std::fs::read_dir(root.join("tests/data/scenes")) {
         let mut found: Vec<PathBuf> = dir
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| p.extension().is_some_and(|e| e == "des"))
@@ -74,12 +79,16 @@ fn bench(c: &mut Criterion) {
             if algorithm == Algorithm::Brown {
                 continue; // only meaningful for well-tesselated surfaces
             }
+            // Level 1, point sampled: what every algorithm can render.
+            let mut level1 = scene.clone();
+            level1.modes.max_level = 1;
             let options = RenderOptions {
                 visibility: Some(algorithm),
+                aa: Some(Method::Point),
                 ..RenderOptions::default()
             };
             group.bench_function(format!("render/{alg_name}"), |b| {
-                b.iter(|| render(&scene, &options).unwrap())
+                b.iter(|| render(&level1, &options).unwrap())
             });
         }
         let (w, h) = (scene.viewport.width(), scene.viewport.height());
@@ -101,7 +110,7 @@ fn bench(c: &mut Criterion) {
 /// 6.1 (mirror, gallery, office1, office2) with no shadows, one and two
 /// shadow-casting lights (the first Point lights; Diffuse lights kept).
 fn tree(c: &mut Criterion) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes");
     for name in ["mirror", "gallery", "office1", "office2"] {
         let path = root.join(format!("{name}.des"));
         if !path.is_file() {
@@ -134,5 +143,46 @@ fn tree(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench, tree);
+/// Every scan conversion method at 512 x 512, shadows on (part 4: total
+/// time per method; pixels per second = 262144 / time).
+fn antialiasing(c: &mut Criterion) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes");
+    let methods = [
+        ("none", Method::Point),
+        ("area", Method::Area),
+        ("mask", Method::Mask),
+        ("hybrid", Method::Hybrid),
+        ("multilevel", Method::Multilevel),
+        ("donovan-4", Method::Supersample(4)),
+        ("donovan-8", Method::Supersample(8)),
+    ];
+    for name in ["mirror", "gallery", "office2"] {
+        let scene = plytrace::scene::load(&root.join(format!("{name}.des")))
+            .unwrap()
+            .0;
+        let mut group = c.benchmark_group(format!("aa-{name}"));
+        group.sample_size(10);
+        group.warm_up_time(Duration::from_millis(500));
+        group.measurement_time(Duration::from_secs(3));
+        for (label, method) in methods {
+            let options = RenderOptions {
+                size: Some((512, 512)),
+                shadows: true,
+                aa: Some(method),
+                ..RenderOptions::default()
+            };
+            let once = render(&scene, &options).unwrap();
+            eprintln!(
+                "aa-{name}/{label}: {} polygons tiled, peak {} fragments, {} in all",
+                once.stats.polygons_tiled,
+                once.stats.scan.peak_fragments,
+                once.stats.scan.total_fragments
+            );
+            group.bench_function(label, |b| b.iter(|| render(&scene, &options).unwrap()));
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, bench, tree, antialiasing);
 criterion_main!(benches);

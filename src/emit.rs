@@ -172,13 +172,15 @@ fn shades(
     }
     let colors: Vec<Color> = match (polygon && scene.modes.vertex_shades, pre_gouraud) {
         (true, Some(pre)) => pre.to_vec(),
-        (true, None) => {
-            vertex_shades(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world)
-                .into_iter()
-                .map(|c| offset + c * weight)
-                .collect()
-        }
-        _ => vec![if blended { f.blended } else { f.shade * f.weight }],
+        (true, None) => vertex_shades(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world)
+            .into_iter()
+            .map(|c| offset + c * weight)
+            .collect(),
+        _ => vec![if blended {
+            f.blended
+        } else {
+            f.shade * f.weight
+        }],
     };
     let t = if polygon {
         transparency_bytes(scene, f, eye)

@@ -157,7 +157,11 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
                 let v = value("N from 1 to 16")?;
                 match v.parse::<u32>() {
                     Ok(n @ 1..=16) => o.aa = Some(plytrace::raster::scan::Method::Supersample(n)),
-                    _ => return Err(format!("--supersample: expected N from 1 to 16, found `{v}`")),
+                    _ => {
+                        return Err(format!(
+                            "--supersample: expected N from 1 to 16, found `{v}`"
+                        ));
+                    }
                 }
             }
             "--threads" => {

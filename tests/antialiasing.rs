@@ -99,7 +99,10 @@ fn check(name: &str) {
     let (grid4, _) = oracle(&scene, 4);
     let ideal = edge_error(&grid4, &reference, &edge);
     let default = edge_error(
-        &rendered(&scene, plytrace::render::best_method(&RenderOptions::default())),
+        &rendered(
+            &scene,
+            plytrace::render::best_method(&RenderOptions::default()),
+        ),
         &reference,
         &edge,
     );

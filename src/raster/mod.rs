@@ -3,5 +3,5 @@
 //! rftb1-rftb4) come later and read the same polygons.
 
 pub mod frame_buffer;
-pub mod tiler;
 pub mod scan;
+pub mod tiler;

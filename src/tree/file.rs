@@ -129,7 +129,11 @@ impl RecordStream {
             _ => {
                 return Err(err(format!(
                     "record {}: level 0 is only for the background record, first or last",
-                    zeros.iter().find(|&&i| i != 0 && i + 1 != records.len()).unwrap_or(&zeros[1]) + 1
+                    zeros
+                        .iter()
+                        .find(|&&i| i != 0 && i + 1 != records.len())
+                        .unwrap_or(&zeros[1])
+                        + 1
                 )));
             }
         }
