@@ -120,9 +120,33 @@ pub fn chosen_algorithm(scene: &Scene, options: &RenderOptions) -> Algorithm {
     })
 }
 
-/// Renders `scene`. With `setmode p on` every object is replaced by its
-/// bounding box (004 appendix, SETMODE COMMANDS).
+/// Renders `scene` into a frame buffer.
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
+    match plan(scene, options)? {
+        Plan::Tree(prepared) => {
+            let (w, h) = (prepared.scan.width, prepared.scan.height);
+            let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
+            let rendered = scan_into(*prepared, &mut FrameSink { frame: &mut frame })?;
+            Ok(rendered.with_frame(frame))
+        }
+        Plan::Painted(rendered) => Ok(*rendered),
+    }
+}
+
+/// What a render comes to before its pixels: a tree ready for scan
+/// conversion into any [`RowSink`] (the list-priority algorithms), or an
+/// image already painted (the image-space algorithms and Brown's order).
+pub enum Plan {
+    /// Records to scan convert.
+    Tree(Box<Prepared>),
+    /// A finished image.
+    Painted(Box<Rendered>),
+}
+
+/// Prepares the render of `scene`. With `setmode p on` every object is
+/// replaced by its bounding box and nothing is reflected or refracted
+/// (004 appendix, SETMODE COMMANDS).
+pub fn plan(scene: &Scene, options: &RenderOptions) -> Result<Plan> {
     if scene.modes.boxes_only {
         let boxes = bounding_box_scene(scene);
         let mut plain = *options;
@@ -133,7 +157,8 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
         );
         let mut boxes = boxes;
         boxes.modes.boxes_only = false;
-        return render(&boxes, &plain);
+        boxes.modes.max_level = 1;
+        return plan(&boxes, &plain);
     }
     let (width, height) = options
         .size
@@ -151,22 +176,20 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     };
     if matches!(algorithm, Algorithm::DepthSort | Algorithm::Nns) {
         let prepared = prepare(scene, &view, algorithm, options, stats);
-        let mut frame = FrameBuffer::new(width, height, [0.0; 3]);
-        let rendered = scan_into(prepared, &mut FrameSink { frame: &mut frame })?;
-        return Ok(rendered.with_frame(frame));
+        return Ok(Plan::Tree(Box::new(prepared)));
     }
     refuse_tree_effects(scene, options, algorithm)?;
     let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
     if algorithm == Algorithm::RayCast {
         let polygons = ray_cast(scene, &view, &mut frame, &mut stats);
-        return Ok(Rendered {
+        return Ok(Plan::Painted(Box::new(Rendered {
             frame,
             polygons,
             shadows: Vec::new(),
             tree: None,
             profile: None,
             stats,
-        });
+        })));
     }
 
     let t = Instant::now();
@@ -309,14 +332,14 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     };
     stats.paint_time = t.elapsed();
 
-    Ok(Rendered {
+    Ok(Plan::Painted(Box::new(Rendered {
         frame,
         polygons: sorted.iter().map(|(_, id, _)| *id).collect(),
         shadows: Vec::new(),
         tree: None,
         profile: None,
         stats,
-    })
+    })))
 }
 
 /// The method `options` ask for, or the best for the scene: multi-level

@@ -394,5 +394,8 @@ fn light_kinds_and_tree_output_do_not_change_the_picture() {
     with_tree.modes.output_tree = true;
     let tree = render(&with_tree, &options).unwrap();
     assert!(tree.tree.is_some());
-    assert_eq!(tree.frame.color, point.frame.color, "-o on changed the picture");
+    assert_eq!(
+        tree.frame.color, point.frame.color,
+        "-o on changed the picture"
+    );
 }
