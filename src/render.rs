@@ -633,6 +633,7 @@ fn paint_tree(
             shadows: options.shadows,
             refraction: options.refraction,
             explicit_shadow_shades: scene.modes.shadow_shades,
+            ..Default::default()
         },
         &profile,
     );

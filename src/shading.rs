@@ -54,6 +54,17 @@ impl Material {
     }
 }
 
+/// Which illumination model shades the polygons.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ShadingModel {
+    /// Garcia's (Phong's) model of 004 section 4.8: see [`shade`].
+    #[default]
+    Garcia,
+    /// Donovan's scattering and specular rules (000 section 6, rules (1)
+    /// and (2)): see [`shade_donovan`].
+    Donovan,
+}
+
 /// The range attenuation k(j) of a light at distance `d`.
 pub fn range_attenuation(d: f64, range: f64) -> f64 {
     let k = (1.0 - d / range).max(0.0);
@@ -93,6 +104,65 @@ pub fn shade(
             term += DVec3::splat(m.specular * n_dot_h.powf(m.shininess));
         }
         c += light.color * term * k;
+    }
+    c.clamp(DVec3::ZERO, DVec3::ONE)
+}
+
+/// The intensity at `p` under `model` (see [`shade`] and
+/// [`shade_donovan`]).
+pub fn shade_with_model(
+    model: ShadingModel,
+    m: &Material,
+    p: DVec3,
+    n: DVec3,
+    to_eye: DVec3,
+    lights: &[Light],
+    ambient: Color,
+) -> Color {
+    match model {
+        ShadingModel::Garcia => shade(m, p, n, to_eye, lights, ambient),
+        ShadingModel::Donovan => shade_donovan(m, p, n, to_eye, lights, ambient),
+    }
+}
+
+/// Donovan's shader (000 section 6), per light: rule (1), scattering,
+/// `I0 cos^a(theta)` with `a = 1`, and rule (2), specular reflection,
+/// `I1 cos^b(theta - theta1)` with `b` the surface shininess; `theta` is
+/// the angle between the normal `n` and the direction to the light,
+/// `theta1` the angle between the normal and the direction to the eye.
+/// `I0` is the light colour times the diffuse coefficient times the surface
+/// colour ("proportional to the intensity of the light source and the
+/// reflectance of the face"), `I1` the light colour times the specular
+/// coefficient. Donovan's source is distant (parallel rays), so there is no
+/// range attenuation; a light behind the face (`theta >= 90` degrees)
+/// gives nothing, and neither does rule (2) past `|theta - theta1| >= 90`
+/// degrees. The ambient term is Garcia's, `ka Ia` times the surface
+/// colour. Clamped to 0..1.
+pub fn shade_donovan(
+    m: &Material,
+    p: DVec3,
+    n: DVec3,
+    to_eye: DVec3,
+    lights: &[Light],
+    ambient: Color,
+) -> Color {
+    let mut c = m.color * ambient * m.ambient_coefficient();
+    let theta1 = n.dot(to_eye).clamp(-1.0, 1.0).acos();
+    for light in lights {
+        let Some(l) = (light.position - p).try_normalize() else {
+            continue;
+        };
+        let cos_theta = n.dot(l).clamp(-1.0, 1.0);
+        if cos_theta <= 0.0 {
+            continue;
+        }
+        // Rule (1), a = 1.
+        c += light.color * m.color * (m.diffuse * cos_theta);
+        // Rule (2).
+        let cos_spec = (cos_theta.acos() - theta1).cos();
+        if m.specular > 0.0 && cos_spec > 0.0 {
+            c += light.color * (m.specular * cos_spec.powf(m.shininess));
+        }
     }
     c.clamp(DVec3::ZERO, DVec3::ONE)
 }
@@ -424,6 +494,30 @@ pub fn facet_shade_with(
     lights: &[crate::scene::model::Light],
     at: Option<DVec3>,
 ) -> Color {
+    facet_shade_with_model(
+        scene,
+        eye,
+        object,
+        polygon,
+        back,
+        lights,
+        at,
+        ShadingModel::Garcia,
+    )
+}
+
+/// [`facet_shade_with`] under a given illumination model.
+#[allow(clippy::too_many_arguments)]
+pub fn facet_shade_with_model(
+    scene: &Scene,
+    eye: DVec4,
+    object: u32,
+    polygon: u32,
+    back: bool,
+    lights: &[crate::scene::model::Light],
+    at: Option<DVec3>,
+    model: ShadingModel,
+) -> Color {
     let object = &scene.objects[object as usize];
     let pi = polygon as usize;
     let polygon = &object.polygons[pi];
@@ -445,7 +539,15 @@ pub fn facet_shade_with(
         polygon.normal()
     };
     let to_eye = crate::geometry::view::direction_to_eye(eye, centroid);
-    shade(&material, centroid, normal, to_eye, lights, scene.ambient)
+    shade_with_model(
+        model,
+        &material,
+        centroid,
+        normal,
+        to_eye,
+        lights,
+        scene.ambient,
+    )
 }
 
 #[cfg(test)]
