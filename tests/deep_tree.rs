@@ -127,19 +127,32 @@ fn inside(screen: &[DVec3], x: f64, y: f64) -> bool {
 /// polygon, and whether a shadow polygon covers it.
 type Painted = ((u32, u32, u32), bool);
 
-/// The tree painted back to front at each pixel centre (rows from the
-/// top): the last fragment hit wins; a shadow polygon shows its target.
-fn painted(tree: &VirtualImageTree, size: u32) -> Vec<Option<Painted>> {
+/// The last fragment hit at each pixel centre (rows from the top) when
+/// the tree is painted back to front.
+fn painted_fragments(tree: &VirtualImageTree, size: u32) -> Vec<Option<usize>> {
     let order = tree.output_order(SortOrder::BackToFront);
     let mut out = Vec::new();
     for row in 0..size {
         for col in 0..size {
             let (x, y) = (col as f64 + 0.5, size as f64 - (row as f64 + 0.5));
-            let last = order
-                .iter()
-                .copied()
-                .rfind(|&n| inside(&tree.nodes[n].screen, x, y));
-            out.push(last.map(|n| {
+            out.push(
+                order
+                    .iter()
+                    .copied()
+                    .rfind(|&n| inside(&tree.nodes[n].screen, x, y)),
+            );
+        }
+    }
+    out
+}
+
+/// The tree painted back to front at each pixel centre (rows from the
+/// top): the last fragment hit wins; a shadow polygon shows its target.
+fn painted(tree: &VirtualImageTree, size: u32) -> Vec<Option<Painted>> {
+    painted_fragments(tree, size)
+        .into_iter()
+        .map(|last| {
+            last.map(|n| {
                 let f = &tree.nodes[n];
                 let shadow = matches!(f.kind, FragmentKind::Shadow { .. });
                 let target = if shadow {
@@ -148,10 +161,9 @@ fn painted(tree: &VirtualImageTree, size: u32) -> Vec<Option<Painted>> {
                     f
                 };
                 ((target.object, target.polygon, target.level), shadow)
-            }));
-        }
-    }
-    out
+            })
+        })
+        .collect()
 }
 
 /// Pixels compared: all, at level 2 or deeper, at level 3 or deeper, and
@@ -268,4 +280,144 @@ fn facing_mirrors_to_depth_four_agree_with_the_oracle() {
     let c = compare(&box_between_mirrors(4), 128, 4);
     assert_agrees("box between mirrors", &c);
     assert!(c.deeper > 200 && c.deeper_shadowed > 20, "{c:?}");
+}
+
+/// A box on a floor lit by two Point lights whose shadows overlap.
+fn box_under_two_lights() -> Scene {
+    load(
+        1,
+        "polarview 14 30 40 0\n\
+         light 3 -1.5 5 0.6 0.6 0.6 100 Point\n\
+         light 3 1.5 5 0.6 0.6 0.6 100 Point\n\
+         defobj square\n scale 6 6 1\nendobj\n\
+         defobj cube\n translate 0 0 1.01\nendobj\n",
+    )
+}
+
+/// Overlapping shadows of two lights (beyond 004 section 4.10's limit):
+/// the overlap is a region shaded without both lights, painted over the
+/// single shadows back to front and before them front to back; and at
+/// every uniform pixel the painter shows the region of exactly the lights
+/// the shadow rays say are blocked.
+#[test]
+fn overlapping_shadows_of_two_lights() {
+    let scene = box_under_two_lights();
+    let size = 96;
+    let view = View::new(&scene, size, size).unwrap();
+    let tree = image_tree::build(
+        &scene,
+        &view,
+        TreeOptions {
+            nns: true,
+            shadows: true,
+            ..Default::default()
+        },
+    );
+    let both: Vec<usize> = (0..tree.nodes.len())
+        .filter(|&n| tree.nodes[n].shadowed_from == [0, 1])
+        .collect();
+    assert!(!both.is_empty(), "no overlap region");
+    for &n in &both {
+        let f = &tree.nodes[n];
+        assert_eq!(f.kind, FragmentKind::Shadow { light: 0 });
+        let without_both = plytrace::shading::facet_shade_with(
+            &scene,
+            f.eye,
+            f.object,
+            f.polygon,
+            f.back_facing,
+            &[],
+            None,
+        );
+        assert!((f.shade - without_both).length() < 1e-12, "{}", f.shade);
+        // Darker than the target without one light only.
+        let without_one = plytrace::shading::facet_shade_with(
+            &scene,
+            f.eye,
+            f.object,
+            f.polygon,
+            f.back_facing,
+            &scene.lights[1..],
+            None,
+        );
+        assert!(f.shade.length() < without_one.length());
+    }
+    assert_overlap_order(&tree, &both);
+    assert_overlap_pixels(&scene, &tree, size);
+}
+
+/// Back to front every overlap region comes after the single shadows on its
+/// target; front to back before them.
+fn assert_overlap_order(tree: &VirtualImageTree, both: &[usize]) {
+    for order in [SortOrder::BackToFront, SortOrder::FrontToBack] {
+        let seq = tree.output_order(order);
+        let at = |n: usize| seq.iter().position(|&m| m == n).unwrap();
+        for &n in both {
+            let parent = tree.nodes[n].parent;
+            for (m, g) in tree.nodes.iter().enumerate() {
+                if g.parent == parent && g.shadowed_from.len() == 1 {
+                    let after = at(n) > at(m);
+                    assert_eq!(after, order == SortOrder::BackToFront, "{order:?}");
+                }
+            }
+        }
+    }
+}
+
+/// At uniform pixels on the floor, the painted shadow's light set is the
+/// set of lights whose shadow rays are blocked.
+fn assert_overlap_pixels(scene: &Scene, tree: &VirtualImageTree, size: u32) {
+    let caster = RayCaster::new(scene);
+    let mut want = Vec::new();
+    for row in 0..size {
+        for col in 0..size {
+            let x = (col as f64 + 0.5) / size as f64 * 2.0 - 1.0;
+            let y = 1.0 - (row as f64 + 0.5) / size as f64 * 2.0;
+            let (o, d) = caster.ray(x, y).unwrap();
+            want.push(caster.cast(o, d).filter(|h| h.object == 0).map(|h| {
+                let p = o + d * h.t;
+                (0..2u32)
+                    .filter(|&j| {
+                        let light = scene.lights[j as usize].position;
+                        caster.occluded(light, p, (0, 0), Some(0))
+                    })
+                    .collect::<Vec<u32>>()
+            }));
+        }
+    }
+    let got = painted_fragments(tree, size);
+    let s = size as i64;
+    let (mut checked, mut overlap, mut bad) = (0, 0, Vec::new());
+    for y in 0..s {
+        for x in 0..s {
+            let k = (y * s + x) as usize;
+            let Some(w) = &want[k] else { continue };
+            let uniform = (-1..=1).all(|dy: i64| {
+                (-1..=1).all(|dx: i64| {
+                    let (nx, ny) = (x + dx, y + dy);
+                    nx < 0
+                        || ny < 0
+                        || nx >= s
+                        || ny >= s
+                        || want[(ny * s + nx) as usize] == want[k]
+                })
+            });
+            if !uniform {
+                continue;
+            }
+            checked += 1;
+            overlap += (w.len() == 2) as usize;
+            let g = got[k].map(|n| &tree.nodes[n].shadowed_from);
+            if g != Some(w) {
+                bad.push((x, y, w.clone(), g.cloned()));
+            }
+        }
+    }
+    assert!(checked > 1000 && overlap > 20, "{checked} {overlap}");
+    assert!(
+        bad.is_empty(),
+        "{} of {checked}: {:?}",
+        bad.len(),
+        &bad[..bad.len().min(5)]
+    );
 }
