@@ -421,3 +421,53 @@ fn assert_overlap_pixels(scene: &Scene, tree: &VirtualImageTree, size: u32) {
         &bad[..bad.len().min(5)]
     );
 }
+
+/// `TreeOptions::shading` selects the illumination model of every
+/// fragment's shade, reflected ones and shadows included (Donovan 000
+/// section 6 rules (1) and (2), or Garcia's 004 section 4.8).
+#[test]
+fn the_tree_shades_with_the_selected_model() {
+    use plytrace::shading::{ShadingModel, facet_shade_with_model};
+    let scene = box_beside_mirror();
+    let view = View::new(&scene, 64, 64).unwrap();
+    let mut differ = 0;
+    for model in [ShadingModel::Garcia, ShadingModel::Donovan] {
+        let tree = image_tree::build(
+            &scene,
+            &view,
+            TreeOptions {
+                max_level: 2,
+                nns: true,
+                shadows: true,
+                shading: model,
+                ..Default::default()
+            },
+        );
+        assert!(tree.nodes.iter().any(|f| f.level == 2));
+        for f in &tree.nodes {
+            let lights: Vec<_> = (0..scene.lights.len() as u32)
+                .filter(|j| !f.shadowed_from.contains(j))
+                .map(|j| scene.lights[j as usize])
+                .collect();
+            let shade = |m| {
+                facet_shade_with_model(
+                    &scene,
+                    f.eye,
+                    f.object,
+                    f.polygon,
+                    f.back_facing,
+                    &lights,
+                    None,
+                    m,
+                )
+            };
+            assert!((f.shade - shade(model)).length() < 1e-12);
+            let other = match model {
+                ShadingModel::Garcia => ShadingModel::Donovan,
+                ShadingModel::Donovan => ShadingModel::Garcia,
+            };
+            differ += ((shade(other) - f.shade).length() > 1e-6) as usize;
+        }
+    }
+    assert!(differ > 10, "{differ}");
+}
