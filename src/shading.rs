@@ -375,10 +375,14 @@ fn rotate_to_z(h: DVec3, v: DVec3) -> DVec3 {
 }
 
 /// Gouraud vertex shades (004 section 4.8): the illumination model at each
-/// world point of a polygon (or a piece of it) with the vertex normal,
-/// interpolated along the original polygon's edges for `type curved`
-/// objects, or the polygon's own normal otherwise; `.vcl` vertex colours
-/// are interpolated the same way.
+/// vertex of the original polygon with the vertex normal (for `type
+/// curved` objects, else the polygon's own normal) and its `.vcl` colour.
+/// A point of a piece that lies on an edge of the original polygon (a
+/// vertex made by clipping or by the NNS splitter) gets the linear
+/// interpolation of the shades at the edge's ends, as Donovan requires of
+/// the face splitter (000 section 6: "compute a correct intensity value for
+/// the vertex it creates"), so no seam shows along the edge; other points
+/// get the model evaluated there.
 pub fn vertex_shades(
     scene: &Scene,
     eye: DVec4,
@@ -389,16 +393,26 @@ pub fn vertex_shades(
 ) -> Vec<Color> {
     let o = &scene.objects[object as usize];
     let pi = polygon as usize;
+    let model_at = |p: DVec3| {
+        let material = material_at(o, pi, p);
+        if o.surface_type.ltsrc {
+            return material.color;
+        }
+        let n = vertex_normal_at(o, pi, back, p);
+        let to_eye = crate::geometry::view::direction_to_eye(eye, p);
+        shade(&material, p, n, to_eye, &scene.lights, scene.ambient)
+    };
     world
         .iter()
         .map(|&p| {
-            let material = material_at(o, pi, p);
-            if o.surface_type.ltsrc {
-                return material.color;
+            let (ia, ib, t) = edge_position(o, pi, p);
+            let (a, b) = (o.vertices[ia], o.vertices[ib]);
+            let on_edge = (a + (b - a) * t).distance(p) <= 1e-7 * a.distance(b);
+            if !on_edge {
+                return model_at(p);
             }
-            let n = vertex_normal_at(o, pi, back, p);
-            let to_eye = crate::geometry::view::direction_to_eye(eye, p);
-            shade(&material, p, n, to_eye, &scene.lights, scene.ambient)
+            let (sa, sb) = (model_at(a), model_at(b));
+            sa + (sb - sa) * t
         })
         .collect()
 }

@@ -471,3 +471,65 @@ fn the_tree_shades_with_the_selected_model() {
     }
     assert!(differ > 10, "{differ}");
 }
+
+/// Two squares piercing each other, close to a Point light: the NNS sorter
+/// must split them.
+fn crossed_squares() -> Scene {
+    load(
+        1,
+        "polarview 10 30 50 0\n\
+         light 1 -1 2 1 1 1 6 Point\n\
+         defobj square\n scale 3 3 1\nendobj\n\
+         defobj square\n translate 0 0.5 0\n rotate 90 x\n scale 2 2 1\nendobj\n",
+    )
+}
+
+/// Donovan (000 section 6): "if Gouraud's method is used, then the face
+/// splitting routine, when it splits type D edges, should compute a correct
+/// intensity value for the vertex it creates": the vertex shade at a vertex
+/// made by the NNS splitter is the linear interpolation of the shades at
+/// the ends of the original edge it lies on (so no seam appears along it).
+#[test]
+fn split_vertices_get_interpolated_gouraud_shades() {
+    use plytrace::shading::vertex_shades;
+    use plytrace::visibility::nns;
+    let scene = crossed_squares();
+    let view = View::new(&scene, 64, 64).unwrap();
+    let faces: Vec<nns::NnsFace> = scene
+        .objects
+        .iter()
+        .enumerate()
+        .flat_map(|(oi, o)| {
+            o.polygons
+                .iter()
+                .enumerate()
+                .map(move |(pi, p)| nns::NnsFace {
+                    object: oi as u32,
+                    polygon: pi as u32,
+                    world: p.indices.iter().map(|&i| o.vertices[i as usize]).collect(),
+                })
+        })
+        .collect();
+    let (sorted, _) = nns::sort(faces, &view, 1e-9);
+    assert!(sorted.len() > 2, "nothing was split");
+    let mut split = 0;
+    for f in &sorted {
+        let o = &scene.objects[f.object as usize];
+        let idx = &o.polygons[f.polygon as usize].indices;
+        let shade = |p: DVec3| vertex_shades(&scene, view.eye, f.object, f.polygon, false, &[p])[0];
+        for &p in &f.world {
+            for k in 0..idx.len() {
+                let a = o.vertices[idx[k] as usize];
+                let b = o.vertices[idx[(k + 1) % idx.len()] as usize];
+                let t = (p - a).dot(b - a) / (b - a).length_squared();
+                let on_edge = (a + (b - a) * t).distance(p) < 1e-9 && t > 1e-6 && t < 1.0 - 1e-6;
+                if on_edge {
+                    split += 1;
+                    let lerp = shade(a) + (shade(b) - shade(a)) * t;
+                    assert!((shade(p) - lerp).length() < 1e-9, "{} vs {lerp}", shade(p));
+                }
+            }
+        }
+    }
+    assert!(split >= 2, "{split}");
+}
