@@ -1153,6 +1153,16 @@ pub fn overlap_regions(
 /// `normal`): `a` clipped to the planes perpendicular to it through the
 /// edges of each convex part of `b`. Pieces of no area are dropped.
 pub fn intersect_in_plane(a: &[DVec3], b: &[DVec3], normal: DVec3, eps: f64) -> Vec<Vec<DVec3>> {
+    let bounds = |p: &[DVec3]| {
+        p.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), q| (lo.min(*q), hi.max(*q)),
+        )
+    };
+    let ((alo, ahi), (blo, bhi)) = (bounds(a), bounds(b));
+    if (alo - DVec3::splat(eps)).cmpgt(bhi).any() || (blo - DVec3::splat(eps)).cmpgt(ahi).any() {
+        return Vec::new();
+    }
     let mut out = Vec::new();
     for part in polygon::triangulate_if_needed(b) {
         let centre = part.iter().copied().sum::<DVec3>() / part.len() as f64;

@@ -344,6 +344,34 @@ fn overlapping_shadows_of_two_lights() {
     }
     assert_overlap_order(&tree, &both);
     assert_overlap_pixels(&scene, &tree, size);
+    // `setmode h on`: each region shaded at its own centroid, still without
+    // both lights.
+    let tree = image_tree::build(
+        &scene,
+        &view,
+        TreeOptions {
+            nns: true,
+            shadows: true,
+            explicit_shadow_shades: true,
+            ..Default::default()
+        },
+    );
+    let mut count = 0;
+    for f in tree.nodes.iter().filter(|f| f.shadowed_from == [0, 1]) {
+        count += 1;
+        let at = f.virtual_points.iter().copied().sum::<DVec3>() / f.virtual_points.len() as f64;
+        let want = plytrace::shading::facet_shade_with(
+            &scene,
+            f.eye,
+            f.object,
+            f.polygon,
+            f.back_facing,
+            &[],
+            Some(at),
+        );
+        assert!((f.shade - want).length() < 1e-12);
+    }
+    assert!(count > 0);
 }
 
 /// Back to front every overlap region comes after the single shadows on its
