@@ -22,7 +22,9 @@
 //! followed by its reflected sub-tree, then (after a restore copy of the
 //! polygon, when both exist) its refracted sub-tree: for a cube on a
 //! mirror, `P11, P21, P22, P23, P12, P13, P14`. Front to back, sub-trees
-//! come before their polygon: `P12, P13, P14, P21, P22, P23, P11`.
+//! come before their polygon: `P12, P13, P14, P21, P22, P23, P11`; shadow
+//! polygons come between the sub-trees and their target (004 section 5.9:
+//! `P12, P13, P14, P21, P22, P23, S1, S2, S3, P11`).
 //! Pre-blended shades (`setmode b on`, and always for painting) are
 //! `I_child = I_parent + k I_child_own`, `k` the product of the
 //! coefficients on the path.
@@ -40,7 +42,7 @@ use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
 use crate::profile::{Category, Profile};
 use crate::scene::model::{Color, Scene, SortOrder};
-use crate::shading::{facet_shade_from, facet_shade_with, polygon_material};
+use crate::shading::{ShadingModel, facet_shade_with_model, polygon_material};
 use crate::visibility::{depth_sort, nns};
 
 /// What a fragment of the tree is.
@@ -103,8 +105,13 @@ pub struct Fragment {
     pub world: Vec<DVec3>,
     /// The eye in true world coordinates, as this fragment sees it.
     pub eye: DVec4,
-    /// Children in back-to-front order: reflected branch, then refracted.
+    /// Children in back-to-front order: shadow polygons, the reflected
+    /// branch, then the refracted.
     pub children: Vec<usize>,
+    /// For shadow polygons, every light (indices into `Scene::lights`,
+    /// increasing) the region is shadowed from; the first is the one in
+    /// [`FragmentKind::Shadow`]. Empty for other fragments.
+    pub shadowed_from: Vec<u32>,
 }
 
 /// The virtual image tree of a view.
@@ -139,6 +146,9 @@ impl VirtualImageTree {
         out
     }
 
+    /// Back to front (004 section 4.10): the polygon, its shadow polygons
+    /// (fewest lights first, so the painter leaves the most shadowed overlap
+    /// regions on top), then its reflected and refracted sub-trees.
     fn back_to_front(&self, n: usize, out: &mut Vec<usize>) {
         out.push(n);
         for &c in &self.nodes[n].children {
@@ -146,11 +156,28 @@ impl VirtualImageTree {
         }
     }
 
+    /// Front to back (004 section 5.9, figure 5.14): the reflected and
+    /// refracted sub-trees (and the restore copy between them) first, each
+    /// run of a level list reversed, then the polygon's shadow polygons
+    /// (reversed: the most shadowed overlap regions first), then the
+    /// polygon: `P12, P13, P14, P21, P22, P23, S1, S2, S3, P11`.
     fn front_to_back(&self, n: usize, out: &mut Vec<usize>) {
-        // Within a level list, front to back is the reverse order; the
-        // sub-trees precede their polygon.
         let kids = &self.nodes[n].children;
-        // Children form runs per branch, each back to front: reverse each.
+        let (shadows, branches): (Vec<usize>, Vec<usize>) = kids
+            .iter()
+            .partition(|&&c| self.nodes[c].branch == Branch::Shadow);
+        for run in self.branch_runs(&branches) {
+            for &c in run.iter().rev() {
+                self.front_to_back(c, out);
+            }
+        }
+        out.extend(shadows.iter().rev());
+        out.push(n);
+    }
+
+    /// Children split into runs per branch, each back to front; a restore
+    /// copy starts a new run.
+    fn branch_runs(&self, kids: &[usize]) -> Vec<Vec<usize>> {
         let mut runs: Vec<Vec<usize>> = Vec::new();
         for &c in kids {
             let start_new = runs.last().is_none_or(|r: &Vec<usize>| {
@@ -162,12 +189,7 @@ impl VirtualImageTree {
             }
             runs.last_mut().expect("pushed").push(c);
         }
-        for run in runs {
-            for &c in run.iter().rev() {
-                self.front_to_back(c, out);
-            }
-        }
-        out.push(n);
+        runs
     }
 }
 
@@ -216,6 +238,25 @@ pub struct TreeOptions {
     /// off: all shadows of one light on one target share the target's
     /// shade without that light (004 section 4.7).
     pub explicit_shadow_shades: bool,
+    /// The illumination model of the fragments' shades (Garcia's, 004
+    /// section 4.8, by default; or Donovan's, 000 section 6).
+    pub shading: ShadingModel,
+}
+
+impl Default for TreeOptions {
+    /// One level, no threshold, the simple sort, no shadows, the
+    /// linearized refraction matrix, shared shadow shades, Garcia's model.
+    fn default() -> TreeOptions {
+        TreeOptions {
+            max_level: 1,
+            threshold: 0.0,
+            nns: false,
+            shadows: false,
+            refraction: Refraction::default(),
+            explicit_shadow_shades: false,
+            shading: ShadingModel::default(),
+        }
+    }
 }
 
 struct Builder<'a> {
@@ -497,7 +538,16 @@ impl Builder<'_> {
         for c in self.sort(candidates) {
             let own = {
                 let _t = self.profile.time(Category::Shading);
-                facet_shade_from(self.scene, eye_real, c.object, c.polygon, c.back_facing)
+                facet_shade_with_model(
+                    self.scene,
+                    eye_real,
+                    c.object,
+                    c.polygon,
+                    c.back_facing,
+                    &self.scene.lights,
+                    None,
+                    self.options.shading,
+                )
             };
             let blended = parent_blend + own * weight;
             let screen: Vec<DVec3> = c.points.iter().map(|p| self.view.project(*p)).collect();
@@ -520,6 +570,7 @@ impl Builder<'_> {
                 },
                 eye: eye_real,
                 children: Vec::new(),
+                shadowed_from: Vec::new(),
             });
             ids.push(id);
             if self.options.shadows {
@@ -619,12 +670,15 @@ impl Builder<'_> {
     }
 
     /// The shadow polygons cast on fragment `c` (virtual coordinates under
-    /// `t`) by every Point light (004 section 4.7): casters are culled by
-    /// their bounding boxes and planes against the shadow volume (from the
-    /// light through the fragment's outline, down to its plane), clipped to
-    /// it and projected from the light onto the fragment's plane. Polygons
-    /// back-facing to the light are skipped (unless `type open`), and so is
-    /// the fragment's own object unless it is `type concave`.
+    /// `t`) by every Point light (004 section 4.7), as overlap regions (see
+    /// [`overlap_regions`]): each region carries the lights it is shadowed
+    /// from and the target's shade without all of them, so that where the
+    /// shadows of several lights overlap the region is darker than either
+    /// (lifting the limit of 004 section 4.10 on "overlapped shadow regions
+    /// caused by multiple light sources"). Back to front, regions of fewer
+    /// lights come first. Only the first [`MAX_COMBINED_LIGHTS`] lights
+    /// that cast on the fragment are combined; the shadows of further
+    /// lights are emitted alone, shaded without their own light only.
     #[allow(clippy::too_many_arguments)]
     fn shadows_on(
         &mut self,
@@ -637,167 +691,232 @@ impl Builder<'_> {
         parent: usize,
         level: u32,
     ) -> Vec<usize> {
-        let scene = self.scene;
         let Some(target) = toward_eye_plane(&c.points, self.view.eye) else {
             return Vec::new();
         };
-        let centre = c.points.iter().copied().sum::<DVec3>() / c.points.len() as f64;
-        let inverse = t.inverse();
-        let mut out = Vec::new();
-        for (j, light) in scene.lights.iter().enumerate() {
+        let mut per_light = Vec::new();
+        for (j, light) in self.scene.lights.iter().enumerate() {
             if light.kind != crate::scene::model::LightKind::Point {
                 continue;
             }
-            let lv = t.transform_point(light.position);
-            // The light must be on the viewer's side of the fragment.
-            if target.truncate().dot(lv) + target.w <= self.eps {
-                continue;
+            let pieces = self.shadow_pieces(index, c, t, light.position, target);
+            if !pieces.is_empty() {
+                per_light.push((j as u32, pieces));
             }
-            let mut volume = Vec::with_capacity(c.points.len() + 2);
-            for i in 0..c.points.len() {
-                let (a, b) = (c.points[i], c.points[(i + 1) % c.points.len()]);
-                let Some(n) = (b - a).cross(lv - a).try_normalize() else {
-                    continue;
-                };
-                let mut pl = n.extend(-n.dot(a));
-                if pl.truncate().dot(centre) + pl.w < 0.0 {
-                    pl = -pl;
-                }
-                volume.push(pl);
-            }
-            // Strictly above the target plane, below the light.
-            volume.push(DVec4::new(
-                target.x,
-                target.y,
-                target.z,
-                target.w - self.eps,
-            ));
-            volume.push((-target.truncate()).extend(target.truncate().dot(lv)));
-            let others: Vec<_> = scene
-                .lights
-                .iter()
-                .enumerate()
-                .filter(|&(k, _)| k != j)
-                .map(|(_, l)| *l)
-                .collect();
-            let average = facet_shade_with(
+        }
+        let split = per_light.len().min(MAX_COMBINED_LIGHTS);
+        let mut regions = overlap_regions(
+            &per_light[..split],
+            target.truncate(),
+            self.eps,
+            MAX_OVERLAP_PIECES,
+        );
+        for (j, pieces) in &per_light[split..] {
+            regions.extend(pieces.iter().map(|p| (p.clone(), vec![*j])));
+        }
+        let inverse = t.inverse();
+        let mut cache: Vec<(Vec<u32>, Color)> = Vec::new();
+        let mut out = Vec::with_capacity(regions.len());
+        for (points, lights) in regions {
+            let shade = self.shadow_shade(c, eye_real, &lights, &points, inverse, &mut cache);
+            let screen = points.iter().map(|p| self.view.project(*p)).collect();
+            out.push(self.push(Fragment {
+                level,
+                kind: FragmentKind::Shadow { light: lights[0] },
+                branch: Branch::Shadow,
+                object: c.object,
+                polygon: c.polygon,
+                virtual_points: points,
+                screen,
+                back_facing: c.back_facing,
+                shade,
+                blended: parent_blend + shade * weight,
+                weight,
+                parent: Some(parent),
+                world: Vec::new(),
+                eye: *eye_real,
+                children: Vec::new(),
+                shadowed_from: lights,
+            }));
+        }
+        out
+    }
+
+    /// The target's shade without `lights` (004 section 4.7): one shade per
+    /// light set and target (cached), or with `setmode h on` at the
+    /// region's centroid mapped back to world space.
+    fn shadow_shade(
+        &self,
+        c: &Candidate,
+        eye_real: &DVec4,
+        lights: &[u32],
+        points: &[DVec3],
+        inverse: Option<Matrix4>,
+        cache: &mut Vec<(Vec<u32>, Color)>,
+    ) -> Color {
+        let scene = self.scene;
+        let others: Vec<_> = (0..scene.lights.len() as u32)
+            .filter(|k| !lights.contains(k))
+            .map(|k| scene.lights[k as usize])
+            .collect();
+        let shade_at = |at| {
+            facet_shade_with_model(
                 scene,
                 *eye_real,
                 c.object,
                 c.polygon,
                 c.back_facing,
                 &others,
-                None,
-            );
-            // The index is in world coordinates: map the volume's planes
-            // back (a plane L of the virtual space is t L in world space).
-            let identity = *t == Matrix4::IDENTITY;
-            let world_volume: Vec<DVec4> = if identity {
-                volume.clone()
-            } else {
-                let tt = t.transpose();
-                volume.iter().map(|pl| tt.transform(*pl)).collect()
+                at,
+                self.options.shading,
+            )
+        };
+        if self.options.explicit_shadow_shades {
+            let at = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+            return shade_at(Some(inverse.map_or(at, |i| i.transform_point(at))));
+        }
+        if let Some((_, s)) = cache.iter().find(|(l, _)| l == lights) {
+            return *s;
+        }
+        let s = shade_at(None);
+        cache.push((lights.to_vec(), s));
+        s
+    }
+
+    /// The shadow volume of fragment `points` for a light at `lv` (virtual
+    /// coordinates): the planes from the light through its edges, strictly
+    /// above the target plane, below the light (004 section 4.7).
+    fn shadow_volume(&self, points: &[DVec3], target: DVec4, lv: DVec3) -> Vec<DVec4> {
+        let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+        let mut volume = Vec::with_capacity(points.len() + 2);
+        for i in 0..points.len() {
+            let (a, b) = (points[i], points[(i + 1) % points.len()]);
+            let Some(n) = (b - a).cross(lv - a).try_normalize() else {
+                continue;
             };
-            let candidates = {
-                let _t = self.profile.time(Category::ChkBbox);
-                index.query(&world_volume)
-            };
-            for k in candidates {
-                let caster = &index.casters[k];
-                let object = &scene.objects[caster.object as usize];
-                if caster.object == c.object
-                    && (!object.surface_type.concave || caster.polygon == c.polygon)
-                {
-                    continue;
-                }
-                // Facing the light: the same test in world coordinates.
-                let plane = caster.plane;
-                if plane.truncate().dot(light.position) + plane.w <= 0.0 && !caster.open {
-                    continue;
-                }
-                {
-                    let mapped: Vec<DVec3>;
-                    let pts: &[DVec3] = if identity {
-                        &caster.points
-                    } else {
-                        mapped = caster
-                            .points
-                            .iter()
-                            .map(|p| t.transform_point(*p))
-                            .collect();
-                        &mapped
-                    };
-                    let outside = {
-                        let _t = self.profile.time(Category::ChkPly);
-                        volume
-                            .iter()
-                            .any(|pl| pts.iter().all(|p| pl.truncate().dot(*p) + pl.w < 0.0))
-                    };
-                    if outside {
-                        continue;
-                    }
-                    let clipped = {
-                        let _t = self.profile.time(Category::Clipping);
-                        face_splitter::clip_to_planes(pts, &volume, self.eps)
-                    };
-                    let Ok(pieces) = clipped else {
-                        continue;
-                    };
-                    for piece in pieces {
-                        let n = target.truncate();
-                        let projected: Vec<DVec3> = piece
-                            .iter()
-                            .map(|p| {
-                                let d = *p - lv;
-                                let s = -(n.dot(lv) + target.w) / n.dot(d);
-                                lv + d * s
-                            })
-                            .collect();
-                        if !projected.iter().all(|p| p.is_finite())
-                            || polygon::newell_vector(projected.iter().copied()).length()
-                                <= self.eps * self.eps
-                        {
-                            continue;
-                        }
-                        let shade = if self.options.explicit_shadow_shades {
-                            let at =
-                                projected.iter().copied().sum::<DVec3>() / projected.len() as f64;
-                            let at_world = inverse.map_or(at, |i| i.transform_point(at));
-                            facet_shade_with(
-                                scene,
-                                *eye_real,
-                                c.object,
-                                c.polygon,
-                                c.back_facing,
-                                &others,
-                                Some(at_world),
-                            )
-                        } else {
-                            average
-                        };
-                        let screen = projected.iter().map(|p| self.view.project(*p)).collect();
-                        out.push(self.push(Fragment {
-                            level,
-                            kind: FragmentKind::Shadow { light: j as u32 },
-                            branch: Branch::Shadow,
-                            object: c.object,
-                            polygon: c.polygon,
-                            virtual_points: projected,
-                            screen,
-                            back_facing: c.back_facing,
-                            shade,
-                            blended: parent_blend + shade * weight,
-                            weight,
-                            parent: Some(parent),
-                            world: Vec::new(),
-                            eye: *eye_real,
-                            children: Vec::new(),
-                        }));
-                    }
-                }
+            let mut pl = n.extend(-n.dot(a));
+            if pl.truncate().dot(centre) + pl.w < 0.0 {
+                pl = -pl;
             }
+            volume.push(pl);
+        }
+        volume.push(DVec4::new(
+            target.x,
+            target.y,
+            target.z,
+            target.w - self.eps,
+        ));
+        volume.push((-target.truncate()).extend(target.truncate().dot(lv)));
+        volume
+    }
+
+    /// The shadows cast on fragment `c` by the Point light at world
+    /// `light`, projected from the light onto the fragment's plane `target`
+    /// (virtual coordinates under `t`; 004 section 4.7): casters are culled
+    /// by their bounding boxes and planes against the shadow volume, clipped
+    /// to it and projected. Polygons back-facing to the light are skipped
+    /// (unless `type open`), and so is the fragment's own object unless it
+    /// is `type concave`.
+    fn shadow_pieces(
+        &self,
+        index: &CasterIndex,
+        c: &Candidate,
+        t: &Matrix4,
+        light: DVec3,
+        target: DVec4,
+    ) -> Vec<Vec<DVec3>> {
+        let scene = self.scene;
+        let lv = t.transform_point(light);
+        // The light must be on the viewer's side of the fragment.
+        if target.truncate().dot(lv) + target.w <= self.eps {
+            return Vec::new();
+        }
+        let volume = self.shadow_volume(&c.points, target, lv);
+        // The index is in world coordinates: map the volume's planes back
+        // (a plane L of the virtual space is t L in world space).
+        let identity = *t == Matrix4::IDENTITY;
+        let world_volume: Vec<DVec4> = if identity {
+            volume.clone()
+        } else {
+            let tt = t.transpose();
+            volume.iter().map(|pl| tt.transform(*pl)).collect()
+        };
+        let candidates = {
+            let _t = self.profile.time(Category::ChkBbox);
+            index.query(&world_volume)
+        };
+        let mut out = Vec::new();
+        for k in candidates {
+            let caster = &index.casters[k];
+            let object = &scene.objects[caster.object as usize];
+            if caster.object == c.object
+                && (!object.surface_type.concave || caster.polygon == c.polygon)
+            {
+                continue;
+            }
+            // Facing the light: the same test in world coordinates.
+            let plane = caster.plane;
+            if plane.truncate().dot(light) + plane.w <= 0.0 && !caster.open {
+                continue;
+            }
+            let pts: Vec<DVec3> = if identity {
+                caster.points.clone()
+            } else {
+                caster
+                    .points
+                    .iter()
+                    .map(|p| t.transform_point(*p))
+                    .collect()
+            };
+            out.extend(self.project_caster(&pts, &volume, target, lv));
         }
         out
+    }
+
+    /// One caster polygon (virtual coordinates) clipped to the shadow
+    /// `volume` and projected from the light `lv` onto the `target` plane.
+    fn project_caster(
+        &self,
+        pts: &[DVec3],
+        volume: &[DVec4],
+        target: DVec4,
+        lv: DVec3,
+    ) -> Vec<Vec<DVec3>> {
+        let outside = {
+            let _t = self.profile.time(Category::ChkPly);
+            volume
+                .iter()
+                .any(|pl| pts.iter().all(|p| pl.truncate().dot(*p) + pl.w < 0.0))
+        };
+        if outside {
+            return Vec::new();
+        }
+        let clipped = {
+            let _t = self.profile.time(Category::Clipping);
+            face_splitter::clip_to_planes(pts, volume, self.eps)
+        };
+        let Ok(pieces) = clipped else {
+            return Vec::new();
+        };
+        let n = target.truncate();
+        pieces
+            .into_iter()
+            .map(|piece| {
+                piece
+                    .iter()
+                    .map(|p| {
+                        let d = *p - lv;
+                        let s = -(n.dot(lv) + target.w) / n.dot(d);
+                        lv + d * s
+                    })
+                    .collect::<Vec<DVec3>>()
+            })
+            .filter(|projected| {
+                projected.iter().all(|p| p.is_finite())
+                    && polygon::newell_vector(projected.iter().copied()).length()
+                        > self.eps * self.eps
+            })
+            .collect()
     }
 
     fn push(&mut self, f: Fragment) -> usize {
@@ -966,6 +1085,108 @@ impl CasterIndex {
         out.sort_unstable();
         out
     }
+}
+
+/// At most this many lights are combined into overlap regions on one
+/// target fragment (see [`Builder::shadows_on`]).
+pub const MAX_COMBINED_LIGHTS: usize = 8;
+
+/// At most this many overlap regions of two or more lights are made on one
+/// target fragment (see [`overlap_regions`]).
+pub const MAX_OVERLAP_PIECES: usize = 4096;
+
+/// A region of a target's plane and the lights it is shadowed from.
+pub type ShadowRegion = (Vec<DVec3>, Vec<u32>);
+
+/// The shadow regions on one target plane (unit normal `normal`) from the
+/// shadow pieces of several lights (`(light, pieces)`, lights in increasing
+/// order, pieces in the plane): first every piece alone, then the
+/// intersections of two pieces of different lights, then of three, and so
+/// on (004 section 4.7 extended to overlapped shadows), each carrying its
+/// light set (increasing). The painter, back to front, lets the regions of
+/// more lights overwrite those of fewer. Two pieces are intersected with
+/// the splitter, clipping one to the planes through the edges of the other
+/// (triangulated when not convex) perpendicular to the target plane.
+///
+/// Past `cap` regions of two or more lights, no more intersections are
+/// made: the remaining overlaps show the shade of a smaller light set (too
+/// bright there), never a wrong outline.
+pub fn overlap_regions(
+    per_light: &[(u32, Vec<Vec<DVec3>>)],
+    normal: DVec3,
+    eps: f64,
+    cap: usize,
+) -> Vec<ShadowRegion> {
+    let mut out: Vec<ShadowRegion> = per_light
+        .iter()
+        .flat_map(|(j, pieces)| pieces.iter().map(move |p| (p.clone(), vec![*j])))
+        .collect();
+    let mut layer: Vec<(Vec<DVec3>, Vec<u32>, usize)> = Vec::new();
+    for (k, (j, pieces)) in per_light.iter().enumerate() {
+        layer.extend(pieces.iter().map(|p| (p.clone(), vec![*j], k)));
+    }
+    let mut made = 0;
+    while !layer.is_empty() && made < cap {
+        let mut next = Vec::new();
+        'regions: for (points, lights, last) in &layer {
+            for (k, (j, pieces)) in per_light.iter().enumerate().skip(last + 1) {
+                for piece in pieces {
+                    for region in intersect_in_plane(points, piece, normal, eps) {
+                        if made >= cap {
+                            break 'regions;
+                        }
+                        made += 1;
+                        let mut set = lights.clone();
+                        set.push(*j);
+                        next.push((region, set, k));
+                    }
+                }
+            }
+        }
+        out.extend(next.iter().map(|(p, l, _)| (p.clone(), l.clone())));
+        layer = next;
+    }
+    out
+}
+
+/// The intersection of two polygons lying in one plane (unit normal
+/// `normal`): `a` clipped to the planes perpendicular to it through the
+/// edges of each convex part of `b`. Pieces of no area are dropped.
+pub fn intersect_in_plane(a: &[DVec3], b: &[DVec3], normal: DVec3, eps: f64) -> Vec<Vec<DVec3>> {
+    let bounds = |p: &[DVec3]| {
+        p.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), q| (lo.min(*q), hi.max(*q)),
+        )
+    };
+    let ((alo, ahi), (blo, bhi)) = (bounds(a), bounds(b));
+    if (alo - DVec3::splat(eps)).cmpgt(bhi).any() || (blo - DVec3::splat(eps)).cmpgt(ahi).any() {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    for part in polygon::triangulate_if_needed(b) {
+        let centre = part.iter().copied().sum::<DVec3>() / part.len() as f64;
+        let planes: Vec<DVec4> = (0..part.len())
+            .filter_map(|i| {
+                let (p, q) = (part[i], part[(i + 1) % part.len()]);
+                let n = (q - p).cross(normal).try_normalize()?;
+                let pl = n.extend(-n.dot(p));
+                Some(if pl.truncate().dot(centre) + pl.w < 0.0 {
+                    -pl
+                } else {
+                    pl
+                })
+            })
+            .collect();
+        if let Ok(pieces) = face_splitter::clip_to_planes(a, &planes, eps) {
+            out.extend(
+                pieces
+                    .into_iter()
+                    .filter(|p| polygon::newell_vector(p.iter().copied()).length() > eps * eps),
+            );
+        }
+    }
+    out
 }
 
 /// The plane of `points` with its unit normal towards the eye.

@@ -393,6 +393,7 @@ pub fn prepare(
             shadows: options.shadows,
             refraction: options.refraction,
             explicit_shadow_shades: scene.modes.shadow_shades,
+            ..Default::default()
         },
         &profile,
     );

@@ -54,6 +54,17 @@ impl Material {
     }
 }
 
+/// Which illumination model shades the polygons.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ShadingModel {
+    /// Garcia's (Phong's) model of 004 section 4.8: see [`shade`].
+    #[default]
+    Garcia,
+    /// Donovan's scattering and specular rules (000 section 6, rules (1)
+    /// and (2)): see [`shade_donovan`].
+    Donovan,
+}
+
 /// The range attenuation k(j) of a light at distance `d`.
 pub fn range_attenuation(d: f64, range: f64) -> f64 {
     let k = (1.0 - d / range).max(0.0);
@@ -93,6 +104,65 @@ pub fn shade(
             term += DVec3::splat(m.specular * n_dot_h.powf(m.shininess));
         }
         c += light.color * term * k;
+    }
+    c.clamp(DVec3::ZERO, DVec3::ONE)
+}
+
+/// The intensity at `p` under `model` (see [`shade`] and
+/// [`shade_donovan`]).
+pub fn shade_with_model(
+    model: ShadingModel,
+    m: &Material,
+    p: DVec3,
+    n: DVec3,
+    to_eye: DVec3,
+    lights: &[Light],
+    ambient: Color,
+) -> Color {
+    match model {
+        ShadingModel::Garcia => shade(m, p, n, to_eye, lights, ambient),
+        ShadingModel::Donovan => shade_donovan(m, p, n, to_eye, lights, ambient),
+    }
+}
+
+/// Donovan's shader (000 section 6), per light: rule (1), scattering,
+/// `I0 cos^a(theta)` with `a = 1`, and rule (2), specular reflection,
+/// `I1 cos^b(theta - theta1)` with `b` the surface shininess; `theta` is
+/// the angle between the normal `n` and the direction to the light,
+/// `theta1` the angle between the normal and the direction to the eye.
+/// `I0` is the light colour times the diffuse coefficient times the surface
+/// colour ("proportional to the intensity of the light source and the
+/// reflectance of the face"), `I1` the light colour times the specular
+/// coefficient. Donovan's source is distant (parallel rays), so there is no
+/// range attenuation; a light behind the face (`theta >= 90` degrees)
+/// gives nothing, and neither does rule (2) past `|theta - theta1| >= 90`
+/// degrees. The ambient term is Garcia's, `ka Ia` times the surface
+/// colour. Clamped to 0..1.
+pub fn shade_donovan(
+    m: &Material,
+    p: DVec3,
+    n: DVec3,
+    to_eye: DVec3,
+    lights: &[Light],
+    ambient: Color,
+) -> Color {
+    let mut c = m.color * ambient * m.ambient_coefficient();
+    let theta1 = n.dot(to_eye).clamp(-1.0, 1.0).acos();
+    for light in lights {
+        let Some(l) = (light.position - p).try_normalize() else {
+            continue;
+        };
+        let cos_theta = n.dot(l).clamp(-1.0, 1.0);
+        if cos_theta <= 0.0 {
+            continue;
+        }
+        // Rule (1), a = 1.
+        c += light.color * m.color * (m.diffuse * cos_theta);
+        // Rule (2).
+        let cos_spec = (cos_theta.acos() - theta1).cos();
+        if m.specular > 0.0 && cos_spec > 0.0 {
+            c += light.color * (m.specular * cos_spec.powf(m.shininess));
+        }
     }
     c.clamp(DVec3::ZERO, DVec3::ONE)
 }
@@ -305,10 +375,14 @@ fn rotate_to_z(h: DVec3, v: DVec3) -> DVec3 {
 }
 
 /// Gouraud vertex shades (004 section 4.8): the illumination model at each
-/// world point of a polygon (or a piece of it) with the vertex normal,
-/// interpolated along the original polygon's edges for `type curved`
-/// objects, or the polygon's own normal otherwise; `.vcl` vertex colours
-/// are interpolated the same way.
+/// vertex of the original polygon with the vertex normal (for `type
+/// curved` objects, else the polygon's own normal) and its `.vcl` colour.
+/// A point of a piece that lies on an edge of the original polygon (a
+/// vertex made by clipping or by the NNS splitter) gets the linear
+/// interpolation of the shades at the edge's ends, as Donovan requires of
+/// the face splitter (000 section 6: "compute a correct intensity value for
+/// the vertex it creates"), so no seam shows along the edge; other points
+/// get the model evaluated there.
 pub fn vertex_shades(
     scene: &Scene,
     eye: DVec4,
@@ -319,16 +393,26 @@ pub fn vertex_shades(
 ) -> Vec<Color> {
     let o = &scene.objects[object as usize];
     let pi = polygon as usize;
+    let model_at = |p: DVec3| {
+        let material = material_at(o, pi, p);
+        if o.surface_type.ltsrc {
+            return material.color;
+        }
+        let n = vertex_normal_at(o, pi, back, p);
+        let to_eye = crate::geometry::view::direction_to_eye(eye, p);
+        shade(&material, p, n, to_eye, &scene.lights, scene.ambient)
+    };
     world
         .iter()
         .map(|&p| {
-            let material = material_at(o, pi, p);
-            if o.surface_type.ltsrc {
-                return material.color;
+            let (ia, ib, t) = edge_position(o, pi, p);
+            let (a, b) = (o.vertices[ia], o.vertices[ib]);
+            let on_edge = (a + (b - a) * t).distance(p) <= 1e-7 * a.distance(b);
+            if !on_edge {
+                return model_at(p);
             }
-            let n = vertex_normal_at(o, pi, back, p);
-            let to_eye = crate::geometry::view::direction_to_eye(eye, p);
-            shade(&material, p, n, to_eye, &scene.lights, scene.ambient)
+            let (sa, sb) = (model_at(a), model_at(b));
+            sa + (sb - sa) * t
         })
         .collect()
 }
@@ -424,6 +508,30 @@ pub fn facet_shade_with(
     lights: &[crate::scene::model::Light],
     at: Option<DVec3>,
 ) -> Color {
+    facet_shade_with_model(
+        scene,
+        eye,
+        object,
+        polygon,
+        back,
+        lights,
+        at,
+        ShadingModel::Garcia,
+    )
+}
+
+/// [`facet_shade_with`] under a given illumination model.
+#[allow(clippy::too_many_arguments)]
+pub fn facet_shade_with_model(
+    scene: &Scene,
+    eye: DVec4,
+    object: u32,
+    polygon: u32,
+    back: bool,
+    lights: &[crate::scene::model::Light],
+    at: Option<DVec3>,
+    model: ShadingModel,
+) -> Color {
     let object = &scene.objects[object as usize];
     let pi = polygon as usize;
     let polygon = &object.polygons[pi];
@@ -445,7 +553,15 @@ pub fn facet_shade_with(
         polygon.normal()
     };
     let to_eye = crate::geometry::view::direction_to_eye(eye, centroid);
-    shade(&material, centroid, normal, to_eye, lights, scene.ambient)
+    shade_with_model(
+        model,
+        &material,
+        centroid,
+        normal,
+        to_eye,
+        lights,
+        scene.ambient,
+    )
 }
 
 #[cfg(test)]
@@ -518,6 +634,99 @@ mod tests {
         let c = shade(&m, DVec3::ZERO, DVec3::Z, DVec3::Z, &[light], DVec3::ZERO);
         // N.H = 1: red gets the specular 0.5 only (k ~ 1).
         assert!((c.x - 0.5).abs() < 1e-6, "{c}");
+    }
+
+    /// A light of colour 0.8 at 10 units, 60 degrees off the normal.
+    fn light_at_60_degrees(range: f64) -> Light {
+        let r = 60f64.to_radians();
+        Light {
+            position: DVec3::new(r.sin(), 0.0, r.cos()) * 10.0,
+            color: DVec3::splat(0.8),
+            range,
+            kind: LightKind::Point,
+        }
+    }
+
+    #[test]
+    fn donovan_rule_1_scattering_hand_worked() {
+        // I0 cos(theta) = 0.8 * 0.6 * 1 (green) * cos 60 = 0.24; no range
+        // attenuation (a distant source): range 1 at distance 10 still lights.
+        let light = light_at_60_degrees(1.0);
+        let c = shade_donovan(
+            &material(),
+            DVec3::ZERO,
+            DVec3::Z,
+            DVec3::Z,
+            &[light],
+            DVec3::ZERO,
+        );
+        assert!((c.y - 0.24).abs() < 1e-12, "{c}");
+        assert_eq!((c.x, c.z), (0.0, 0.0));
+        // Plus Garcia's ambient term ka Ia = 0.4.
+        let c = shade_donovan(
+            &material(),
+            DVec3::ZERO,
+            DVec3::Z,
+            DVec3::Z,
+            &[light],
+            DVec3::ONE,
+        );
+        assert!((c.y - 0.64).abs() < 1e-12, "{c}");
+        // The same through the selector; Garcia's model is attenuated to 0.
+        let m = ShadingModel::Donovan;
+        let d = shade_with_model(
+            m,
+            &material(),
+            DVec3::ZERO,
+            DVec3::Z,
+            DVec3::Z,
+            &[light],
+            DVec3::ONE,
+        );
+        assert_eq!(d, c);
+        let g = shade_with_model(
+            ShadingModel::default(),
+            &material(),
+            DVec3::ZERO,
+            DVec3::Z,
+            DVec3::Z,
+            &[light],
+            DVec3::ONE,
+        );
+        assert!((g.y - 0.4).abs() < 1e-12, "{g}");
+        // Behind the face: nothing.
+        let c = shade_donovan(
+            &material(),
+            DVec3::ZERO,
+            -DVec3::Z,
+            DVec3::Z,
+            &[light],
+            DVec3::ZERO,
+        );
+        assert_eq!(c, DVec3::ZERO);
+    }
+
+    #[test]
+    fn donovan_rule_2_specular_hand_worked() {
+        // theta = 60, theta1 = 30 degrees, b = 2: I1 cos^2(30) = 0.8 * 0.5 *
+        // 0.75 = 0.3, in every channel (light coloured); no scattering.
+        let mut m = material();
+        m.diffuse = 0.0;
+        m.specular = 0.5;
+        m.shininess = 2.0;
+        let t1 = 30f64.to_radians();
+        let to_eye = DVec3::new(-t1.sin(), 0.0, t1.cos());
+        let light = light_at_60_degrees(100.0);
+        let c = shade_donovan(&m, DVec3::ZERO, DVec3::Z, to_eye, &[light], DVec3::ZERO);
+        assert!(
+            (c.x - 0.3).abs() < 1e-12 && (c.y - 0.3).abs() < 1e-12,
+            "{c}"
+        );
+        // theta1 = theta: cos^b(0) = 1, I = I1 = 0.4.
+        let t1 = 60f64.to_radians();
+        let to_eye = DVec3::new(t1.sin(), 0.0, t1.cos());
+        let c = shade_donovan(&m, DVec3::ZERO, DVec3::Z, to_eye, &[light], DVec3::ZERO);
+        assert!((c.z - 0.4).abs() < 1e-12, "{c}");
     }
 
     #[test]

@@ -90,6 +90,11 @@ fn office1_reflections_agree_with_the_oracle() {
 }
 
 fn cube_on_mirror() -> Scene {
+    cube_on_mirror_lit("")
+}
+
+/// The cube on a mirror of 004 figure 4.15, with `light` lines.
+fn cube_on_mirror_lit(light: &str) -> Scene {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir(dir.path().join("det")).unwrap();
     let cube = std::fs::read_to_string(
@@ -105,9 +110,9 @@ fn cube_on_mirror() -> Scene {
     let path = dir.path().join("m.des");
     std::fs::write(
         &path,
-        "resolution 128 128\nperspective 45 1 0.1 100\ndepth 2\npushmatrix\nident\npolarview 9 30 60 0\n\
+        format!("resolution 128 128\nperspective 45 1 0.1 100\ndepth 2\npushmatrix\nident\npolarview 9 30 60 0\n{light}\
          defobj square\n reflectance 0.5\n scale 4 4 1\nendobj\n\
-         defobj cube\n translate 0 0 1.01\nendobj\npopmatrix\n",
+         defobj cube\n translate 0 0 1.01\nendobj\npopmatrix\n"),
     )
     .unwrap();
     plytrace::scene::load(&path).unwrap().0
@@ -129,6 +134,7 @@ fn cube_on_mirror_output_orders() {
             shadows: false,
             explicit_shadow_shades: false,
             refraction: Default::default(),
+            ..Default::default()
         },
     );
     let label = |n: usize| {
@@ -188,6 +194,56 @@ fn cube_on_mirror_output_orders() {
     let _ = DVec3::ZERO;
 }
 
+/// 004 section 5.9, figure 5.14, a cube on a partly diffuse mirror with a
+/// Point light: front to back `P12, P13, P14, P21, P22, P23, S1, S2, S3,
+/// P11` (the mirror's sub-tree, then its shadow polygons, then the
+/// mirror); back to front the painter's `P11, S.., P21, .., P12, ..`.
+#[test]
+fn cube_on_partly_diffuse_mirror_orders_with_shadows() {
+    let scene = cube_on_mirror_lit("light -4 -2 6 1 1 1 100 Point\n");
+    let view = View::new(&scene, 128, 128).unwrap();
+    let tree = image_tree::build(
+        &scene,
+        &view,
+        TreeOptions {
+            max_level: 2,
+            shadows: true,
+            ..Default::default()
+        },
+    );
+    // (level, object, is a shadow)
+    let label = |n: usize| {
+        let f = &tree.nodes[n];
+        let shadow = matches!(f.kind, image_tree::FragmentKind::Shadow { .. });
+        (f.level, f.object, shadow)
+    };
+    let shadows = tree
+        .nodes
+        .iter()
+        .filter(|f| f.branch == Branch::Shadow)
+        .count();
+    assert!(shadows >= 1, "the cube casts a shadow on the mirror");
+    let (p1, p2, s) = ((1, 1, false), (2, 1, false), (1, 0, true));
+    let mut want_ftb = vec![p1, p1, p1, p2, p2, p2];
+    want_ftb.extend(std::iter::repeat_n(s, shadows));
+    want_ftb.push((1, 0, false));
+    let ftb: Vec<_> = tree
+        .output_order(SortOrder::FrontToBack)
+        .into_iter()
+        .map(label)
+        .collect();
+    assert_eq!(ftb, want_ftb);
+    let mut want_btf = vec![(1, 0, false)];
+    want_btf.extend(std::iter::repeat_n(s, shadows));
+    want_btf.extend([p2, p2, p2, p1, p1, p1]);
+    let btf: Vec<_> = tree
+        .output_order(SortOrder::BackToFront)
+        .into_iter()
+        .map(label)
+        .collect();
+    assert_eq!(btf, want_btf);
+}
+
 /// `setmode o on`: the tree in the file form of 004 figure 4.14, read back
 /// losslessly from both forms; levels follow the output order.
 #[test]
@@ -238,6 +294,7 @@ fn refraction_models_map_the_pool_floor() {
                 shadows: false,
                 explicit_shadow_shades: false,
                 refraction: model,
+                ..Default::default()
             },
         );
         let refracted: Vec<_> = tree

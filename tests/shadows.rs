@@ -145,6 +145,7 @@ fn shadow_polygons_lie_in_their_target() {
             shadows: true,
             explicit_shadow_shades: false,
             refraction: Default::default(),
+            ..Default::default()
         },
     );
     let mut count = 0;
