@@ -7,7 +7,8 @@
 //! getrgb NAME [hres vres] [-p | --png FILE]
 //! ```
 //!
-//! rftbN reads `<input>.out` (a virtual image tree file, [`crate::tree`]),
+//! rftbN reads `<input>.out` (a virtual image tree file, [`crate::tree`];
+//! an input given as `X.out` is taken as `X`),
 //! refuses a tree made for another method (order and blending, from its
 //! background record), and writes, under the output seed (default: the
 //! input name):
