@@ -20,6 +20,7 @@ pub mod precision;
 pub mod profile;
 pub mod raster;
 pub mod render;
+pub mod rftb;
 pub mod scene;
 pub mod shading;
 pub mod tree;

@@ -1,13 +1,57 @@
 //! Writing images: PNG (8 bits per channel) and binary PPM, after the
-//! `outmode` conversion (004 appendix, OUTMODE COMMANDS). Files are written
-//! to a temporary name in the same directory and renamed when complete, so
-//! a failure never leaves a partial image behind.
+//! `outmode` conversion (004 appendix, OUTMODE COMMANDS), and the outputs
+//! of the scan conversion processors rftb1-4 and getrgb (004 appendix,
+//! the rftb and getrgb manual pages). Files are written to a temporary
+//! name in the same directory and renamed when complete, so a failure
+//! never leaves a partial image behind.
+//!
+//! # The row sinks
+//!
+//! Each takes the rows of [`crate::raster::scan::scan_convert`] as they
+//! come and holds at most a row (the adaptive look-up table mode holds the
+//! image: its palette must precede the pixels):
+//!
+//! - [`PngSink`]: a PNG in a [`DisplayMode`], streamed, fast compression,
+//!   with an sRGB chunk.
+//! - [`SeparationSink`]: the colour separations of rftb1-3 and getrgb,
+//!   `SEED.r`, `SEED.g`, `SEED.b` (one byte per pixel, `hres x vres`, top
+//!   row first, no header), `SEED.a` (one coverage byte per pixel) and
+//!   `SEED.m` (one 4x4 pixel mask per pixel, u16 little-endian, bit
+//!   `4 * row + column`).
+//! - [`PixelStructSink`]: the pixel-struct file of rftb4 (004 figure 5.15,
+//!   the getrgb manual page), laid out, all integers little-endian, as
+//!
+//! ```text
+//! pixel array:      hres * vres pixel-structs, top row first, 8 bytes each:
+//!                     flist u32, r u8, g u8, b u8, pixstat u8
+//! fragment section: the fragment lists, one after the other, each
+//!                     count u32, then count x (pmask u16, pstat u8, pcover u8)
+//! ```
+//!
+//! `flist` is 0 for a pixel without fragments, else 1 + the byte offset of
+//! its list (of the count) from the start of the fragment section. Lists
+//! are stored in pixel order, so the section is exactly the lists that the
+//! pixels point to. A fragment list keeps the order of
+//! [`PixelStruct::fragments`] (head, the deepest level, first).
+//!
+//! # Fewer bits than computed
+//!
+//! When an output keeps fewer bits than the 8 computed (an `outmode a` of
+//! fewer than 8 bits, the 3-3-2 mode `c`, the adaptive look-up table), the
+//! intensity is coded pseudo-randomly after Donovan (000 section on the
+//! shader: "if an intensity of 10.75 were desired, we could output 10 1/4
+//! of the time and 11 3/4 of the time"): the two neighbouring output levels
+//! are chosen with the probabilities that keep the mean. The threshold of
+//! each pixel and channel is a fast quasi-random number seeded by the
+//! pixel position (the R2 additive recurrence), so the output depends on
+//! nothing else (not on threads) and a flat area keeps its mean closely.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Location, Result};
 use crate::raster::frame_buffer::FrameBuffer;
+use crate::raster::scan::{PixelStruct, Row, RowSink, SavedFragment};
 use crate::scene::model::OutMode;
 
 /// The image as 8-bit RGB bytes, top row first, after `mode`.
@@ -60,31 +104,13 @@ pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::Invalid(format!("{}: not a file name", path.display())))?;
-    let tmp: PathBuf = dir.join(format!(
-        ".{}.{}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let file = std::fs::File::create(&tmp)?;
-        let mut w = std::io::BufWriter::new(file);
-        write(&mut w)?;
-        let file = w.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(Error::io(path, e));
-    }
-    Ok(())
+    let file = AtomicFile::create(path)?;
+    let mut w = std::io::BufWriter::new(file.file());
+    write(&mut w)
+        .and_then(|()| w.flush())
+        .map_err(|e| Error::io(path, e))?;
+    drop(w);
+    file.finish()?.commit()
 }
 
 fn png_bytes(width: u32, height: u32, rgb: &[u8], w: &mut dyn Write) -> std::io::Result<()> {
@@ -140,6 +166,733 @@ pub fn write_id_png(path: &Path, fb: &FrameBuffer, polygons: &[(u32, u32)]) -> R
     write_atomically(path, |w| png_bytes(fb.width, fb.height, &rgb, w))
 }
 
+// ---------------------------------------------------------------------------
+// Atomic files
+
+static TEMP_COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// A temporary name beside `path`: `.NAME.PID.N.tmp`.
+fn temp_beside(path: &Path, what: &str) -> Result<PathBuf> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .ok_or_else(|| Error::Invalid(format!("{}: not a file name", path.display())))?;
+    let n = TEMP_COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    Ok(dir.join(format!(
+        ".{}.{}.{n}.{what}",
+        name.to_string_lossy(),
+        std::process::id()
+    )))
+}
+
+/// A file being written under a temporary name beside its destination; the
+/// temporary is removed when dropped unfinished.
+#[derive(Debug)]
+pub struct AtomicFile {
+    path: PathBuf,
+    tmp: PathBuf,
+    file: Option<std::fs::File>,
+}
+
+impl AtomicFile {
+    /// Creates the temporary file for `path` (which shows at once whether
+    /// the destination directory is writable). A directory at `path` is
+    /// refused now rather than at the rename.
+    pub fn create(path: &Path) -> Result<AtomicFile> {
+        if path.is_dir() {
+            return Err(Error::io(
+                path,
+                std::io::Error::other("is a directory, not a file name"),
+            ));
+        }
+        let tmp = temp_beside(path, "tmp")?;
+        let file = std::fs::File::create(&tmp).map_err(|e| Error::io(path, e))?;
+        Ok(AtomicFile {
+            path: path.to_path_buf(),
+            tmp,
+            file: Some(file),
+        })
+    }
+
+    /// The destination.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The open temporary file.
+    pub fn file(&self) -> &std::fs::File {
+        self.file.as_ref().expect("open until finished")
+    }
+
+    /// Writes `bytes`, naming the destination on error.
+    pub fn write_all(&mut self, bytes: &[u8]) -> Result<()> {
+        let mut f = self.file();
+        f.write_all(bytes).map_err(|e| Error::io(&self.path, e))
+    }
+
+    /// Syncs the temporary file to disk; the rename is left to
+    /// [`Staged::commit`] so that several files can be committed together.
+    pub fn finish(mut self) -> Result<Staged> {
+        let file = self.file.take().expect("open until finished");
+        file.sync_all().map_err(|e| Error::io(&self.path, e))?;
+        drop(file);
+        Ok(Staged {
+            path: std::mem::take(&mut self.path),
+            tmp: std::mem::take(&mut self.tmp),
+        })
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if !self.tmp.as_os_str().is_empty() {
+            self.file.take();
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// A complete temporary file waiting to be renamed into place; removed when
+/// dropped uncommitted.
+#[derive(Debug)]
+pub struct Staged {
+    path: PathBuf,
+    tmp: PathBuf,
+}
+
+impl Staged {
+    /// Renames the file into place.
+    pub fn commit(mut self) -> Result<()> {
+        let tmp = std::mem::take(&mut self.tmp);
+        std::fs::rename(&tmp, &self.path).map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            Error::io(&self.path, e)
+        })
+    }
+
+    /// The destination.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Drop for Staged {
+    fn drop(&mut self) {
+        if !self.tmp.as_os_str().is_empty() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// Renames all `files` into place; if one fails, those already renamed are
+/// removed and the rest dropped, so that a set of outputs appears whole or
+/// not at all.
+pub fn commit_all(files: Vec<Staged>) -> Result<()> {
+    let mut done: Vec<PathBuf> = Vec::with_capacity(files.len());
+    for f in files {
+        let path = f.path().to_path_buf();
+        if let Err(e) = f.commit() {
+            for p in &done {
+                let _ = std::fs::remove_file(p);
+            }
+            return Err(e);
+        }
+        done.push(path);
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------
+// Conversions
+
+/// f32 intensities (0 to 1) to bytes, rounded and clamped, one row at a
+/// time: `out` gets `rgb.len()` bytes per channel in `channel`.
+fn channel_to_bytes(rgb: &[[f32; 3]], channel: usize, out: &mut [u8]) {
+    for (o, c) in out.iter_mut().zip(rgb) {
+        *o = (c[channel] * 255.0 + 0.5).clamp(0.0, 255.0) as u8;
+    }
+}
+
+/// The quasi-random threshold in [0, 1) of pixel (`x`, `y`), channel `c`:
+/// the R2 sequence, a fast generator seeded by the position alone.
+#[inline]
+fn threshold(x: u32, y: u32, c: usize) -> f32 {
+    const A1: f64 = 0.754_877_666_246_692_8;
+    const A2: f64 = 0.569_840_290_998_053_3;
+    let t = 0.5 + A1 * f64::from(x) + A2 * f64::from(y) + std::f64::consts::FRAC_1_PI * c as f64;
+    t.fract() as f32
+}
+
+/// Donovan's pseudo-random intensity coding: `v` (0 to 1) to one of
+/// `levels + 1` output levels, the neighbours of `v` chosen with the
+/// probabilities that keep the mean of the written bytes. Returns the level.
+#[inline]
+pub fn dither_level(v: f32, levels: u32, x: u32, y: u32, c: usize) -> u32 {
+    let t = v.clamp(0.0, 1.0) * 255.0;
+    let mut k = (t * levels as f32 / 255.0) as u32;
+    k = k.min(levels.saturating_sub(1));
+    let lo = level_byte(k, levels) as f32;
+    let hi = level_byte(k + 1, levels) as f32;
+    let p = ((t - lo) / (hi - lo)).clamp(0.0, 1.0);
+    if threshold(x, y, c) < p { k + 1 } else { k }
+}
+
+/// The byte written for level `k` of `levels`.
+#[inline]
+pub fn level_byte(k: u32, levels: u32) -> u8 {
+    ((k * 255 + levels / 2) / levels) as u8
+}
+
+/// How a [`PngSink`] shows the colours (the display modes of the rftb
+/// manual page, flags `a r g b y c`, and plytrace's `outmode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DisplayMode {
+    /// 8 bits per channel.
+    Color,
+    /// One channel (0 red, 1 green, 2 blue) as 8-bit grey.
+    Channel(usize),
+    /// Luminance 0.299 R + 0.587 G + 0.114 B as 8-bit grey.
+    Luminance,
+    /// RGB, each channel quantized to this many bits (1 to 8) and dithered
+    /// (plytrace's `outmode a BITS`).
+    Quantized(u8),
+    /// rftb `-c`: R-G-B encoded as rrr-ggg-bb, dithered.
+    Rgb332,
+    /// rftb `-a BITS`: an adaptive look-up table of at most 256 colours,
+    /// each channel first quantized to BITS bits and dithered; an indexed
+    /// PNG. BITS is lowered until the colours fit.
+    Adaptive(u8),
+}
+
+impl From<OutMode> for DisplayMode {
+    fn from(m: OutMode) -> Self {
+        match m {
+            OutMode::Color => DisplayMode::Color,
+            OutMode::Red => DisplayMode::Channel(0),
+            OutMode::Green => DisplayMode::Channel(1),
+            OutMode::Blue => DisplayMode::Channel(2),
+            OutMode::Luminance => DisplayMode::Luminance,
+            OutMode::Quantized(b) if b >= 8 => DisplayMode::Color,
+            OutMode::Quantized(b) => DisplayMode::Quantized(b.max(1)),
+        }
+    }
+}
+
+/// Output levels per channel of a mode that keeps fewer than 8 bits.
+fn levels_of(bits: [u8; 3]) -> [u32; 3] {
+    bits.map(|b| (1u32 << b.clamp(1, 8)) - 1)
+}
+
+/// One row of RGB bytes, each channel dithered to `levels`.
+fn dithered_rgb_row(rgb: &[[f32; 3]], y: u32, levels: [u32; 3], out: &mut Vec<u8>) {
+    out.clear();
+    for (x, c) in rgb.iter().enumerate() {
+        for ch in 0..3 {
+            let k = dither_level(c[ch], levels[ch], x as u32, y, ch);
+            out.push(level_byte(k, levels[ch]));
+        }
+    }
+}
+
+/// One row of 8-bit bytes in `mode` (not the adaptive mode).
+fn mode_row(mode: DisplayMode, rgb: &[[f32; 3]], y: u32, out: &mut Vec<u8>) {
+    match mode {
+        DisplayMode::Color => {
+            out.resize(rgb.len() * 3, 0);
+            for (o, c) in out.chunks_exact_mut(3).zip(rgb) {
+                for ch in 0..3 {
+                    o[ch] = (c[ch] * 255.0 + 0.5).clamp(0.0, 255.0) as u8;
+                }
+            }
+        }
+        DisplayMode::Channel(ch) => {
+            out.resize(rgb.len(), 0);
+            channel_to_bytes(rgb, ch, out);
+        }
+        DisplayMode::Luminance => {
+            out.clear();
+            out.extend(rgb.iter().map(|c| {
+                let l = 0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2];
+                (l * 255.0 + 0.5).clamp(0.0, 255.0) as u8
+            }));
+        }
+        DisplayMode::Quantized(b) => dithered_rgb_row(rgb, y, levels_of([b; 3]), out),
+        DisplayMode::Rgb332 => dithered_rgb_row(rgb, y, levels_of([3, 3, 2]), out),
+        DisplayMode::Adaptive(_) => unreachable!("the adaptive mode is written at finish"),
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Row sinks
+
+/// Checks that `row` is the next row, `expected`, of an image `width` wide.
+fn check_row(row: &Row<'_>, expected: u32, width: u32, path: &Path) -> Result<()> {
+    if row.y != expected || row.rgb.len() != width as usize {
+        return Err(Error::Invalid(format!(
+            "{}: got row {} of {} pixels, expected row {expected} of {width}",
+            path.display(),
+            row.y,
+            row.rgb.len()
+        )));
+    }
+    Ok(())
+}
+
+/// Checks that all `height` rows came.
+fn check_complete(next: u32, height: u32, path: &Path) -> Result<()> {
+    if next != height {
+        return Err(Error::Invalid(format!(
+            "{}: {next} rows of {height} written; the image is incomplete",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
+fn png_error(path: &Path, e: png::EncodingError) -> Error {
+    match e {
+        png::EncodingError::IoError(io) => Error::io(path, io),
+        other => Error::io(path, std::io::Error::other(other)),
+    }
+}
+
+/// A PNG encoder with this sink's settings.
+fn png_encoder<W: Write>(
+    w: W,
+    width: u32,
+    height: u32,
+    color: png::ColorType,
+) -> png::Encoder<'static, W> {
+    let mut enc = png::Encoder::new(w, width, height);
+    enc.set_color(color);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Fast);
+    enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    enc
+}
+
+/// Streams rows into a PNG (see the module doc).
+pub struct PngSink {
+    // Dropped before `file`: an unfinished stream writes into the temporary.
+    stream: Option<png::StreamWriter<'static, std::fs::File>>,
+    file: AtomicFile,
+    mode: DisplayMode,
+    width: u32,
+    height: u32,
+    next: u32,
+    buf: Vec<u8>,
+    /// The adaptive mode's image, held until the palette is known.
+    held: Vec<[f32; 3]>,
+}
+
+impl PngSink {
+    /// Starts writing a `width` x `height` PNG in `mode` to `path`.
+    pub fn create(path: &Path, width: u32, height: u32, mode: DisplayMode) -> Result<PngSink> {
+        let file = AtomicFile::create(path)?;
+        let stream = match mode {
+            DisplayMode::Adaptive(_) => None,
+            _ => {
+                let color = match mode {
+                    DisplayMode::Channel(_) | DisplayMode::Luminance => png::ColorType::Grayscale,
+                    _ => png::ColorType::Rgb,
+                };
+                let w = file.file().try_clone().map_err(|e| Error::io(path, e))?;
+                let enc = png_encoder(w, width, height, color);
+                let writer = enc.write_header().map_err(|e| png_error(path, e))?;
+                Some(
+                    writer
+                        .into_stream_writer()
+                        .map_err(|e| png_error(path, e))?,
+                )
+            }
+        };
+        Ok(PngSink {
+            stream,
+            file,
+            mode,
+            width,
+            height,
+            next: 0,
+            buf: Vec::new(),
+            held: Vec::new(),
+        })
+    }
+
+    /// Completes the PNG under its temporary name; [`Staged::commit`]
+    /// renames it. Returns a note for the log when the adaptive mode had
+    /// to lower its bits.
+    pub fn finish(mut self) -> Result<(Staged, Option<String>)> {
+        check_complete(self.next, self.height, self.file.path())?;
+        let mut note = None;
+        if let Some(stream) = self.stream.take() {
+            stream
+                .finish()
+                .map_err(|e| png_error(self.file.path(), e))?;
+        } else if let DisplayMode::Adaptive(bits) = self.mode {
+            note = self.write_adaptive(bits)?;
+        }
+        Ok((self.file.finish()?, note))
+    }
+
+    fn write_adaptive(&mut self, bits: u8) -> Result<Option<String>> {
+        let path = self.file.path().to_path_buf();
+        let (used, palette, indices) = adaptive_table(&self.held, self.width, bits);
+        let w = self
+            .file
+            .file()
+            .try_clone()
+            .map_err(|e| Error::io(&path, e))?;
+        let mut enc = png_encoder(w, self.width, self.height, png::ColorType::Indexed);
+        enc.set_palette(palette.concat());
+        let mut writer = enc.write_header().map_err(|e| png_error(&path, e))?;
+        writer
+            .write_image_data(&indices)
+            .map_err(|e| png_error(&path, e))?;
+        writer.finish().map_err(|e| png_error(&path, e))?;
+        Ok((used != bits).then(|| {
+            format!(
+                "{}: more than 256 colours at {bits} bits per colour; used {used}",
+                path.display()
+            )
+        }))
+    }
+}
+
+/// The adaptive look-up table: the bits used (at most `bits`), the palette
+/// and one index per pixel.
+fn adaptive_table(image: &[[f32; 3]], width: u32, bits: u8) -> (u8, Vec<[u8; 3]>, Vec<u8>) {
+    let mut b = bits.clamp(1, 8);
+    loop {
+        let levels = levels_of([b; 3]);
+        let mut table: std::collections::HashMap<[u8; 3], u8> = std::collections::HashMap::new();
+        let mut palette = Vec::new();
+        let mut indices = Vec::with_capacity(image.len());
+        let mut fits = true;
+        for (i, c) in image.iter().enumerate() {
+            let (x, y) = ((i as u32) % width.max(1), (i as u32) / width.max(1));
+            let q: [u8; 3] = std::array::from_fn(|ch| {
+                level_byte(dither_level(c[ch], levels[ch], x, y, ch), levels[ch])
+            });
+            let idx = match table.get(&q) {
+                Some(&i) => i,
+                None if palette.len() == 256 => {
+                    fits = false;
+                    break;
+                }
+                None => {
+                    palette.push(q);
+                    let i = (palette.len() - 1) as u8;
+                    table.insert(q, i);
+                    i
+                }
+            };
+            indices.push(idx);
+        }
+        if fits || b == 1 {
+            return (b, palette, indices);
+        }
+        b -= 1;
+    }
+}
+
+impl RowSink for PngSink {
+    fn row(&mut self, row: &Row<'_>) -> Result<()> {
+        check_row(row, self.next, self.width, self.file.path())?;
+        self.next += 1;
+        if let Some(stream) = self.stream.as_mut() {
+            mode_row(self.mode, row.rgb, row.y, &mut self.buf);
+            let path = self.file.path();
+            stream
+                .write_all(&self.buf)
+                .map_err(|e| Error::io(path, e))?;
+        } else {
+            self.held.extend_from_slice(row.rgb);
+        }
+        Ok(())
+    }
+}
+
+/// Which planes a [`SeparationSink`] writes besides `.r .g .b`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Planes {
+    /// `.a`, the coverage bytes.
+    pub coverage: bool,
+    /// `.m`, the pixel masks.
+    pub mask: bool,
+}
+
+/// Writes the separations `SEED.r .g .b [.a] [.m]` (see the module doc).
+pub struct SeparationSink {
+    files: Vec<AtomicFile>,
+    planes: Planes,
+    width: u32,
+    height: u32,
+    next: u32,
+    buf: Vec<u8>,
+}
+
+/// `seed` with `.ext` appended (not replacing an extension: `a.b` gives
+/// `a.b.r`).
+pub fn with_suffix(seed: &Path, ext: &str) -> PathBuf {
+    let mut s = seed.as_os_str().to_os_string();
+    s.push(".");
+    s.push(ext);
+    PathBuf::from(s)
+}
+
+impl SeparationSink {
+    /// The files this sink writes for `seed`.
+    pub fn paths(seed: &Path, planes: Planes) -> Vec<PathBuf> {
+        let mut exts = vec!["r", "g", "b"];
+        if planes.coverage {
+            exts.push("a");
+        }
+        if planes.mask {
+            exts.push("m");
+        }
+        exts.into_iter().map(|e| with_suffix(seed, e)).collect()
+    }
+
+    /// Starts the files of `seed`.
+    pub fn create(seed: &Path, width: u32, height: u32, planes: Planes) -> Result<SeparationSink> {
+        let files = Self::paths(seed, planes)
+            .iter()
+            .map(|p| AtomicFile::create(p))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(SeparationSink {
+            files,
+            planes,
+            width,
+            height,
+            next: 0,
+            buf: Vec::new(),
+        })
+    }
+
+    /// Completes the files under their temporary names.
+    pub fn finish(self) -> Result<Vec<Staged>> {
+        check_complete(self.next, self.height, self.files[0].path())?;
+        self.files.into_iter().map(AtomicFile::finish).collect()
+    }
+}
+
+impl RowSink for SeparationSink {
+    fn row(&mut self, row: &Row<'_>) -> Result<()> {
+        check_row(row, self.next, self.width, self.files[0].path())?;
+        self.next += 1;
+        let w = self.width as usize;
+        self.buf.resize(w, 0);
+        for ch in 0..3 {
+            channel_to_bytes(row.rgb, ch, &mut self.buf);
+            self.files[ch].write_all(&self.buf)?;
+        }
+        let mut i = 3;
+        if self.planes.coverage {
+            let cov = plane(row.coverage, w, &self.files[i], "coverage")?;
+            self.files[i].write_all(cov)?;
+            i += 1;
+        }
+        if self.planes.mask {
+            let masks = plane(row.mask, w, &self.files[i], "mask")?;
+            self.buf.clear();
+            self.buf.extend(masks.iter().flat_map(|m| m.to_le_bytes()));
+            self.files[i].write_all(&self.buf)?;
+        }
+        Ok(())
+    }
+}
+
+/// The row's plane, which must be there and `w` long.
+fn plane<'a, T>(p: Option<&'a [T]>, w: usize, file: &AtomicFile, what: &str) -> Result<&'a [T]> {
+    match p {
+        Some(p) if p.len() == w => Ok(p),
+        _ => Err(Error::Invalid(format!(
+            "{}: the scan converter gave no {what} row of {w} pixels",
+            file.path().display()
+        ))),
+    }
+}
+
+/// Bytes of one saved fragment in a pixel-struct file.
+pub const FRAGMENT_BYTES: usize = 4;
+/// Bytes of one pixel-struct.
+pub const PIXEL_STRUCT_BYTES: usize = 8;
+
+/// Writes the pixel-struct file of rftb4 (layout in the module doc): the
+/// pixel array is streamed, the fragment lists spooled to a temporary file
+/// beside it and appended at [`PixelStructSink::finish`].
+pub struct PixelStructSink {
+    file: AtomicFile,
+    spool: AtomicFile,
+    spool_len: u64,
+    width: u32,
+    height: u32,
+    next: u32,
+    buf: Vec<u8>,
+    frag_buf: Vec<u8>,
+}
+
+impl PixelStructSink {
+    /// Starts the file `path`.
+    pub fn create(path: &Path, width: u32, height: u32) -> Result<PixelStructSink> {
+        let file = AtomicFile::create(path)?;
+        let spool_path = temp_beside(path, "frag")?;
+        let spool = AtomicFile::create(&spool_path)?;
+        Ok(PixelStructSink {
+            file,
+            spool,
+            spool_len: 0,
+            width,
+            height,
+            next: 0,
+            buf: Vec::new(),
+            frag_buf: Vec::new(),
+        })
+    }
+
+    /// Appends the fragment section and completes the file under its
+    /// temporary name.
+    pub fn finish(self) -> Result<Staged> {
+        check_complete(self.next, self.height, self.file.path())?;
+        let spool = self.spool.finish()?;
+        let mut src = std::fs::File::open(&spool.tmp).map_err(|e| Error::io(&spool.tmp, e))?;
+        let mut dst = self.file.file();
+        let n = std::io::copy(&mut src, &mut dst).map_err(|e| Error::io(&self.file.path, e))?;
+        if n != self.spool_len {
+            return Err(Error::io(
+                &self.file.path,
+                std::io::Error::other("the fragment spool was cut short"),
+            ));
+        }
+        drop(spool);
+        self.file.finish()
+    }
+}
+
+impl RowSink for PixelStructSink {
+    fn row(&mut self, row: &Row<'_>) -> Result<()> {
+        check_row(row, self.next, self.width, self.file.path())?;
+        self.next += 1;
+        let pixels = plane(row.pixels, self.width as usize, &self.file, "pixel-struct")?;
+        self.buf.clear();
+        self.frag_buf.clear();
+        for p in pixels {
+            let flist = if p.fragments.is_empty() {
+                0
+            } else {
+                let at = self.spool_len + self.frag_buf.len() as u64 + 1;
+                let at = u32::try_from(at).map_err(|_| {
+                    Error::Invalid(format!(
+                        "{}: the fragment section passes 4 GiB",
+                        self.file.path().display()
+                    ))
+                })?;
+                push_fragments(&p.fragments, &mut self.frag_buf);
+                at
+            };
+            self.buf.extend_from_slice(&flist.to_le_bytes());
+            self.buf
+                .extend_from_slice(&[p.rgb[0], p.rgb[1], p.rgb[2], p.pixstat]);
+        }
+        self.file.write_all(&self.buf)?;
+        self.spool.write_all(&self.frag_buf)?;
+        self.spool_len += self.frag_buf.len() as u64;
+        Ok(())
+    }
+}
+
+fn push_fragments(fragments: &[SavedFragment], out: &mut Vec<u8>) {
+    out.extend_from_slice(&(fragments.len() as u32).to_le_bytes());
+    for f in fragments {
+        out.extend_from_slice(&f.pmask.to_le_bytes());
+        out.push(f.pstat);
+        out.push(f.pcover);
+    }
+}
+
+/// Reads a pixel-struct file of `width` x `height` pixels (layout in the
+/// module doc), checking that its size fits the resolution and that its
+/// fragment section is exactly the lists its pixels point to.
+pub fn read_pixel_structs(
+    bytes: &[u8],
+    width: u32,
+    height: u32,
+    path: &Path,
+) -> Result<Vec<PixelStruct>> {
+    let err = |msg: String| Error::at(Location::file(path), msg);
+    let n = width as usize * height as usize;
+    let array = n * PIXEL_STRUCT_BYTES;
+    if bytes.len() < array {
+        return Err(err(format!(
+            "{} bytes, but {width} x {height} pixel-structs take {array}: is the resolution right?",
+            bytes.len()
+        )));
+    }
+    let section = &bytes[array..];
+    let starts = fragment_lists(section).map_err(|at| {
+        err(format!(
+            "the fragment section (from byte {array}) is broken at its byte {at}: \
+             is the resolution right?"
+        ))
+    })?;
+    let mut pixels = Vec::with_capacity(n);
+    for (i, p) in bytes[..array].chunks_exact(PIXEL_STRUCT_BYTES).enumerate() {
+        let flist = u32::from_le_bytes([p[0], p[1], p[2], p[3]]);
+        let fragments = if flist == 0 {
+            Vec::new()
+        } else if starts.binary_search(&(flist - 1)).is_ok() {
+            read_fragments(&section[(flist - 1) as usize..])
+        } else {
+            return Err(err(format!(
+                "pixel {i} (x {}, y {}): flist {flist} points at no fragment list",
+                i % width as usize,
+                i / width as usize
+            )));
+        };
+        pixels.push(PixelStruct {
+            rgb: [p[4], p[5], p[6]],
+            pixstat: p[7],
+            fragments,
+        });
+    }
+    Ok(pixels)
+}
+
+/// The offsets of the lists that tile `section`, or the offset where it
+/// stops making sense.
+fn fragment_lists(section: &[u8]) -> std::result::Result<Vec<u32>, usize> {
+    let mut starts = Vec::new();
+    let mut at = 0usize;
+    while at < section.len() {
+        let head = section.get(at..at + 4).ok_or(at)?;
+        let count = u32::from_le_bytes([head[0], head[1], head[2], head[3]]) as usize;
+        let end = count
+            .checked_mul(FRAGMENT_BYTES)
+            .and_then(|b| b.checked_add(at + 4))
+            .filter(|&e| e <= section.len() && count > 0)
+            .ok_or(at)?;
+        starts.push(u32::try_from(at).map_err(|_| at)?);
+        at = end;
+    }
+    Ok(starts)
+}
+
+/// The fragment list at the start of `list` (already checked).
+fn read_fragments(list: &[u8]) -> Vec<SavedFragment> {
+    let count = u32::from_le_bytes([list[0], list[1], list[2], list[3]]) as usize;
+    list[4..4 + count * FRAGMENT_BYTES]
+        .chunks_exact(FRAGMENT_BYTES)
+        .map(|f| SavedFragment {
+            pmask: u16::from_le_bytes([f[0], f[1]]),
+            pstat: f[2],
+            pcover: f[3],
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -173,5 +926,189 @@ mod tests {
         assert!(bytes.starts_with(b"P6\n3 2\n255\n"));
         assert_eq!(bytes.len(), 11 + 18);
         assert_eq!(&bytes[11..14], &[255, 0, 0]);
+    }
+
+    fn row<'a>(y: u32, rgb: &'a [[f32; 3]]) -> Row<'a> {
+        Row {
+            y,
+            rgb,
+            coverage: None,
+            mask: None,
+            pixels: None,
+            ids: None,
+        }
+    }
+
+    #[test]
+    fn separations_2x2_layout() {
+        let dir = tempfile::tempdir().unwrap();
+        let seed = dir.path().join("t");
+        let planes = Planes {
+            coverage: true,
+            mask: true,
+        };
+        let mut sink = SeparationSink::create(&seed, 2, 2, planes).unwrap();
+        let rows = [
+            [[1.0, 0.0, 0.5], [0.0, 1.0, 0.25]],
+            [[2.0, -1.0, 0.0], [0.2, 0.4, 0.6]],
+        ];
+        let covs = [[255u8, 1], [2, 3]];
+        let masks = [[0xFFFFu16, 0x0102], [0x8000, 0]];
+        for y in 0..2 {
+            let mut r = row(y as u32, &rows[y]);
+            r.coverage = Some(&covs[y]);
+            r.mask = Some(&masks[y]);
+            sink.row(&r).unwrap();
+        }
+        commit_all(sink.finish().unwrap()).unwrap();
+        let read = |e: &str| std::fs::read(with_suffix(&seed, e)).unwrap();
+        assert_eq!(read("r"), [255, 0, 255, 51]);
+        assert_eq!(read("g"), [0, 255, 0, 102]);
+        assert_eq!(read("b"), [128, 64, 0, 153]);
+        assert_eq!(read("a"), [255, 1, 2, 3]);
+        assert_eq!(read("m"), [0xFF, 0xFF, 0x02, 0x01, 0x00, 0x80, 0, 0]);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 5);
+    }
+
+    #[test]
+    fn unfinished_sinks_leave_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let rgb = [[0.5f32; 3]; 2];
+        let mut s = SeparationSink::create(&dir.path().join("s"), 2, 2, Planes::default()).unwrap();
+        s.row(&row(0, &rgb)).unwrap();
+        assert!(s.finish().is_err());
+        let mut p = PngSink::create(&dir.path().join("p.png"), 2, 2, DisplayMode::Color).unwrap();
+        p.row(&row(0, &rgb)).unwrap();
+        drop(p);
+        let mut q = PixelStructSink::create(&dir.path().join("q"), 2, 1).unwrap();
+        assert!(q.row(&row(0, &rgb)).is_err(), "no pixel-structs in the row");
+        drop(q);
+        let s = SeparationSink::create(&dir.path().join("z"), 2, 1, Planes::default()).unwrap();
+        let staged = s.finish();
+        assert!(staged.is_err());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn pixel_struct_round_trip_2x2() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("ps");
+        let f = |pmask, pstat, pcover| SavedFragment {
+            pmask,
+            pstat,
+            pcover,
+        };
+        let px = |rgb, pixstat, fragments| PixelStruct {
+            rgb,
+            pixstat,
+            fragments,
+        };
+        let rows = [
+            vec![
+                px([1, 2, 3], 0x21, vec![]),
+                px([4, 5, 6], 0x62, vec![f(0x1234, 7, 8), f(0xFFFF, 9, 10)]),
+            ],
+            vec![
+                px([7, 8, 9], 0x63, vec![f(1, 2, 3)]),
+                px([0, 0, 0], 0, vec![]),
+            ],
+        ];
+        let rgb = [[0.0f32; 3]; 2];
+        let mut sink = PixelStructSink::create(&path, 2, 2).unwrap();
+        for (y, r) in rows.iter().enumerate() {
+            let mut row = row(y as u32, &rgb);
+            row.pixels = Some(r);
+            sink.row(&row).unwrap();
+        }
+        sink.finish().unwrap().commit().unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        #[rustfmt::skip]
+        let expected: Vec<u8> = vec![
+            0, 0, 0, 0, 1, 2, 3, 0x21,
+            1, 0, 0, 0, 4, 5, 6, 0x62,
+            13, 0, 0, 0, 7, 8, 9, 0x63,
+            0, 0, 0, 0, 0, 0, 0, 0,
+            2, 0, 0, 0, 0x34, 0x12, 7, 8, 0xFF, 0xFF, 9, 10,
+            1, 0, 0, 0, 1, 0, 2, 3,
+        ];
+        assert_eq!(bytes, expected);
+        let back = read_pixel_structs(&bytes, 2, 2, &path).unwrap();
+        assert_eq!(back, rows.concat());
+        assert!(read_pixel_structs(&bytes, 3, 2, &path).is_err());
+        assert!(read_pixel_structs(&bytes[..bytes.len() - 1], 2, 2, &path).is_err());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn dither_keeps_the_mean_and_is_deterministic() {
+        for (levels, v) in [(7u32, 0.3f32), (3, 0.6), (1, 0.37), (15, 0.91), (7, 0.01)] {
+            let mut sum = 0u64;
+            for y in 0..64 {
+                for x in 0..64 {
+                    let k = dither_level(v, levels, x + 100, y + 7, 2);
+                    assert_eq!(k, dither_level(v, levels, x + 100, y + 7, 2));
+                    sum += u64::from(level_byte(k, levels));
+                }
+            }
+            let mean = sum as f32 / 4096.0 / 255.0;
+            assert!((mean - v).abs() <= 0.5 / 255.0, "{levels} {v}: {mean}");
+        }
+        assert_eq!(dither_level(1.0, 3, 5, 5, 0), 3);
+        assert_eq!(dither_level(0.0, 3, 5, 5, 0), 0);
+    }
+
+    #[test]
+    fn png_sink_has_srgb_and_modes() {
+        let dir = tempfile::tempdir().unwrap();
+        let rgb = [[1.0f32, 0.5, 0.0], [0.2, 0.2, 0.2]];
+        for (name, mode, color) in [
+            ("c.png", DisplayMode::Color, png::ColorType::Rgb),
+            ("g.png", DisplayMode::Channel(1), png::ColorType::Grayscale),
+            ("y.png", DisplayMode::Luminance, png::ColorType::Grayscale),
+            ("q.png", DisplayMode::Rgb332, png::ColorType::Rgb),
+            ("a.png", DisplayMode::Adaptive(4), png::ColorType::Indexed),
+        ] {
+            let path = dir.path().join(name);
+            let mut sink = PngSink::create(&path, 2, 2, mode).unwrap();
+            sink.row(&row(0, &rgb)).unwrap();
+            sink.row(&row(1, &rgb)).unwrap();
+            let (staged, note) = sink.finish().unwrap();
+            assert!(note.is_none());
+            staged.commit().unwrap();
+            let decoder =
+                png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
+            let reader = decoder.read_info().unwrap();
+            let info = reader.info();
+            assert!(info.srgb.is_some(), "{name}: no sRGB chunk");
+            assert_eq!(info.color_type, color, "{name}");
+        }
+        let mut r = png::Decoder::new(std::io::BufReader::new(
+            std::fs::File::open(dir.path().join("g.png")).unwrap(),
+        ))
+        .read_info()
+        .unwrap();
+        let mut buf = vec![0; r.output_buffer_size().unwrap()];
+        r.next_frame(&mut buf).unwrap();
+        assert_eq!(&buf[..4], &[128, 51, 128, 51]);
+    }
+
+    #[test]
+    fn adaptive_table_lowers_bits_to_fit() {
+        let w = 64u32;
+        let image: Vec<[f32; 3]> = (0..w * w)
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                [
+                    x as f32 / 63.0,
+                    y as f32 / 63.0,
+                    ((x + y) % 64) as f32 / 63.0,
+                ]
+            })
+            .collect();
+        let (bits, palette, indices) = adaptive_table(&image, w, 8);
+        assert!(bits < 8 && palette.len() <= 256, "{bits}");
+        assert_eq!(indices.len(), image.len());
+        let (bits, _, _) = adaptive_table(&[[0.5; 3]; 4], 2, 8);
+        assert_eq!(bits, 8);
     }
 }
