@@ -36,6 +36,7 @@ struct Options {
     refraction: plytrace::image_tree::Refraction,
     aa: Option<plytrace::raster::scan::Method>,
     threads: usize,
+    shading: plytrace::shading::ShadingModel,
     quiet: bool,
 }
 
@@ -85,6 +86,8 @@ MODERN CONVENIENCES:
                        area (1), mask (2), hybrid (3), multilevel (4); default: the
                        best for the scene (multilevel: every tree level blended)
     --supersample N    Donovan's N x N samples per pixel instead (N from 1 to 16)
+    --shading MODEL    illumination: garcia (004 section 4.8, default) or donovan (000
+                       section 6: I0 cos^a, I1 cos^b(theta - theta1), transparency rule 3)
     --threads N        worker threads (default: all cores); the image does not depend on it
     --help, --version
 
@@ -163,6 +166,13 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
                         ));
                     }
                 }
+            }
+            "--shading" => {
+                o.shading = match value("garcia or donovan")?.to_ascii_lowercase().as_str() {
+                    "garcia" => plytrace::shading::ShadingModel::Garcia,
+                    "donovan" => plytrace::shading::ShadingModel::Donovan,
+                    v => return Err(format!("--shading: expected garcia or donovan, found `{v}`")),
+                };
             }
             "--threads" => {
                 let v = value("a thread count")?;
@@ -277,6 +287,7 @@ struct CliHost {
     refraction: plytrace::image_tree::Refraction,
     aa: Option<plytrace::raster::scan::Method>,
     threads: usize,
+    shading: plytrace::shading::ShadingModel,
     scene_stem: Option<String>,
     quiet: bool,
     interactive: bool,
@@ -319,6 +330,7 @@ impl Host for CliHost {
                 refraction: self.refraction,
                 aa: self.aa,
                 threads: self.threads,
+                shading: self.shading,
             },
         )?;
         if scene.display {
@@ -614,6 +626,7 @@ fn main() -> ExitCode {
         refraction: options.refraction,
         aa: options.aa,
         threads: options.threads,
+        shading: options.shading,
         scene_stem: options
             .scene
             .as_ref()

@@ -52,6 +52,9 @@ pub struct RenderOptions {
     pub aa: Option<Method>,
     /// Worker threads for scan conversion (0: all cores).
     pub threads: usize,
+    /// The illumination model (`--shading`); Donovan's brings his
+    /// transparency rule (3) to the scan converter.
+    pub shading: crate::shading::ShadingModel,
 }
 
 /// Figures of one render.
@@ -393,7 +396,7 @@ pub fn prepare(
             shadows: options.shadows,
             refraction: options.refraction,
             explicit_shadow_shades: scene.modes.shadow_shades,
-            ..Default::default()
+            shading: options.shading,
         },
         &profile,
     );
@@ -429,7 +432,10 @@ pub fn prepare(
             method,
             act_lines: 16,
             paint_background: true,
-            transparency: scan::TransparencyRule::Garcia,
+            transparency: match options.shading {
+                crate::shading::ShadingModel::Garcia => scan::TransparencyRule::Garcia,
+                crate::shading::ShadingModel::Donovan => scan::TransparencyRule::Donovan,
+            },
             threads: options.threads,
             ids: true,
         },
