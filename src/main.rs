@@ -171,7 +171,11 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
                 o.shading = match value("garcia or donovan")?.to_ascii_lowercase().as_str() {
                     "garcia" => plytrace::shading::ShadingModel::Garcia,
                     "donovan" => plytrace::shading::ShadingModel::Donovan,
-                    v => return Err(format!("--shading: expected garcia or donovan, found `{v}`")),
+                    v => {
+                        return Err(format!(
+                            "--shading: expected garcia or donovan, found `{v}`"
+                        ));
+                    }
                 };
             }
             "--threads" => {
@@ -320,29 +324,51 @@ impl Host for CliHost {
         if scene.objects.is_empty() {
             eprintln!("warning: the scene has no objects; the image is the background only");
         }
-        let rendered = render::render(
-            scene,
-            &RenderOptions {
-                size: self.size,
-                shadows,
-                visibility: self.visibility,
-                profile: self.profile,
-                refraction: self.refraction,
-                aa: self.aa,
-                threads: self.threads,
-                shading: self.shading,
-            },
-        )?;
-        if scene.display {
-            let path = self.output_path(scene);
-            output::write_image(&path, &rendered.frame, scene.outmode)?;
-            self.say(&format!(
-                "Wrote {} ({} x {})",
-                path.display(),
-                rendered.frame.width,
-                rendered.frame.height
-            ));
-        }
+        let options = RenderOptions {
+            size: self.size,
+            shadows,
+            visibility: self.visibility,
+            profile: self.profile,
+            refraction: self.refraction,
+            aa: self.aa,
+            threads: self.threads,
+            shading: self.shading,
+        };
+        let path = self.output_path(scene);
+        let streamed = scene.display
+            && self.id_image.is_none()
+            && path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        let rendered = match render::plan(scene, &options)? {
+            render::Plan::Tree(mut prepared) if streamed => {
+                // The virtual frame buffer: bands of rows go to the PNG as
+                // they are finished; the whole image is never in memory.
+                prepared.scan.ids = false;
+                let (w, h) = (prepared.scan.width, prepared.scan.height);
+                let mut sink = output::PngSink::create(&path, w, h, scene.outmode.into())?;
+                let rendered = render::scan_into(*prepared, &mut sink)?;
+                sink.finish()?.0.commit()?;
+                self.say(&format!("Wrote {} ({w} x {h})", path.display()));
+                rendered
+            }
+            plan => {
+                let rendered = match plan {
+                    render::Plan::Tree(prepared) => render::scan_into_frame(*prepared)?,
+                    render::Plan::Painted(r) => *r,
+                };
+                if scene.display {
+                    output::write_image(&path, &rendered.frame, scene.outmode)?;
+                    self.say(&format!(
+                        "Wrote {} ({} x {})",
+                        path.display(),
+                        rendered.frame.width,
+                        rendered.frame.height
+                    ));
+                }
+                rendered
+            }
+        };
         if let Some(tree) = &rendered.tree {
             let stem = scene
                 .fname

@@ -126,14 +126,17 @@ pub fn chosen_algorithm(scene: &Scene, options: &RenderOptions) -> Algorithm {
 /// Renders `scene` into a frame buffer.
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
     match plan(scene, options)? {
-        Plan::Tree(prepared) => {
-            let (w, h) = (prepared.scan.width, prepared.scan.height);
-            let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
-            let rendered = scan_into(*prepared, &mut FrameSink { frame: &mut frame })?;
-            Ok(rendered.with_frame(frame))
-        }
+        Plan::Tree(prepared) => scan_into_frame(*prepared),
         Plan::Painted(rendered) => Ok(*rendered),
     }
+}
+
+/// Scan converts a prepared tree into a frame buffer of its size.
+pub fn scan_into_frame(prepared: Prepared) -> Result<Rendered> {
+    let (w, h) = (prepared.scan.width, prepared.scan.height);
+    let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
+    let rendered = scan_into(prepared, &mut FrameSink { frame: &mut frame })?;
+    Ok(rendered.with_frame(frame))
 }
 
 /// What a render comes to before its pixels: a tree ready for scan
