@@ -1,12 +1,40 @@
 //! The scan conversion processors of Garcia 1986 (004 chapter 5): a
 //! [`RecordStream`] in, rows of pixels out, top row first.
 //!
-//! SKELETON: the types below are the fixed interface between the record
-//! stream, the scan converters and the outputs (PNG, separations,
-//! pixel-struct files). The implementation is being written.
+//! The types below are the fixed interface between the record stream, the
+//! scan converters and the outputs (PNG, separations, pixel-struct files).
+//! Inside: the tiler of section 5.5 ([`tiler`]), the integrators of
+//! sections 5.6-5.9 ([`single`], [`multilevel`], [`painter`]) and the
+//! virtual frame buffer of section 5.10 ([`band`]).
+//!
+//! Which stream each method accepts, and which hidden-surface logic runs:
+//!
+//! | method | back to front | ftb, pre-blended | ftb, post-blended |
+//! |---|---|---|---|
+//! | `Point` | painter | single-level, 1 sample | multi-level, 1 sample |
+//! | `Area`, `Mask`, `Hybrid` | error | single-level | error |
+//! | `Multilevel` | error | error | multi-level, 16 samples |
+//! | `Supersample(n)` | error | single-level, n² samples | multi-level, n² samples |
+//!
+//! Any other combination, `Supersample(n)` with `n` outside 1..=16, a
+//! multi-level run with a record level outside 1..=31, an empty image and
+//! [`TransparencyRule::Donovan`] with a front-to-back stream (the rule
+//! needs the surface behind first) are [`Error::Invalid`].
 
-use crate::error::Result;
+mod band;
+mod mask;
+mod multilevel;
+mod painter;
+mod shade;
+mod single;
+mod tiler;
+
+use crate::error::{Error, Result};
 use crate::tree::RecordStream;
+use band::{Plan, convert};
+use multilevel::MultiLevel;
+use painter::Painter;
+use single::{Measure, SingleLevel};
 
 /// How coverage is found and blended (004 sections 5.6-5.9; Donovan 000
 /// section 6).
@@ -128,6 +156,150 @@ pub fn scan_convert(
     options: &ScanOptions,
     sink: &mut dyn RowSink,
 ) -> Result<ScanStats> {
-    let _ = (stream, options, sink);
-    unimplemented!("being written")
+    let logic = choose(stream, options)?;
+    let (w, h) = (options.width, options.height);
+    let records = stream
+        .records
+        .iter()
+        .enumerate()
+        .map(|(k, r)| shade::prepare(r, k, w, h))
+        .collect::<Result<Vec<_>>>()?;
+    if let Logic::Multi(_) = logic
+        && let Some((k, r)) = records
+            .iter()
+            .enumerate()
+            .find(|(_, r)| !(1..=31).contains(&r.level))
+    {
+        return Err(Error::Invalid(format!(
+            "record {}: level {} is outside 1..31, the depths a pixel-struct can hold",
+            k + 1,
+            r.level
+        )));
+    }
+    let m = options.method;
+    let side = match (m, logic) {
+        (Method::Supersample(n), _) => n,
+        (Method::Point, _) => 1,
+        _ => 4,
+    };
+    let bg = stream
+        .background
+        .unwrap_or([0; 3])
+        .map(|c| c as f32 / 255.0);
+    let plan = Plan {
+        width: w,
+        height: h,
+        act_lines: options.act_lines.clamp(1, h),
+        records: &records,
+        side,
+        ids: options.ids,
+        last_wins: logic == Logic::Painter,
+        background: (options.paint_background && logic != Logic::Painter).then_some(bg),
+        coverage: matches!(m, Method::Area | Method::Hybrid),
+        mask: matches!(m, Method::Mask | Method::Hybrid),
+        pixels: m == Method::Multilevel,
+    };
+    let t = options.threads;
+    match logic {
+        Logic::Painter => {
+            let initial = if options.paint_background {
+                bg
+            } else {
+                [0.0; 3]
+            };
+            convert(
+                &plan,
+                t,
+                || Painter::new(options.transparency, initial),
+                sink,
+            )
+        }
+        Logic::Single(measure) => {
+            convert(&plan, t, || SingleLevel::new(measure, side * side), sink)
+        }
+        Logic::Multi(n) => convert(&plan, t, || MultiLevel::new(n), sink),
+    }
+}
+
+/// The hidden-surface logic a run uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Logic {
+    /// Back to front, overwrite.
+    Painter,
+    /// Front to back, pre-blended.
+    Single(Measure),
+    /// Front to back, post-blended, with this many samples.
+    Multi(u32),
+}
+
+fn name(m: Method) -> String {
+    match m {
+        Method::Point => "point sampling (--aa none)".into(),
+        Method::Area => "rftb1 (area coverage)".into(),
+        Method::Mask => "rftb2 (pixel masks)".into(),
+        Method::Hybrid => "rftb3 (hybrid area/mask)".into(),
+        Method::Multilevel => "rftb4 (multilevel)".into(),
+        Method::Supersample(n) => format!("supersampling {n} x {n}"),
+    }
+}
+
+/// Checks the options against the stream and picks the logic.
+fn choose(stream: &RecordStream, o: &ScanOptions) -> Result<Logic> {
+    let m = o.method;
+    if o.width == 0 || o.height == 0 {
+        return Err(Error::Invalid(format!(
+            "cannot scan convert a {} x {} image",
+            o.width, o.height
+        )));
+    }
+    if let Method::Supersample(n) = m
+        && !(1..=16).contains(&n)
+    {
+        return Err(Error::Invalid(format!(
+            "supersampling takes 1 to 16 samples per pixel side, not {n}"
+        )));
+    }
+    let got = match (stream.front_to_back, stream.blended) {
+        (false, _) => "back to front",
+        (true, true) => "pre-blended",
+        (true, false) => "post-blended",
+    };
+    let wants_pre = "wants a front-to-back tree with pre-blended shades (setmode b on)";
+    let wants_post = "wants a front-to-back tree with post-blended shades (setmode b off)";
+    let logic = match (m, stream.front_to_back, stream.blended) {
+        (Method::Point, false, _) => Logic::Painter,
+        (Method::Area, true, true) => Logic::Single(Measure::Area),
+        (Method::Mask, true, true) => Logic::Single(Measure::Mask),
+        (Method::Hybrid, true, true) => Logic::Single(Measure::Hybrid),
+        (Method::Point | Method::Supersample(_), true, true) => Logic::Single(Measure::Mask),
+        (Method::Multilevel, true, false) => Logic::Multi(16),
+        (Method::Point, true, false) => Logic::Multi(1),
+        (Method::Supersample(n), true, false) => Logic::Multi(n * n),
+        (Method::Area | Method::Mask | Method::Hybrid, ..) => {
+            return Err(Error::Invalid(format!(
+                "{} {wants_pre}; this one is {got}",
+                name(m)
+            )));
+        }
+        (Method::Multilevel, ..) => {
+            return Err(Error::Invalid(format!(
+                "{} {wants_post}; this one is {got}",
+                name(m)
+            )));
+        }
+        (Method::Supersample(_), false, _) => {
+            return Err(Error::Invalid(format!(
+                "{} wants a front-to-back tree; this one is back to front",
+                name(m)
+            )));
+        }
+    };
+    if logic != Logic::Painter && o.transparency == TransparencyRule::Donovan {
+        return Err(Error::Invalid(format!(
+            "{}: Donovan's transparency rule needs the surface behind first, so it works \
+             only with point sampling of a back-to-front tree; this one is front to back",
+            name(m)
+        )));
+    }
+    Ok(logic)
 }
