@@ -125,6 +125,8 @@ pub struct VirtualImageTree {
     pub max_depth: u32,
     /// Geometry counters of level 1.
     pub geometry: GeometryStats,
+    /// NNS counters summed over every level sorted, when NNS sorted.
+    pub nns: Option<crate::visibility::nns::NnsStats>,
 }
 
 impl VirtualImageTree {
@@ -433,7 +435,7 @@ impl Builder<'_> {
     }
 
     /// Orders a level's candidates back to front.
-    fn sort(&self, candidates: Vec<Candidate>) -> Vec<Candidate> {
+    fn sort(&mut self, candidates: Vec<Candidate>) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Sortply);
         if self.options.nns {
             let faces: Vec<nns::NnsFace> = candidates
@@ -452,7 +454,15 @@ impl Builder<'_> {
                 .iter()
                 .map(|c| ((c.object, c.polygon), c.back_facing))
                 .collect();
-            let (sorted, _) = nns::sort(faces, self.view, self.eps);
+            let (sorted, stats) = nns::sort(faces, self.view, self.eps);
+            let total = self.tree.nns.get_or_insert_with(Default::default);
+            total.faces_in += stats.faces_in;
+            total.faces_out += stats.faces_out;
+            total.splits += stats.splits;
+            total.cycles_of_two += stats.cycles_of_two;
+            total.longer_cycles += stats.longer_cycles;
+            total.exact_tests += stats.exact_tests;
+            total.unresolved += stats.unresolved;
             return sorted
                 .into_iter()
                 .map(|f| Candidate {

@@ -406,6 +406,7 @@ pub fn prepare(
     stats.sort_time = t.elapsed();
     stats.geometry = tree.geometry;
     stats.max_depth = tree.max_depth;
+    stats.nns = tree.nns;
     let t = Instant::now();
     let (width, height) = (view.width as u32, view.height as u32);
     let method = best_method(options);

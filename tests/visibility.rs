@@ -47,6 +47,10 @@ fn shared(name: &str) -> Option<Scene> {
     let path = support::shared_scene(name)?;
     let mut scene = plytrace::scene::load(&path).unwrap().0;
     scene.modes.max_level = 1;
+    // Visibility only: the image-space algorithms refuse transparency.
+    for o in &mut scene.objects {
+        o.surface.transparency = (0.0, 0.0);
+    }
     Some(scene)
 }
 
