@@ -98,6 +98,8 @@ fn check(name: &str) {
     let (reference, edge) = oracle(&scene, 16);
     let (grid4, _) = oracle(&scene, 4);
     let ideal = edge_error(&grid4, &reference, &edge);
+    let (grid8, _) = oracle(&scene, 8);
+    let ideal8 = edge_error(&grid8, &reference, &edge);
     let default = edge_error(
         &rendered(
             &scene,
@@ -109,7 +111,7 @@ fn check(name: &str) {
     let donovan = edge_error(&rendered(&scene, Method::Supersample(8)), &reference, &edge);
     let point = edge_error(&rendered(&scene, Method::Point), &reference, &edge);
     eprintln!(
-        "{name}: edge error ideal 4x4 {ideal:.2}, default {default:.2}, donovan 8x8 {donovan:.2}, point {point:.2}"
+        "{name}: edge error ideal 4x4 {ideal:.2}, ideal 8x8 {ideal8:.2}, default {default:.2}, donovan 8x8 {donovan:.2}, point {point:.2}"
     );
     assert!(
         default <= 1.15 * ideal,

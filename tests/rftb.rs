@@ -398,7 +398,6 @@ fn getrgb_refuses_a_wrong_resolution() {
 }
 
 #[test]
-#[ignore = "needs raster::scan"]
 fn the_manual_example_writes_rgbm_and_logs() {
     let dir = tempfile::tempdir().unwrap();
     write_tree(dir.path(), "test", true, true, true);
@@ -424,7 +423,6 @@ fn the_manual_example_writes_rgbm_and_logs() {
 }
 
 #[test]
-#[ignore = "needs raster::scan"]
 fn rftb1_rftb3_write_their_files() {
     let dir = tempfile::tempdir().unwrap();
     write_tree(dir.path(), "t", true, true, true);
@@ -461,7 +459,6 @@ fn rftb1_rftb3_write_their_files() {
 }
 
 #[test]
-#[ignore = "needs raster::scan"]
 fn rftb4_then_getrgb() {
     let dir = tempfile::tempdir().unwrap();
     write_tree(dir.path(), "t", true, false, true);
