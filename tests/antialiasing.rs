@@ -143,3 +143,53 @@ fn cycles_edges() {
 fn mirror_edges() {
     check("mirror.des");
 }
+
+/// Blending space (part 4): coverage blends the written values linearly,
+/// as the thesis's arithmetic does: white over half of a black pixel is
+/// 128 with every anti-aliasing method.
+#[test]
+fn half_covered_white_over_black_is_128() {
+    use plytrace::raster::scan::{Row, RowSink, ScanOptions, TransparencyRule, scan_convert};
+    use plytrace::tree::{Record, RecordStream, Shades};
+    struct Keep(Vec<[f32; 3]>);
+    impl RowSink for Keep {
+        fn row(&mut self, row: &Row<'_>) -> plytrace::Result<()> {
+            self.0.extend_from_slice(row.rgb);
+            Ok(())
+        }
+    }
+    // The left half of a 1 x 1 image.
+    let half = Record {
+        level: 1,
+        points: vec![[0.0, 0.0], [0.0, 1.0], [0.5, 1.0], [0.5, 0.0]],
+        shades: Shades::Faceted([255, 255, 255]),
+    };
+    for (method, blended) in [
+        (Method::Area, true),
+        (Method::Mask, true),
+        (Method::Hybrid, true),
+        (Method::Multilevel, false),
+        (Method::Supersample(8), false),
+    ] {
+        let stream = RecordStream {
+            records: vec![half.clone()],
+            background: Some([0, 0, 0]),
+            front_to_back: true,
+            blended,
+        };
+        let options = ScanOptions {
+            width: 1,
+            height: 1,
+            method,
+            act_lines: 1,
+            paint_background: true,
+            transparency: TransparencyRule::Garcia,
+            threads: 1,
+            ids: false,
+        };
+        let mut keep = Keep(Vec::new());
+        scan_convert(&stream, &options, &mut keep).unwrap();
+        let v = (keep.0[0][0] * 255.0).round() as u8;
+        assert_eq!(v, 128, "{method:?}");
+    }
+}

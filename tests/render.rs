@@ -399,3 +399,28 @@ fn light_kinds_and_tree_output_do_not_change_the_picture() {
         "-o on changed the picture"
     );
 }
+
+/// Nothing dropped silently (part 4): an image-space algorithm refuses a
+/// scene whose tree it cannot render, naming what it cannot do.
+#[test]
+fn image_space_algorithms_refuse_the_tree_by_name() {
+    let path = support::shared_scene("mirror.des").expect("fixture");
+    let scene = plytrace::scene::load(&path).unwrap().0;
+    for algorithm in [
+        plytrace::visibility::Algorithm::ZBuffer,
+        plytrace::visibility::Algorithm::ScanLine,
+        plytrace::visibility::Algorithm::Warnock,
+        plytrace::visibility::Algorithm::RayCast,
+    ] {
+        let options = RenderOptions {
+            visibility: Some(algorithm),
+            shadows: true,
+            ..RenderOptions::default()
+        };
+        let e = render(&scene, &options).unwrap_err().to_string();
+        assert!(
+            e.contains("mirrors") && e.contains("shadows") && e.contains(algorithm.name()),
+            "{e}"
+        );
+    }
+}
