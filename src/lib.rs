@@ -9,6 +9,7 @@
 //! order. [`math`] and [`precision`] depend on nothing.
 #![warn(missing_docs)]
 
+pub mod budget;
 pub mod emit;
 pub mod error;
 pub mod geometry;

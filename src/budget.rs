@@ -1,0 +1,38 @@
+//! Budgets: the limits that keep hostile or runaway input from exhausting
+//! the machine. Each is checked before the work or the allocation it
+//! bounds, and each error names the flag that raises it.
+
+/// The limits of one session; the defaults fit a 2-core, 24 GiB machine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Budgets {
+    /// Polygons in the scene, read and generated (`--max-polygons`).
+    pub polygons: usize,
+    /// Nesting of `call` (`--max-call-depth`).
+    pub call_depth: usize,
+    /// Fragments of the virtual image tree (`--max-tree-nodes`).
+    pub tree_nodes: usize,
+    /// Face splits of one NNS sort before it falls back
+    /// (`--max-splits`).
+    pub splits: usize,
+    /// Pixels of one image (`--max-pixels`).
+    pub pixels: u64,
+}
+
+impl Default for Budgets {
+    fn default() -> Self {
+        Budgets {
+            polygons: 4_000_000,
+            call_depth: 64,
+            tree_nodes: 4_000_000,
+            splits: 200_000,
+            pixels: 1 << 30,
+        }
+    }
+}
+
+impl Budgets {
+    /// The message for a budget exceeded: what, the limit, and the flag.
+    pub fn exceeded(what: &str, limit: impl std::fmt::Display, flag: &str) -> String {
+        format!("{what} exceeds the budget of {limit}; `{flag} N` raises it")
+    }
+}
