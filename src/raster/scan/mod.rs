@@ -96,7 +96,8 @@ pub struct ScanStats {
     pub polygons_tiled: usize,
     /// Pixel writes.
     pub pixels_written: u64,
-    /// Method 4: the most pixel-fragments alive at once.
+    /// Method 4: the most pixel-fragments alive at once in one band of
+    /// `act_lines` rows (so it does not depend on the thread count).
     pub peak_fragments: usize,
     /// Method 4: pixel-fragments allocated in all.
     pub total_fragments: u64,
