@@ -250,8 +250,9 @@ fn a_triangle_mesh_has_no_seams_and_no_double_cover() {
         );
         for row in &rows {
             for (i, m) in row.mask.as_ref().unwrap().iter().enumerate() {
-                for b in 0..16 {
-                    owners[row.y as usize * w as usize + i][b] += (m >> b & 1) as u8;
+                let o = &mut owners[row.y as usize * w as usize + i];
+                for (b, n) in o.iter_mut().enumerate() {
+                    *n += (m >> b & 1) as u8;
                 }
             }
         }
@@ -495,7 +496,7 @@ fn scene(n: usize, seed: u64, levels: bool) -> Vec<Record> {
             .wrapping_add(1442695040888963407);
         (seed >> 11) as f64 / (1u64 << 53) as f64
     };
-    let mut byte = |r: f64| (r * 255.0) as u8;
+    let byte = |r: f64| (r * 255.0) as u8;
     (0..n)
         .map(|k| {
             let m = 4 + (rnd() * 5.0) as usize;
