@@ -20,6 +20,12 @@
 //! multi-level run with a record level outside 1..=31, an empty image and
 //! [`TransparencyRule::Donovan`] with a front-to-back stream (the rule
 //! needs the surface behind first) are [`Error::Invalid`].
+//!
+//! Ids ([`ScanOptions::ids`]): front to back, the first record (in stream
+//! order) that covers the pixel centre and leaves a visible share in the
+//! pixel; back to front, the last record painted at the centre. Special
+//! records never become ids. With 16 or `N x N` samples "visible" is
+//! judged on the pixel's samples, not on the centre alone.
 
 mod band;
 mod mask;

@@ -19,6 +19,13 @@
 //! weight `t`. A transparent fragment changes the coverage and colour,
 //! never the mask (004 section 5.8). Levels and special records are
 //! ignored.
+//!
+//! Shades are evaluated once per pixel, at its centre (clamped into the
+//! polygon's span). For supersampling that is Donovan's closed form for
+//! long spans: a block inside the segment adds `N SH + N(N-1)/2 DSH` per
+//! sub-row, the mean of a linear shade over the block, which is its value
+//! at the block's centre; partial pixels weight that value by their
+//! visible sample count.
 
 use super::band::{BandOut, Fragment, Integrator};
 use super::mask::SampleMask;
