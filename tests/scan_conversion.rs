@@ -241,6 +241,28 @@ fn a_triangle_mesh_has_no_seams_and_no_double_cover() {
             );
         }
     }
+    // Hybrid: masks never overlap in a mesh, so every share is an exact
+    // area and the masks fill every pixel.
+    let recs: Vec<Record> = tris.iter().map(|t| flat(1, t, WHITE)).collect();
+    let (rows, _) = run(&stream(recs.clone(), true), &opts(w, h, Method::Hybrid));
+    for row in &rows {
+        assert!(row.coverage.as_ref().unwrap().iter().all(|&c| c == 255));
+        assert!(row.mask.as_ref().unwrap().iter().all(|&m| m == 0xFFFF));
+        for i in 0..w as usize {
+            assert!(row.rgb(i).iter().all(|v| (v - 1.0).abs() < 1e-5));
+        }
+    }
+    // Method 4: every pixel ends covered at level 1, all fragments freed.
+    let (rows, stats) = run(&stream(recs, false), &opts(w, h, Method::Multilevel));
+    assert!(stats.peak_fragments > 0 && stats.total_fragments > stats.peak_fragments as u64);
+    for row in &rows {
+        for p in row.pixels.as_ref().unwrap() {
+            assert_eq!(
+                (p.pixstat, p.fragments.len(), p.rgb),
+                (1 | COVERED, 0, [255; 3])
+            );
+        }
+    }
     // Mask: every subpixel owned by exactly one triangle.
     let mut owners = vec![[0u8; 16]; (w * h) as usize];
     for t in &tris {
