@@ -190,7 +190,7 @@ impl<I: Integrator> Worker<I> {
         } = self;
         let mut any = false;
         tiler.tile(poly, rows, |row| {
-            shader.setup(poly, row.j);
+            shader.setup(poly, row.j, row.edges);
             let base = (hi - 1 - row.j) as usize * w;
             let mut put = |i: u32, frag: &Fragment| {
                 let px = base + i as usize;

@@ -20,6 +20,12 @@
 //! multi-level run with a record level outside 1..=31, an empty image and
 //! [`TransparencyRule::Donovan`] with a front-to-back stream (the rule
 //! needs the surface behind first) are [`Error::Invalid`].
+//!
+//! Ids ([`ScanOptions::ids`]): front to back, the first record (in stream
+//! order) that covers the pixel centre and leaves a visible share in the
+//! pixel; back to front, the last record painted at the centre. Special
+//! records never become ids. With 16 or `N x N` samples "visible" is
+//! judged on the pixel's samples, not on the centre alone.
 
 mod band;
 mod mask;
@@ -96,7 +102,8 @@ pub struct ScanStats {
     pub polygons_tiled: usize,
     /// Pixel writes.
     pub pixels_written: u64,
-    /// Method 4: the most pixel-fragments alive at once.
+    /// Method 4: the most pixel-fragments alive at once in one band of
+    /// `act_lines` rows (so it does not depend on the thread count).
     pub peak_fragments: usize,
     /// Method 4: pixel-fragments allocated in all.
     pub total_fragments: u64,

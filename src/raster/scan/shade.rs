@@ -8,6 +8,7 @@
 
 use glam::DVec2;
 
+use super::tiler::Edge;
 use crate::error::{Error, Result};
 use crate::tree::{Record, Shades};
 
@@ -164,9 +165,9 @@ pub(crate) struct RowShader {
 }
 
 impl RowShader {
-    /// Interpolates along the edges of `poly` to the row `j`'s centre line
-    /// clamped into the polygon's y-range (the first step).
-    pub fn setup(&mut self, poly: &Prepared, j: u32) {
+    /// Interpolates along the active `edges` of `poly` to the row `j`'s
+    /// centre line clamped into the polygon's y-range (the first step).
+    pub fn setup(&mut self, poly: &Prepared, j: u32, edges: &[Edge]) {
         self.ends.clear();
         let Shading::Interpolated(attrs, hl) = &poly.shading else {
             return;
@@ -174,16 +175,8 @@ impl RowShader {
         let lights = hl.as_ref().map_or(0, |h| h.colors.len());
         let y = (j as f64 + 0.5).clamp(poly.ymin, poly.ymax);
         let at_top = y >= poly.ymax;
-        let n = poly.points.len();
-        for a in 0..n {
-            let b = (a + 1) % n;
-            let (pa, pb) = (poly.points[a], poly.points[b]);
-            let (p, q) = if (pa.y, pa.x) <= (pb.y, pb.x) {
-                (a, b)
-            } else {
-                (b, a)
-            };
-            let (pp, qq) = (poly.points[p], poly.points[q]);
+        for e in edges {
+            let (pp, qq) = (e.lo, e.hi);
             let inside = if at_top {
                 pp.y < y && y <= qq.y
             } else {
@@ -192,8 +185,8 @@ impl RowShader {
             if inside {
                 let t = (y - pp.y) / (qq.y - pp.y);
                 let x = pp.x + t * (qq.x - pp.x);
-                self.ends
-                    .push((x, attrs[p].lerp(&attrs[q], t as f32, lights)));
+                let (a, b) = (&attrs[e.lo_vertex as usize], &attrs[e.hi_vertex as usize]);
+                self.ends.push((x, a.lerp(b, t as f32, lights)));
             }
         }
         self.ends.sort_by(|a, b| a.0.total_cmp(&b.0));

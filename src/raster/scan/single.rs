@@ -9,7 +9,11 @@
 //! share `A_vis = min(f, 1 - A_old)`, where `f` is the exact area
 //! (method 1), `popcount(M_cur & !M_old) / n` (masks), or the exact area
 //! where the fragment's mask is not clipped by `M_old` (method 3, e.g.
-//! the first fragment to touch the pixel), adds `A_vis I_cur`.
+//! the first fragment to touch the pixel), adds `A_vis I_cur`. A pixel is
+//! full when `A` reaches 1. In method 3 a full mask with `A < 1` (exact
+//! areas below the sample counts) still takes fragments whose mask is empty
+//! (slivers between the samples), by their exact area: in a mesh of
+//! polygons sharing edges the areas then add up to exactly 1.
 //!
 //! Transparency follows 004 section 4.9, the rule of the back-to-front
 //! painter `I = I_cur + k_t I_behind`, rather than the section 5.6
@@ -19,6 +23,13 @@
 //! weight `t`. A transparent fragment changes the coverage and colour,
 //! never the mask (004 section 5.8). Levels and special records are
 //! ignored.
+//!
+//! Shades are evaluated once per pixel, at its centre (clamped into the
+//! polygon's span). For supersampling that is Donovan's closed form for
+//! long spans: a block inside the segment adds `N SH + N(N-1)/2 DSH` per
+//! sub-row, the mean of a linear shade over the block, which is its value
+//! at the block's centre; partial pixels weight that value by their
+//! visible sample count.
 
 use super::band::{BandOut, Fragment, Integrator};
 use super::mask::SampleMask;
@@ -40,7 +51,6 @@ pub(crate) enum Measure {
 pub(crate) struct SingleLevel {
     measure: Measure,
     samples: u32,
-    full: SampleMask,
     rgb: Vec<[f32; 3]>,
     cover: Vec<f64>,
     mask: Vec<SampleMask>,
@@ -52,7 +62,6 @@ impl SingleLevel {
         SingleLevel {
             measure,
             samples,
-            full: SampleMask::full(samples),
             rgb: Vec::new(),
             cover: Vec::new(),
             mask: Vec::new(),
@@ -102,7 +111,7 @@ impl Integrator for SingleLevel {
         if s.t == 0.0 {
             self.mask[px] = self.mask[px].or(m_cov);
         }
-        if a_new > 1.0 - 1e-9 || self.mask[px] == self.full {
+        if a_new > 1.0 - 1e-9 {
             a_new = 1.0;
         }
         self.cover[px] = a_new;

@@ -19,6 +19,10 @@
 //! `raster::tiler`): a sample line at `y` crosses the edges with
 //! `y0 <= y < y1` in canonical endpoint order, and a span covers samples
 //! with `xl <= x < xr`, so polygons sharing an edge own each sample once.
+//!
+//! Precondition: a simple polygon (no self-intersection), any orientation.
+//! For a self-intersecting one the masks follow the even-odd rule while
+//! the areas are signed winding sums clamped to 0..1.
 
 use glam::DVec2;
 
@@ -40,11 +44,14 @@ pub(crate) struct Partial {
 
 /// An edge in canonical order (`lo` below `hi`, ties by x).
 #[derive(Debug, Clone, Copy)]
-struct Edge {
-    lo: DVec2,
-    hi: DVec2,
+pub(crate) struct Edge {
+    pub lo: DVec2,
+    pub hi: DVec2,
     /// +1 if the polygon walks the edge upwards, else -1.
     dir: f64,
+    /// Vertex indices of `lo` and `hi`.
+    pub lo_vertex: u32,
+    pub hi_vertex: u32,
 }
 
 impl Edge {
@@ -69,6 +76,8 @@ pub(crate) struct RowCover<'a> {
     pub runs: &'a [(u32, u32)],
     /// Partly covered pixels, left to right.
     pub partials: &'a [Partial],
+    /// The active edges of the row (none horizontal).
+    pub edges: &'a [Edge],
 }
 
 const TOUCHED: u8 = 1;
@@ -146,6 +155,7 @@ impl Tiler {
                     j,
                     runs: &self.runs,
                     partials: &self.partials,
+                    edges: &self.active,
                 });
             }
         }
@@ -159,14 +169,21 @@ impl Tiler {
         let orient = if twice_area < 0.0 { 1.0 } else { -1.0 };
         self.edges.clear();
         for k in 0..n {
-            let (a, b) = (pts[k], pts[(k + 1) % n]);
+            let (ka, kb) = (k as u32, ((k + 1) % n) as u32);
+            let (a, b) = (pts[ka as usize], pts[kb as usize]);
             if a.y == b.y {
                 continue;
             }
             let up = (a.y, a.x) <= (b.y, b.x);
-            let (lo, hi) = if up { (a, b) } else { (b, a) };
+            let (lo, hi, lo_vertex, hi_vertex) = if up { (a, b, ka, kb) } else { (b, a, kb, ka) };
             let dir = if up { orient } else { -orient };
-            self.edges.push(Edge { lo, hi, dir });
+            self.edges.push(Edge {
+                lo,
+                hi,
+                dir,
+                lo_vertex,
+                hi_vertex,
+            });
         }
         self.edges.sort_by(|a, b| a.lo.y.total_cmp(&b.lo.y));
     }
