@@ -80,6 +80,10 @@ pub(crate) struct RowCover<'a> {
     pub edges: &'a [Edge],
 }
 
+/// Coverage this close to 0 or 1 is empty or full (the running sums of
+/// edge contributions are exact up to rounding).
+const COVER_EPS: f64 = 1e-9;
+
 const TOUCHED: u8 = 1;
 const DIRTY: u8 = 2;
 
@@ -307,11 +311,23 @@ impl Tiler {
                 c
             };
             let end = self.touched.get(k + 1).map_or(w, |&n| n.min(w));
-            if sum > 0.5 && start < end {
+            if start >= end || sum <= COVER_EPS {
+                continue;
+            }
+            if sum >= 1.0 - COVER_EPS {
                 match self.runs.last_mut() {
                     Some(r) if r.1 == start => r.1 = end,
                     _ => self.runs.push((start, end)),
                 }
+            } else {
+                // No edge passes through these pixels, yet they are only
+                // partly covered: a horizontal edge crosses the row strip.
+                self.partials.extend((start..end).map(|col| Partial {
+                    col,
+                    area: sum,
+                    mask: SampleMask::EMPTY,
+                    centre: false,
+                }));
             }
         }
         self.touched.clear();
