@@ -357,6 +357,9 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
     {
         return Err(pixels_exceeded(w, h, o.budgets.pixels));
     }
+    if o.output.is_some() && o.output == o.id_image {
+        return Err("the image and --id-image name the same file".into());
+    }
     if o.immediate && o.scene.is_none() {
         return Err("immediate mode (-i) needs a scene file: plytrace -i -f scene.des".into());
     }
@@ -483,6 +486,21 @@ fn confine(name: &str) -> Result<()> {
     }
     if name.is_empty() {
         return Err(Error::Invalid("fname: an empty output name".into()));
+    }
+    // A directory on the way that is a link out of the working directory
+    // escapes as surely as `..`.
+    if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty())
+        && let (Ok(real), Ok(cwd)) = (
+            dir.canonicalize(),
+            std::env::current_dir().and_then(|c| c.canonicalize()),
+        )
+        && !real.starts_with(&cwd)
+    {
+        return Err(Error::Invalid(format!(
+            "fname `{}`: its directory leads outside the working directory (through a link); \
+             names from a scene file must stay inside it; `--allow-outside` permits it",
+            printable(name, 200)
+        )));
     }
     Ok(())
 }

@@ -448,6 +448,27 @@ fn fname_outside_the_working_directory_is_refused() {
         assert_eq!(run.files(), with_inputs(&[]), "{}", run.transcript());
     }
     assert_eq!(std::fs::read_dir(outside.path()).unwrap().count(), 0);
+
+    // Through a directory that is a link out of the working directory.
+    let square = square();
+    let scene = format!("{SCENE}fname sub/x\n");
+    let root = prepare(&[
+        ("scene.des", scene.as_bytes()),
+        ("det/square.det", square.as_bytes()),
+    ]);
+    std::os::unix::fs::symlink(outside.path(), root.path().join("work/sub")).unwrap();
+    let run = spawn(
+        &bin(),
+        root,
+        &["-i", "-f", "scene.des", "--size", "16x16"],
+        false,
+    );
+    assert_refused(
+        &run,
+        1,
+        &["leads outside the working directory", "--allow-outside"],
+    );
+    assert_eq!(std::fs::read_dir(outside.path()).unwrap().count(), 0);
 }
 
 #[test]
@@ -533,6 +554,19 @@ fn unsupported_extension_is_refused() {
         ],
     );
     assert_refused(&run, 2, &["--id-image", "PNG only"]);
+    let run = run_with(
+        SCENE,
+        &[
+            "-i",
+            "-f",
+            "scene.des",
+            "-o",
+            "x.png",
+            "--id-image",
+            "x.png",
+        ],
+    );
+    assert_refused(&run, 2, &["the image and --id-image name the same file"]);
     let run = run_with(
         SCENE,
         &["-i", "-f", "scene.des", "-o", "x.PPM", "--size", "8x8"],
