@@ -1021,6 +1021,50 @@ mod tests {
     }
 
     #[test]
+    fn check_target_refuses_links_directories_and_missing_directories() {
+        let dir = tempfile::tempdir().unwrap();
+        let ok = dir.path().join("new.png");
+        assert!(check_target(&ok).is_ok());
+        std::fs::write(&ok, b"old").unwrap();
+        assert!(check_target(&ok).is_ok(), "a regular file may be replaced");
+        let link = dir.path().join("link.png");
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink(&ok, &link).unwrap();
+            let e = AtomicFile::create(&link).unwrap_err().to_string();
+            assert!(e.contains("is a symbolic link"), "{e}");
+            assert!(write_png(&link, &FrameBuffer::new(1, 1, [0.0; 3]), OutMode::Color).is_err());
+            assert_eq!(std::fs::read(&ok).unwrap(), b"old");
+        }
+        let e = check_target(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("is a directory"), "{e}");
+        let e = check_target(&dir.path().join("no/such/x.png"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("does not exist"), "{e}");
+        assert!(check_image_extension(Path::new("a.PNG")).is_ok());
+        assert!(check_image_extension(Path::new("a.ppm")).is_ok());
+        assert!(check_image_extension(Path::new("a.jpg")).is_err());
+        assert!(check_image_extension(Path::new("a")).is_err());
+    }
+
+    #[test]
+    fn written_pngs_have_srgb() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut fb = FrameBuffer::new(2, 1, [0.5; 3]);
+        fb.ids = vec![0, 1];
+        let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+        write_png(&a, &fb, OutMode::Color).unwrap();
+        write_id_png(&b, &fb, &[(0, 0)]).unwrap();
+        for p in [a, b] {
+            let r = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&p).unwrap()))
+                .read_info()
+                .unwrap();
+            assert!(r.info().srgb.is_some(), "{}", p.display());
+        }
+    }
+
+    #[test]
     fn ppm_header_and_size() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("x.ppm");
