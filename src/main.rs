@@ -517,7 +517,7 @@ impl<'a> ProgressSink<'a> {
         let bar = show.then(|| {
             let bar = indicatif::ProgressBar::new(u64::from(rows));
             if let Ok(style) = indicatif::ProgressStyle::with_template(
-                "Scan conversion [{bar:40}] {pos}/{len} rows, {elapsed} (eta {eta})",
+                "Scan conversion [{bar:30}] {pos}/{len} rows (eta {eta})",
             ) {
                 bar.set_style(style.progress_chars("=> "));
             }
