@@ -9,6 +9,7 @@
 //! Every test runs the built binaries in a fresh temporary directory (the
 //! working directory `work/` inside it, so that writes beside it can be
 //! seen) and reads nothing outside the repository.
+#![cfg(unix)]
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
