@@ -104,19 +104,14 @@ pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {
-    let file = AtomicFile::create(path)?;
-    let mut w = std::io::BufWriter::new(file.file());
-    write(&mut w)
-        .and_then(|()| w.flush())
-        .map_err(|e| Error::io(path, e))?;
-    drop(w);
-    file.finish()?.commit()
+    AtomicFile::create(path)?.write_with(write)?.commit()
 }
 
 fn png_bytes(width: u32, height: u32, rgb: &[u8], w: &mut dyn Write) -> std::io::Result<()> {
     let mut enc = png::Encoder::new(w, width, height);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
+    enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
     let mut writer = enc.write_header().map_err(std::io::Error::other)?;
     writer
         .write_image_data(rgb)
@@ -124,16 +119,24 @@ fn png_bytes(width: u32, height: u32, rgb: &[u8], w: &mut dyn Write) -> std::io:
     writer.finish().map_err(std::io::Error::other)
 }
 
-/// Writes the image as PNG.
+/// Writes the image as PNG (with an sRGB chunk).
 pub fn write_png(path: &Path, fb: &FrameBuffer, mode: OutMode) -> Result<()> {
-    let rgb = rgb8(fb, mode);
-    write_atomically(path, |w| png_bytes(fb.width, fb.height, &rgb, w))
+    stage_png(AtomicFile::create(path)?, fb, mode)?.commit()
 }
 
 /// Writes the image as binary PPM (P6).
 pub fn write_ppm(path: &Path, fb: &FrameBuffer, mode: OutMode) -> Result<()> {
+    stage_ppm(AtomicFile::create(path)?, fb, mode)?.commit()
+}
+
+fn stage_png(file: AtomicFile, fb: &FrameBuffer, mode: OutMode) -> Result<Staged> {
     let rgb = rgb8(fb, mode);
-    write_atomically(path, |w| {
+    file.write_with(|w| png_bytes(fb.width, fb.height, &rgb, w))
+}
+
+fn stage_ppm(file: AtomicFile, fb: &FrameBuffer, mode: OutMode) -> Result<Staged> {
+    let rgb = rgb8(fb, mode);
+    file.write_with(|w| {
         write!(w, "P6\n{} {}\n255\n", fb.width, fb.height)?;
         w.write_all(&rgb)
     })
@@ -141,16 +144,92 @@ pub fn write_ppm(path: &Path, fb: &FrameBuffer, mode: OutMode) -> Result<()> {
 
 /// Writes the image in the format its extension names (`.ppm`, else PNG).
 pub fn write_image(path: &Path, fb: &FrameBuffer, mode: OutMode) -> Result<()> {
-    match path.extension().and_then(|e| e.to_str()) {
-        Some(e) if e.eq_ignore_ascii_case("ppm") => write_ppm(path, fb, mode),
-        _ => write_png(path, fb, mode),
+    stage_image(AtomicFile::create(path)?, fb, mode)?.commit()
+}
+
+/// Writes the image into `file` (created before the render, see
+/// [`check_target`]) in the format its extension names (`.ppm`, else PNG),
+/// ready to be committed with the other outputs of the run.
+pub fn stage_image(file: AtomicFile, fb: &FrameBuffer, mode: OutMode) -> Result<Staged> {
+    match file.path().extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("ppm") => stage_ppm(file, fb, mode),
+        _ => stage_png(file, fb, mode),
     }
+}
+
+/// The image formats that [`write_image`] writes, by extension.
+pub const IMAGE_EXTENSIONS: [&str; 2] = ["png", "ppm"];
+
+/// Checks that `path` names an image format this program writes (its
+/// extension is one of [`IMAGE_EXTENSIONS`], in any case); the message
+/// names the supported ones.
+pub fn check_image_extension(path: &Path) -> std::result::Result<(), String> {
+    let ext = path.extension().and_then(|e| e.to_str());
+    match ext {
+        Some(e) if IMAGE_EXTENSIONS.iter().any(|s| e.eq_ignore_ascii_case(s)) => Ok(()),
+        _ => Err(format!(
+            "{}: cannot write {}; the supported image formats are .png and .ppm",
+            crate::error::printable(&path.display().to_string(), 256),
+            match ext {
+                Some(e) => format!("a .{} image", crate::error::printable(e, 32)),
+                None => "an image without an extension".into(),
+            }
+        )),
+    }
+}
+
+/// Checks, before anything is rendered, that `path` can be an output:
+/// its directory exists, and it is absent or a regular file. A symbolic
+/// link, FIFO, socket, device or directory is refused (an output is never
+/// written through a link or into a special file: the rename would replace
+/// a link rather than follow it, so it is refused explicitly).
+pub fn check_target(path: &Path) -> Result<()> {
+    let refuse = |why: &str| Error::io(path, std::io::Error::other(why.to_owned()));
+    match std::fs::symlink_metadata(path) {
+        Ok(m) => {
+            let t = m.file_type();
+            if t.is_symlink() {
+                return Err(refuse(
+                    "is a symbolic link; outputs are never written through links (remove it or choose another name)",
+                ));
+            }
+            if t.is_dir() {
+                return Err(refuse("is a directory, not a file name"));
+            }
+            if !t.is_file() {
+                return Err(refuse(
+                    "is not a regular file (a FIFO, socket or device); outputs are written only to regular files",
+                ));
+            }
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(Error::io(path, e)),
+    }
+    if path.file_name().is_none() {
+        return Err(refuse("not a file name"));
+    }
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !dir.is_dir() {
+        return Err(refuse(&format!(
+            "the directory {} does not exist",
+            dir.display()
+        )));
+    }
+    Ok(())
 }
 
 /// Writes the id buffer as a false-colour PNG: one colour per (object,
 /// polygon) of `polygons` (indexed by id - 1), black for background, so
 /// that images of different algorithms compare directly.
 pub fn write_id_png(path: &Path, fb: &FrameBuffer, polygons: &[(u32, u32)]) -> Result<()> {
+    stage_id_png(AtomicFile::create(path)?, fb, polygons)?.commit()
+}
+
+/// [`write_id_png`] into `file`, ready to be committed.
+pub fn stage_id_png(file: AtomicFile, fb: &FrameBuffer, polygons: &[(u32, u32)]) -> Result<Staged> {
     let rgb: Vec<u8> = fb
         .ids
         .iter()
@@ -163,7 +242,7 @@ pub fn write_id_png(path: &Path, fb: &FrameBuffer, polygons: &[(u32, u32)]) -> R
             }
         })
         .collect();
-    write_atomically(path, |w| png_bytes(fb.width, fb.height, &rgb, w))
+    file.write_with(|w| png_bytes(fb.width, fb.height, &rgb, w))
 }
 
 // ---------------------------------------------------------------------------
@@ -199,17 +278,17 @@ pub struct AtomicFile {
 
 impl AtomicFile {
     /// Creates the temporary file for `path` (which shows at once whether
-    /// the destination directory is writable). A directory at `path` is
-    /// refused now rather than at the rename.
+    /// the destination directory is writable). What [`check_target`]
+    /// refuses (a directory, link or special file at `path`, a missing
+    /// directory) is refused now rather than at the rename.
     pub fn create(path: &Path) -> Result<AtomicFile> {
-        if path.is_dir() {
-            return Err(Error::io(
-                path,
-                std::io::Error::other("is a directory, not a file name"),
-            ));
-        }
+        check_target(path)?;
         let tmp = temp_beside(path, "tmp")?;
-        let file = std::fs::File::create(&tmp).map_err(|e| Error::io(path, e))?;
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(|e| Error::io(path, e))?;
         Ok(AtomicFile {
             path: path.to_path_buf(),
             tmp,
@@ -231,6 +310,19 @@ impl AtomicFile {
     pub fn write_all(&mut self, bytes: &[u8]) -> Result<()> {
         let mut f = self.file();
         f.write_all(bytes).map_err(|e| Error::io(&self.path, e))
+    }
+
+    /// Writes the whole file with `write` (buffered) and finishes it.
+    pub fn write_with(
+        self,
+        write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    ) -> Result<Staged> {
+        let mut w = std::io::BufWriter::new(self.file());
+        write(&mut w)
+            .and_then(|()| w.flush())
+            .map_err(|e| Error::io(&self.path, e))?;
+        drop(w);
+        self.finish()
     }
 
     /// Syncs the temporary file to disk; the rename is left to
@@ -491,7 +583,19 @@ pub struct PngSink {
 impl PngSink {
     /// Starts writing a `width` x `height` PNG in `mode` to `path`.
     pub fn create(path: &Path, width: u32, height: u32, mode: DisplayMode) -> Result<PngSink> {
-        let file = AtomicFile::create(path)?;
+        PngSink::from_file(AtomicFile::create(path)?, width, height, mode)
+    }
+
+    /// Starts writing a `width` x `height` PNG in `mode` into `file`,
+    /// created before the render.
+    pub fn from_file(
+        file: AtomicFile,
+        width: u32,
+        height: u32,
+        mode: DisplayMode,
+    ) -> Result<PngSink> {
+        let path = file.path().to_path_buf();
+        let path = path.as_path();
         let stream = match mode {
             DisplayMode::Adaptive(_) => None,
             _ => {
@@ -914,6 +1018,50 @@ mod tests {
         let r = write_atomically(&path, |_| Err(std::io::Error::other("boom")));
         assert!(r.is_err());
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn check_target_refuses_links_directories_and_missing_directories() {
+        let dir = tempfile::tempdir().unwrap();
+        let ok = dir.path().join("new.png");
+        assert!(check_target(&ok).is_ok());
+        std::fs::write(&ok, b"old").unwrap();
+        assert!(check_target(&ok).is_ok(), "a regular file may be replaced");
+        let link = dir.path().join("link.png");
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink(&ok, &link).unwrap();
+            let e = AtomicFile::create(&link).unwrap_err().to_string();
+            assert!(e.contains("is a symbolic link"), "{e}");
+            assert!(write_png(&link, &FrameBuffer::new(1, 1, [0.0; 3]), OutMode::Color).is_err());
+            assert_eq!(std::fs::read(&ok).unwrap(), b"old");
+        }
+        let e = check_target(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("is a directory"), "{e}");
+        let e = check_target(&dir.path().join("no/such/x.png"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("does not exist"), "{e}");
+        assert!(check_image_extension(Path::new("a.PNG")).is_ok());
+        assert!(check_image_extension(Path::new("a.ppm")).is_ok());
+        assert!(check_image_extension(Path::new("a.jpg")).is_err());
+        assert!(check_image_extension(Path::new("a")).is_err());
+    }
+
+    #[test]
+    fn written_pngs_have_srgb() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut fb = FrameBuffer::new(2, 1, [0.5; 3]);
+        fb.ids = vec![0, 1];
+        let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+        write_png(&a, &fb, OutMode::Color).unwrap();
+        write_id_png(&b, &fb, &[(0, 0)]).unwrap();
+        for p in [a, b] {
+            let r = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&p).unwrap()))
+                .read_info()
+                .unwrap();
+            assert!(r.info().srgb.is_some(), "{}", p.display());
+        }
     }
 
     #[test]
