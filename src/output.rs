@@ -56,30 +56,20 @@ use crate::scene::model::OutMode;
 
 /// The image as 8-bit RGB bytes, top row first, after `mode`.
 pub fn rgb8(fb: &FrameBuffer, mode: OutMode) -> Vec<u8> {
+    // The same conversion as the streamed PNG, dither included.
+    let mode = DisplayMode::from(mode);
+    let w = fb.width as usize;
     let mut out = Vec::with_capacity(fb.color.len() * 3);
-    for c in &fb.color {
-        let px = convert(*c, mode);
-        out.extend(px.map(to_byte));
-    }
-    out
-}
-
-fn to_byte(v: f32) -> u8 {
-    (v.clamp(0.0, 1.0) * 255.0).round() as u8
-}
-
-fn convert(c: [f32; 3], mode: OutMode) -> [f32; 3] {
-    match mode {
-        OutMode::Color => c,
-        OutMode::Red => [c[0]; 3],
-        OutMode::Green => [c[1]; 3],
-        OutMode::Blue => [c[2]; 3],
-        OutMode::Luminance => [0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2]; 3],
-        OutMode::Quantized(bits) => {
-            let levels = ((1u32 << bits) - 1) as f32;
-            c.map(|v| (v.clamp(0.0, 1.0) * levels).round() / levels)
+    let mut row_bytes = Vec::new();
+    for (y, row) in fb.color.chunks(w.max(1)).enumerate() {
+        mode_row(mode, row, y as u32, &mut row_bytes);
+        if row_bytes.len() == row.len() {
+            out.extend(row_bytes.iter().flat_map(|&g| [g; 3]));
+        } else {
+            out.extend_from_slice(&row_bytes);
         }
     }
+    out
 }
 
 /// A colour for id `id` (0 is black), well spread so that neighbours differ.
@@ -1003,12 +993,13 @@ mod tests {
 
     #[test]
     fn outmodes_convert() {
-        let c = [1.0, 0.5, 0.0];
-        assert_eq!(convert(c, OutMode::Green), [0.5; 3]);
-        assert_eq!(convert(c, OutMode::Quantized(1)), [1.0, 1.0, 0.0]);
-        let y = convert(c, OutMode::Luminance)[0];
-        assert!((y - (0.299 + 0.587 * 0.5)).abs() < 1e-6);
-        assert_eq!(to_byte(0.5), 128);
+        let mut fb = FrameBuffer::new(1, 1, [1.0, 0.5, 0.0]);
+        assert_eq!(rgb8(&fb, OutMode::Green), [128; 3]);
+        assert_eq!(rgb8(&fb, OutMode::Color), [255, 128, 0]);
+        let y = rgb8(&fb, OutMode::Luminance)[0];
+        assert_eq!(y, ((0.299 + 0.587 * 0.5) * 255.0f32).round() as u8);
+        fb.color[0] = [1.0, 1.0, 0.0];
+        assert_eq!(rgb8(&fb, OutMode::Quantized(1)), [255, 255, 0]);
     }
 
     #[test]
