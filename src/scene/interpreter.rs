@@ -19,6 +19,7 @@ use super::lexer::{self, Statement, Token};
 use super::mesh_import;
 use super::model::*;
 use super::object_file::{self, ColorEntry, ColorKind, Mesh};
+use crate::budget::Budgets;
 use crate::error::{Diagnostic, Error, Location, Result};
 use crate::geometry::polygon::{self, PolygonDefect};
 use crate::math::{self, Axis, Matrix4};
@@ -74,7 +75,7 @@ struct ActiveObject {
     number: Option<u32>,
     surface: Surface,
     surface_type: SurfaceType,
-    copy_of: Option<u32>,
+    copy_of: Option<(u32, Location)>,
     geodesic: Option<(usize, Division, Location)>,
     radial: Option<(Radial, Location)>,
     pcolors: Option<(String, Location)>,
@@ -118,6 +119,7 @@ pub struct Interpreter {
     files: Vec<PathBuf>,
     overrides: Vec<(char, String)>,
     warnings: Vec<Diagnostic>,
+    budgets: Budgets,
 }
 
 impl Default for Interpreter {
@@ -146,7 +148,20 @@ impl Interpreter {
             files: Vec::new(),
             overrides: Vec::new(),
             warnings: Vec::new(),
+            budgets: Budgets::default(),
         }
+    }
+
+    /// Sets the limits (`--max-polygons`, `--max-call-depth`, ...) checked
+    /// while reading scenes; [`Budgets::default`] until this is called.
+    /// They survive `init` and `get`.
+    pub fn set_budgets(&mut self, budgets: Budgets) {
+        self.budgets = budgets;
+    }
+
+    /// The limits in force.
+    pub fn budgets(&self) -> Budgets {
+        self.budgets
     }
 
     /// The scene as it stands, with the current CTM as its projection.
@@ -232,7 +247,9 @@ impl Interpreter {
         let files = std::mem::take(&mut self.files);
         let overrides = std::mem::take(&mut self.overrides);
         let warnings = std::mem::take(&mut self.warnings);
+        let budgets = self.budgets;
         *self = Interpreter::new();
+        self.budgets = budgets;
         self.files = files;
         self.overrides = overrides;
         self.warnings = warnings;
@@ -393,12 +410,13 @@ impl Interpreter {
                 if !self.scene.objects.iter().any(|o| o.number == n) {
                     return Err(ctx.error(&args[0], format!("no object number {n} is defined")));
                 }
+                let loc = ctx.location(&args[0]);
                 match &mut self.active {
-                    Some(active) => active.copy_of = Some(n),
+                    Some(active) => active.copy_of = Some((n, loc)),
                     None => {
                         self.begin_object(ctx, cmd, format!("#{n}"), None)?;
                         if let Some(active) = &mut self.active {
-                            active.copy_of = Some(n);
+                            active.copy_of = Some((n, loc));
                         }
                         self.end_object(ctx, cmd)?;
                     }
@@ -668,7 +686,9 @@ impl Interpreter {
                     };
                     return Err(ctx.error(cmd, why));
                 }
-                self.ctm = self.stack.pop().expect("checked above");
+                if let Some(m) = self.stack.pop() {
+                    self.ctm = m;
+                }
             }
             "pushmatrix" => {
                 a.count(0, 0)?;
@@ -987,7 +1007,10 @@ impl Interpreter {
         // Restore the CTM whatever happens next.
         self.stack.truncate(active.stack_depth);
         let transform = self.ctm;
-        self.ctm = self.stack.pop().expect("defobj pushed a matrix");
+        let Some(saved) = self.stack.pop() else {
+            return Err(ctx.error(cmd, "matrix stack underflow: the matrix `defobj` saved is gone"));
+        };
+        self.ctm = saved;
 
         let generated = match &active.geodesic {
             Some((n, division, loc)) => {
@@ -1007,15 +1030,19 @@ impl Interpreter {
                 None
             }
         };
-        let (mesh, mut pcl, mut vcl) = match (generated, active.copy_of) {
+        let (mesh, mut pcl, mut vcl) = match (generated, &active.copy_of) {
             (Some(mesh), _) => (mesh, None, None),
-            (None, Some(n)) => {
-                let src = self
-                    .scene
-                    .objects
-                    .iter()
-                    .find(|o| o.number == n)
-                    .expect("callobj checked the number");
+            (None, Some((n, loc))) => {
+                // `callobj` checked the number, but a `delobj` may have
+                // deleted the object since.
+                let Some(src) = self.scene.objects.iter().find(|o| o.number == *n) else {
+                    return Err(Error::at(
+                        loc.clone(),
+                        format!(
+                            "object number {n}, copied here by `callobj`, was deleted before `endobj`"
+                        ),
+                    ));
+                };
                 (
                     src.mesh.clone(),
                     src.polygon_colors.clone(),
