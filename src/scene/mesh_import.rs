@@ -33,7 +33,7 @@ pub fn read_mesh(path: &Path) -> Result<Mesh> {
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = super::object_file::read_regular(path, super::object_file::MAX_INPUT_BYTES)?;
     let mesh = match extension.as_str() {
         "obj" => read_obj(&bytes, path)?,
         "ply" => read_ply(&bytes, path)?,

@@ -780,7 +780,93 @@ fn is_plain_text(bytes: &[u8]) -> bool {
 }
 
 fn read_file(path: &Path) -> Result<Vec<u8>> {
-    fs::read(path).map_err(|e| Error::io(path, e))
+    read_regular(path, MAX_INPUT_BYTES)
+}
+
+/// The largest input file read (scene, geometry or colour file): 1 GiB.
+pub const MAX_INPUT_BYTES: u64 = 1 << 30;
+
+/// What kind of file `meta` describes, for messages.
+fn file_kind(meta: &fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let t = meta.file_type();
+        if t.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_block_device() {
+            return "a block device";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if meta.is_dir() {
+        "a directory"
+    } else {
+        "not a regular file"
+    }
+}
+
+/// Reads the whole of `path`, which must be a regular file (symbolic links
+/// are followed) of at most `limit` bytes. A FIFO, a device, a socket or a
+/// directory is refused before it is opened, so that reading never blocks
+/// on a pipe nor runs on an endless stream, and the size is checked before
+/// anything is read. The read itself is bounded too, in case the file grows.
+pub fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let shown = crate::error::printable(&path.display().to_string(), 200);
+    let refuse = |meta: &fs::Metadata| {
+        Error::at(
+            Location::file(path),
+            format!(
+                "`{shown}` is {}: only regular files are read",
+                file_kind(meta)
+            ),
+        )
+    };
+    let meta = fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(refuse(&meta));
+    }
+    let mut options = OpenOptions::new();
+    options.read(true);
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        // O_NONBLOCK: should the file have been replaced by a FIFO since
+        // the check above, opening it must not wait for a writer.
+        options.custom_flags(0o4000);
+    }
+    let file = options.open(path).map_err(|e| Error::io(path, e))?;
+    let meta = file.metadata().map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(refuse(&meta));
+    }
+    if meta.len() > limit {
+        return Err(Error::at(
+            Location::file(path),
+            format!(
+                "`{shown}` has {} bytes, more than the {limit} bytes an input file may have",
+                meta.len()
+            ),
+        ));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    if bytes.len() as u64 > limit {
+        return Err(Error::at(
+            Location::file(path),
+            format!("`{shown}` grew past the {limit} bytes an input file may have"),
+        ));
+    }
+    Ok(bytes)
 }
 
 /// The file as UTF-8 text, or an error at the first invalid byte.
