@@ -367,3 +367,15 @@ fn repeated_warnings_are_counted() {
     );
     assert!(i.take_warnings().is_empty());
 }
+
+#[test]
+fn object_file_messages_are_short_and_printable() {
+    let d = Dir::new();
+    let det = format!("title bad\ndata\n\x1b[31m{} 1\n", "7".repeat(100_000));
+    d.write("det/bad.det", &det);
+    let m = message(&d.run("ident\ngetobj bad\n").unwrap_err());
+    assert!(m.contains("bad.det:3:1"), "{m:?}");
+    assert!(!m.contains('\x1b'), "{m:?}");
+    assert!(m.contains("\\x1b[31m"), "{m:?}");
+    assert!(m.len() < 1000, "{} bytes", m.len());
+}

@@ -869,8 +869,13 @@ impl Interpreter {
                 if self.active.is_some() {
                     return Err(ctx.error(cmd, "`run` inside an object definition"));
                 }
-                host.run(&self.scene(), shadows)
-                    .map_err(|e| included_from(e, ctx.location(cmd), cmd, ctx))?;
+                host.run(&self.scene(), shadows).map_err(|e| match e {
+                    Error::Input(mut d) => {
+                        d.included_from.push(ctx.location(cmd));
+                        Error::Input(d)
+                    }
+                    other => other,
+                })?;
             }
             "scale" => {
                 a.count(3, 3)?;
@@ -1446,7 +1451,17 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
         if mirrored {
             indices.reverse();
         }
-        let points: Vec<DVec3> = indices.iter().map(|&i| vertices[i as usize]).collect();
+        let Some(points) = indices
+            .iter()
+            .map(|&i| vertices.get(i as usize).copied())
+            .collect::<Option<Vec<DVec3>>>()
+        else {
+            return Err(format!(
+                "object `{name}` polygon {}: a vertex index is beyond the {} vertices",
+                pi + 1,
+                vertices.len()
+            ));
+        };
         match polygon::outward_plane(&points) {
             Ok(plane) => {
                 polygons.push(Polygon { indices, plane });
@@ -1467,7 +1482,10 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
                 ));
                 for k in 1..indices.len() - 1 {
                     let tri = vec![indices[0], indices[k], indices[k + 1]];
-                    let pts: Vec<DVec3> = tri.iter().map(|&i| vertices[i as usize]).collect();
+                    let pts: Vec<DVec3> = tri
+                        .iter()
+                        .filter_map(|&i| vertices.get(i as usize).copied())
+                        .collect();
                     if let Ok(plane) = polygon::outward_plane(&pts) {
                         polygons.push(Polygon {
                             indices: tri,

@@ -56,7 +56,10 @@ pub fn read_mesh(path: &Path) -> Result<Mesh> {
 fn format_error(path: &Path, format: &str, message: impl std::fmt::Display) -> Error {
     Error::at(
         Location::file(path),
-        format!("cannot read {format}: {message}"),
+        format!(
+            "cannot read {format}: {}",
+            crate::error::printable(&message.to_string(), 200)
+        ),
     )
 }
 

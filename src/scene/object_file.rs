@@ -237,7 +237,7 @@ impl<'a> Scanner<'a> {
                 &token,
                 format!(
                     "expected {what} (a non-negative integer), found `{}`",
-                    token.text
+                    crate::error::printable(token.text, crate::error::MAX_SHOWN_TOKEN)
                 ),
             )
         })
@@ -248,7 +248,10 @@ impl<'a> Scanner<'a> {
         let value: f64 = token.text.parse().map_err(|_| {
             self.error(
                 token,
-                format!("expected {what} (a number), found `{}`", token.text),
+                format!(
+                    "expected {what} (a number), found `{}`",
+                    crate::error::printable(token.text, crate::error::MAX_SHOWN_TOKEN)
+                ),
             )
         })?;
         if !value.is_finite() {
@@ -256,7 +259,7 @@ impl<'a> Scanner<'a> {
                 token,
                 format!(
                     "non-finite number `{}` where {what} was expected",
-                    token.text
+                    crate::error::printable(token.text, crate::error::MAX_SHOWN_TOKEN)
                 ),
             ));
         }
@@ -315,7 +318,7 @@ fn read_polygons(scanner: &mut Scanner, count: u64, num_vtx: u64) -> Result<Vec<
                 &token,
                 format!(
                     "expected the number of vertices of polygon {number} (an integer), found `{}`",
-                    token.text
+                    crate::error::printable(token.text, crate::error::MAX_SHOWN_TOKEN)
                 ),
             )
         })?;
@@ -342,7 +345,7 @@ fn vertex_index(scanner: &Scanner, token: &Token, polygon: u64, num_vtx: u64) ->
             token,
             format!(
                 "expected a vertex index (an integer in 1..={num_vtx}), found `{}`",
-                token.text
+                crate::error::printable(token.text, crate::error::MAX_SHOWN_TOKEN)
             ),
         )
     })?;
