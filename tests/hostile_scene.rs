@@ -102,13 +102,16 @@ fn chain_of_files(d: &Dir, n: usize) -> PathBuf {
     d.path("f0.des")
 }
 
+/// One chain of 4,000 files (writing them is the slow part), three runs.
 #[test]
-fn a_call_chain_4000_deep_ends_with_the_budget_error() {
+fn a_call_chain_4000_deep_ends_with_the_budget_error_and_never_overflows_the_stack() {
     let d = Dir::new();
     let first = chain_of_files(&d, 4000);
-    // On a spawned thread (2 MiB of stack): no recursion may overflow it.
+    // Each run on a spawned thread (2 MiB of stack): no recursion may
+    // overflow it.
+    let f = first.clone();
     let m = within(20, move || {
-        let e = run_file(&first, Budgets::default()).expect_err("the call budget stops the chain");
+        let e = run_file(&f, Budgets::default()).expect_err("the call budget stops the chain");
         message(&e)
     });
     assert!(m.contains("--max-call-depth"), "{m}");
@@ -121,27 +124,21 @@ fn a_call_chain_4000_deep_ends_with_the_budget_error() {
     // The "included from" lines too.
     assert!(m.matches("included from").count() <= 6, "{m}");
     assert!(m.len() < 3000, "{} bytes: {m}", m.len());
-}
 
-#[test]
-fn a_call_chain_4000_deep_within_a_raised_budget_does_not_overflow_the_stack() {
-    let d = Dir::new();
-    let first = chain_of_files(&d, 4000);
+    // A budget above the chain: all 4,000 levels run.
     let budgets = Budgets {
         call_depth: 10_000,
         ..Budgets::default()
     };
-    let ok = within(20, move || run_file(&first, budgets).map(|_| ()));
-    ok.unwrap();
-    // And a budget just below the chain stops it at its end.
-    let first = d.path("f0.des");
+    let f = first.clone();
+    within(20, move || run_file(&f, budgets).map(|_| ())).unwrap();
+
+    // A budget just below the chain stops it at its end.
     let budgets = Budgets {
         call_depth: 3998,
         ..Budgets::default()
     };
-    let m = within(20, move || {
-        message(&run_file(&first, budgets).err().unwrap())
-    });
+    let m = within(20, move || message(&run_file(&first, budgets).unwrap_err()));
     assert!(m.contains("f3998.des:1:6"), "{m}");
     assert!(m.contains("budget of 3998"), "{m}");
 }
@@ -200,13 +197,23 @@ fn dev_zero_and_directories_are_refused() {
 #[test]
 fn a_file_over_the_size_limit_is_refused_before_reading() {
     let d = Dir::new();
+    // Sparse files: nothing is written.
     let big = d.path("big.des");
-    let f = std::fs::File::create(&big).unwrap();
-    // Sparse: nothing is written.
-    f.set_len(plytrace::scene::object_file::MAX_INPUT_BYTES + 1)
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(plytrace::scene::interpreter::MAX_SCENE_BYTES + 1)
         .unwrap();
     let m = within(10, move || {
-        message(&run_file(&big, Budgets::default()).err().unwrap())
+        message(&run_file(&big, Budgets::default()).unwrap_err())
+    });
+    assert!(m.contains("more than the 16777216 bytes"), "{m}");
+    let big = d.path("det/big.det");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(plytrace::scene::object_file::MAX_INPUT_BYTES + 1)
+        .unwrap();
+    let m = within(10, move || {
+        message(&plytrace::scene::object_file::read_det(&big).unwrap_err())
     });
     assert!(m.contains("more than the 1073741824 bytes"), "{m}");
 }

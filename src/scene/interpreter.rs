@@ -130,6 +130,10 @@ struct OpenFile {
     called: bool,
 }
 
+/// The largest scene file read: a scene is held whole, with its tokens,
+/// while it runs, so the limit is smaller than for object files.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
 /// What to do after a statement.
 enum Step {
     Continue,
@@ -406,7 +410,7 @@ impl Interpreter {
     /// Reads, lexes and checks `path`, then (with `init`) initializes and
     /// records the file as open. `caller` is the `call`/`get` that names it.
     fn open_file(&mut self, path: &Path, init: bool, caller: Option<Caller>) -> Result<Frame> {
-        let source = object_file::read_regular(path, object_file::MAX_INPUT_BYTES)?;
+        let source = object_file::read_regular(path, MAX_SCENE_BYTES)?;
         let source = String::from_utf8(source).map_err(|e| {
             Error::at(
                 Location::file(path),
@@ -544,7 +548,7 @@ impl Interpreter {
                 token,
                 Budgets::exceeded(
                     &format!(
-                        "`call` nesting of {nested} files ({})",
+                        "`call` nesting {nested} deep ({})",
                         crate::error::chain(&names)
                     ),
                     limit,
