@@ -386,3 +386,18 @@ fn object_file_messages_are_short_and_printable() {
     assert!(m.contains("\\x1b[31m"), "{m:?}");
     assert!(m.len() < 1000, "{} bytes", m.len());
 }
+
+#[test]
+fn a_det_file_declaring_too_many_polygons_is_refused_before_reading_them() {
+    let d = Dir::new();
+    d.write(
+        "det/huge.det",
+        "title huge\ndata\n3 4000000000\n0 0 0\n1 0 0\n0 1 0\n3 1 2 3\n",
+    );
+    let m = message(&d.run("ident\ngetobj huge\n").unwrap_err());
+    assert!(m.contains("huge.det:3:"), "{m}");
+    assert!(m.contains("included from "), "{m}");
+    assert!(m.contains("scene.des:2:1"), "{m}");
+    assert!(m.contains("4000000000 polygons"), "{m}");
+    assert!(m.contains("--max-polygons"), "{m}");
+}

@@ -1122,10 +1122,21 @@ impl Interpreter {
                     .extension()
                     .is_some_and(|e| e.eq_ignore_ascii_case("det"))
                 {
-                    object_file::read_det(&path)?
+                    object_file::read_det_within(
+                        &path,
+                        self.budgets.polygons.saturating_sub(self.polygons),
+                    )
                 } else {
-                    mesh_import::read_mesh(&path)?
+                    mesh_import::read_mesh(&path)
                 };
+                // A problem in the file names the statement that read it.
+                let mesh = mesh.map_err(|e| match e {
+                    Error::Input(mut d) => {
+                        d.included_from.push(active.location.clone());
+                        Error::Input(d)
+                    }
+                    other => other,
+                })?;
                 (Arc::new(mesh), None, None)
             }
         };

@@ -278,6 +278,13 @@ impl<'a> Scanner<'a> {
 ///
 /// Errors name the line and column of the offending word.
 pub fn parse_det_ascii(text: &str, file: &Path) -> Result<Mesh> {
+    parse_det_ascii_within(text, file, usize::MAX)
+}
+
+/// [`parse_det_ascii`], refusing a file that declares more than
+/// `max_polygons` polygons before any is read (the polygon budget,
+/// `--max-polygons`).
+pub fn parse_det_ascii_within(text: &str, file: &Path, max_polygons: usize) -> Result<Mesh> {
     let mut scanner = Scanner::after_data(text, file)?;
     let num_vtx = scanner.count("the number of vertices")?;
     if num_vtx > u64::from(u32::MAX) {
@@ -287,6 +294,12 @@ pub fn parse_det_ascii(text: &str, file: &Path) -> Result<Mesh> {
         )));
     }
     let num_polys = scanner.count("the number of polygons")?;
+    if num_polys > max_polygons as u64 {
+        return Err(scanner.error_at_end(format!(
+            "{num_polys} polygons exceed the {max_polygons} left of the polygon budget; \
+             `--max-polygons N` raises it"
+        )));
+    }
     let vertices = read_vertices(&mut scanner, num_vtx)?;
     let polygons = read_polygons(&mut scanner, num_polys, num_vtx)?;
     scanner.expect_end("unexpected text after the last polygon")?;
@@ -893,11 +906,18 @@ fn as_text<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str> {
 
 /// Reads a geometry file, binary (starting with `DET`) or ASCII.
 pub fn read_det(path: &Path) -> Result<Mesh> {
+    read_det_within(path, usize::MAX)
+}
+
+/// [`read_det`], refusing an ASCII file that declares more than
+/// `max_polygons` polygons before they are read (a binary file has at most
+/// 65,535, and is checked by the caller).
+pub fn read_det_within(path: &Path, max_polygons: usize) -> Result<Mesh> {
     let bytes = read_file(path)?;
     if is_binary(&bytes, &[DET_TAG]) {
         parse_det_binary(&bytes, path)
     } else {
-        parse_det_ascii(as_text(&bytes, path)?, path)
+        parse_det_ascii_within(as_text(&bytes, path)?, path, max_polygons)
     }
 }
 
