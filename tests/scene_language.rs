@@ -465,3 +465,31 @@ fn lookat_with_parentheses() {
     let d = f.run("translate 1 2 3\n").unwrap().ctm();
     assert!(mat_close(&c, &d));
 }
+
+/// `ortho2` end to end: a square 1000 units in front and one 50 behind are
+/// both drawn (IRIS GL's near and far of -1 and 1 would clip both), and
+/// the nearer hides the farther.
+#[test]
+fn ortho2_renders_without_z_clipping_and_keeps_depth_order() {
+    use plytrace::render::{RenderOptions, render};
+    let f = Fixture::new();
+    let s = f.scene(
+        "viewport 0 63 0 63\northo2 -2 2 -2 2\npushmatrix\nident\n\
+         defobj square\n  translate 0 0 -50\nendobj\n\
+         defobj square\n  scale 0.5 0.5 1\n  translate 0 0 1000\nendobj\npopmatrix\n",
+    );
+    let r = render(&s, &RenderOptions::default()).unwrap();
+    assert_eq!((r.frame.width, r.frame.height), (64, 64));
+    assert_eq!(r.polygon_at(32, 32), Some((1, 0)), "the near square");
+    assert_eq!(r.polygon_at(20, 20), Some((0, 0)), "the far square");
+    assert_eq!(r.polygon_at(2, 2), None, "the background");
+    // Defined the other way round: depth decides, not the order.
+    let s = f.scene(
+        "viewport 0 63 0 63\northo2 -2 2 -2 2\npushmatrix\nident\n\
+         defobj square\n  scale 0.5 0.5 1\n  translate 0 0 1000\nendobj\n\
+         defobj square\n  translate 0 0 -50\nendobj\npopmatrix\n",
+    );
+    let r = render(&s, &RenderOptions::default()).unwrap();
+    assert_eq!(r.polygon_at(32, 32), Some((0, 0)), "the near square");
+    assert_eq!(r.polygon_at(20, 20), Some((1, 0)), "the far square");
+}
