@@ -401,3 +401,16 @@ fn a_det_file_declaring_too_many_polygons_is_refused_before_reading_them() {
     assert!(m.contains("4000000000 polygons"), "{m}");
     assert!(m.contains("--max-polygons"), "{m}");
 }
+
+#[test]
+fn long_object_names_are_shortened_in_messages() {
+    let d = Dir::new();
+    let name = format!("\x1b]0;{}", "n".repeat(100_000));
+    let m = message(
+        &d.run(&format!("ident\ndefobj {name}\nendobj\n"))
+            .unwrap_err(),
+    );
+    assert!(m.contains("no geometry file"), "{m:?}");
+    assert!(!m.contains('\x1b'), "{m:?}");
+    assert!(m.len() < 3000, "{} bytes", m.len());
+}

@@ -1349,7 +1349,10 @@ impl Interpreter {
         }
         Err(Error::at(
             loc.clone(),
-            format!("colour file `{name}.{ext}` not found in the detail directory"),
+            format!(
+                "colour file `{}.{ext}` not found in the detail directory",
+                printable(name, MAX_SHOWN_TOKEN)
+            ),
         ))
     }
 }
@@ -1452,9 +1455,11 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
         .iter()
         .map(|v| transform.transform_point(*v))
         .collect();
+    // The name as messages show it.
+    let shown = printable(&name, MAX_SHOWN_TOKEN);
     if let Some(i) = vertices.iter().position(|v| !v.is_finite()) {
         return Err(format!(
-            "object `{name}`: vertex {} is not finite after transformation by the CTM (a projection is still on the CTM, or a number overflowed; scenes usually `pushmatrix` and `ident` before defining objects)",
+            "object `{shown}`: vertex {} is not finite after transformation by the CTM (a projection is still on the CTM, or a number overflowed; scenes usually `pushmatrix` and `ident` before defining objects)",
             i + 1
         ));
     }
@@ -1472,7 +1477,7 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
             .collect::<Option<Vec<DVec3>>>()
         else {
             return Err(format!(
-                "object `{name}` polygon {}: a vertex index is beyond the {} vertices",
+                "object `{shown}` polygon {}: a vertex index is beyond the {} vertices",
                 pi + 1,
                 vertices.len()
             ));
@@ -1483,16 +1488,16 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
                 source_polygon.push(pi as u32);
             }
             Err(PolygonDefect::TooFewVertices(n)) => warn(format!(
-                "warning: object `{name}` polygon {}: only {n} distinct vertices; skipped",
+                "warning: object `{shown}` polygon {}: only {n} distinct vertices; skipped",
                 pi + 1
             )),
             Err(PolygonDefect::ZeroArea) => warn(format!(
-                "warning: object `{name}` polygon {}: zero area; skipped",
+                "warning: object `{shown}` polygon {}: zero area; skipped",
                 pi + 1
             )),
             Err(PolygonDefect::NonPlanar(off)) => {
                 warn(format!(
-                    "warning: object `{name}` polygon {}: not planar (off by {off:.2e} of its size); split into triangles",
+                    "warning: object `{shown}` polygon {}: not planar (off by {off:.2e} of its size); split into triangles",
                     pi + 1
                 ));
                 for k in 1..indices.len() - 1 {
