@@ -204,32 +204,37 @@ fn source_window(src: &str, column: usize, width: usize) -> (String, String, usi
     let col = column.saturating_sub(1).min(chars.len());
     let start = col.saturating_sub(MAX_SHOWN_TOKEN / 2);
     let end = (start + MAX_SHOWN_TOKEN).min(chars.len());
+    let last = col + width.max(1);
     let mut shown = String::new();
     let mut lead = String::new();
     if start > 0 {
         shown.push_str("...");
         lead.push_str("   ");
     }
+    // Shown characters under the token (escapes are wider than one).
+    let mut caret = 0;
     for (i, &c) in chars[start..end].iter().enumerate() {
-        let before = shown.chars().count();
+        let before = shown.len();
         if is_escaped(c) {
             escape_char(c, &mut shown);
         } else {
             shown.push(c);
         }
-        if start + i < col {
-            let added = shown.chars().count() - before;
+        let added = shown[before..].chars().count();
+        let at = start + i;
+        if at < col {
             // Tabs are kept so that the caret lines up under the column.
             for _ in 0..added {
                 lead.push(if c == '\t' { '\t' } else { ' ' });
             }
+        } else if at < last {
+            caret += added;
         }
     }
     if end < chars.len() {
         shown.push_str(&format!("... ({} characters)", chars.len()));
     }
-    let width = width.clamp(1, (end.saturating_sub(col)).max(1));
-    (shown, lead, width)
+    (shown, lead, caret.max(1))
 }
 
 /// Everything that can go wrong in the library.
@@ -325,6 +330,15 @@ mod tests {
         let at = lines[2].find("\\x1b").unwrap();
         let caret = lines[3].find('^').unwrap();
         assert_eq!(at, caret, "{text}");
+    }
+
+    #[test]
+    fn the_caret_covers_an_escaped_token() {
+        let d = Diagnostic::new(Location::new("a.des", 1, 1), "bad").with_source("f\x1bo 1", 3);
+        let text = d.to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[2], "1 | f\\x1bo 1");
+        assert_eq!(lines[3], "  | ^^^^^^", "{text}");
     }
 
     #[test]
