@@ -37,7 +37,11 @@ impl Location {
 
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.file.display())?;
+        write!(
+            f,
+            "{}",
+            printable(&self.file.display().to_string(), MAX_SHOWN_PATH)
+        )?;
         if self.line > 0 {
             write!(f, ":{}", self.line)?;
             if self.column > 0 {
@@ -86,28 +90,151 @@ impl Diagnostic {
 
 impl fmt::Display for Diagnostic {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {}", self.location, self.message)?;
+        // The message may quote input: no control character reaches the
+        // terminal (line breaks the program put there are kept).
+        write!(
+            f,
+            "{}: {}",
+            self.location,
+            escape_controls(&self.message, true)
+        )?;
         if let (Some(src), true) = (&self.source_line, self.location.column > 0) {
             let num = self.location.line.to_string();
             let pad = " ".repeat(num.len());
             let src = src.trim_end_matches(['\r', '\n']);
-            // Tabs are kept so that the caret lines up under the column.
-            let lead: String = src
-                .chars()
-                .take(self.location.column - 1)
-                .map(|c| if c == '\t' { '\t' } else { ' ' })
-                .collect();
+            let (shown, lead, width) = source_window(src, self.location.column, self.width);
             write!(
                 f,
-                "\n{pad} |\n{num} | {src}\n{pad} | {lead}{}",
-                "^".repeat(self.width)
+                "\n{pad} |\n{num} | {shown}\n{pad} | {lead}{}",
+                "^".repeat(width)
             )?;
         }
-        for inc in &self.included_from {
+        let n = self.included_from.len();
+        for (i, inc) in self.included_from.iter().enumerate() {
+            if n > 2 * CHAIN_ENDS + 1 && i >= CHAIN_ENDS && i < n - CHAIN_ENDS {
+                if i == CHAIN_ENDS {
+                    write!(
+                        f,
+                        "\n  ... {} more `call`/`get` levels ...",
+                        n - 2 * CHAIN_ENDS
+                    )?;
+                }
+                continue;
+            }
             write!(f, "\n  included from {inc}")?;
         }
         Ok(())
     }
+}
+
+/// Longest file name shown in a message, in characters.
+pub const MAX_SHOWN_PATH: usize = 200;
+
+/// Longest token or line quoted in a message, in characters.
+pub const MAX_SHOWN_TOKEN: usize = 80;
+
+/// How many entries are shown at each end of a long include chain.
+pub const CHAIN_ENDS: usize = 3;
+
+/// `s` made safe and short for a message: control characters (below 0x20
+/// except tab, DEL and the C1 controls) are escaped as `\x1b`, `\x00`,
+/// `\u{9b}`, and a text of more than `max` characters is cut to its first
+/// `max`, followed by `...` and its length.
+pub fn printable(s: &str, max: usize) -> String {
+    let count = s.chars().count();
+    if count <= max {
+        return escape_controls(s, false);
+    }
+    let head: String = s.chars().take(max).collect();
+    format!("{}... ({count} characters)", escape_controls(&head, false))
+}
+
+/// Whether `c` is shown escaped.
+fn is_escaped(c: char) -> bool {
+    (c.is_control() && c != '\t') || c == '\u{7f}'
+}
+
+fn escape_char(c: char, out: &mut String) {
+    use std::fmt::Write;
+    if (c as u32) < 0x100 {
+        let _ = write!(out, "\\x{:02x}", c as u32);
+    } else {
+        let _ = write!(out, "\\u{{{:x}}}", c as u32);
+    }
+}
+
+/// `s` with its control characters escaped; line breaks kept when
+/// `keep_newlines`.
+pub fn escape_controls(s: &str, keep_newlines: bool) -> String {
+    if !s.chars().any(is_escaped) {
+        return s.to_string();
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        if c == '\n' && keep_newlines {
+            out.push(c);
+        } else if is_escaped(c) {
+            escape_char(c, &mut out);
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// A chain of names (files of nested `call`s), shortened in the middle
+/// when long: the first three, `... N more ...`, the last three.
+pub fn chain(names: &[String]) -> String {
+    let n = names.len();
+    if n <= 2 * CHAIN_ENDS + 1 {
+        return names.join(" -> ");
+    }
+    let mut parts: Vec<String> = names[..CHAIN_ENDS].to_vec();
+    parts.push(format!("... {} more ...", n - 2 * CHAIN_ENDS));
+    parts.extend_from_slice(&names[n - CHAIN_ENDS..]);
+    parts.join(" -> ")
+}
+
+/// The part of source line `src` shown under a diagnostic: at most
+/// [`MAX_SHOWN_TOKEN`] characters around `column`, control characters
+/// escaped; with the white-space lead that puts the caret under the column
+/// and the caret's width.
+fn source_window(src: &str, column: usize, width: usize) -> (String, String, usize) {
+    let chars: Vec<char> = src.chars().collect();
+    let col = column.saturating_sub(1).min(chars.len());
+    let start = col.saturating_sub(MAX_SHOWN_TOKEN / 2);
+    let end = (start + MAX_SHOWN_TOKEN).min(chars.len());
+    let last = col + width.max(1);
+    let mut shown = String::new();
+    let mut lead = String::new();
+    if start > 0 {
+        shown.push_str("...");
+        lead.push_str("   ");
+    }
+    // Shown characters under the token (escapes are wider than one).
+    let mut caret = 0;
+    for (i, &c) in chars[start..end].iter().enumerate() {
+        let before = shown.len();
+        if is_escaped(c) {
+            escape_char(c, &mut shown);
+        } else {
+            shown.push(c);
+        }
+        let added = shown[before..].chars().count();
+        let at = start + i;
+        if at < col {
+            // Tabs are kept so that the caret lines up under the column.
+            for _ in 0..added {
+                lead.push(if c == '\t' { '\t' } else { ' ' });
+            }
+        } else if at < last {
+            caret += added;
+        }
+    }
+    if end < chars.len() {
+        shown.push_str(&format!("... ({} characters)", chars.len()));
+    }
+    (shown, lead, caret.max(1))
 }
 
 /// Everything that can go wrong in the library.
@@ -117,7 +244,7 @@ pub enum Error {
     #[error("{0}")]
     Input(Box<Diagnostic>),
     /// An operating system error on a named file.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {source}", printable(&path.display().to_string(), MAX_SHOWN_PATH))]
     Io {
         /// The file.
         path: PathBuf,
@@ -126,7 +253,7 @@ pub enum Error {
         source: std::io::Error,
     },
     /// A request that cannot be honoured (e.g. an image too large to allocate).
-    #[error("{0}")]
+    #[error("{}", escape_controls(.0, true))]
     Invalid(String),
 }
 
@@ -215,5 +342,48 @@ mod tests {
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines[2], "3 |     foo 1 2");
         assert_eq!(lines[3], "  |     ^^^");
+    }
+
+    #[test]
+    fn printable_escapes_and_truncates() {
+        assert_eq!(
+            printable("a\x1b[2Jb\0\x7f\tc", 80),
+            "a\\x1b[2Jb\\x00\\x7f\tc"
+        );
+        let long = "x".repeat(1000);
+        let p = printable(&long, 80);
+        assert!(p.starts_with(&"x".repeat(80)), "{p}");
+        assert!(p.ends_with("... (1000 characters)"), "{p}");
+    }
+
+    #[test]
+    fn long_lines_are_windowed_and_escaped() {
+        let line = format!("{}\x1b{}", "a".repeat(5000), "b".repeat(5000));
+        let d = Diagnostic::new(Location::new("a.des", 1, 5001), "bad").with_source(line, 5000);
+        let text = d.to_string();
+        assert!(text.len() < 400, "{}", text.len());
+        assert!(!text.contains('\x1b'));
+        let lines: Vec<&str> = text.lines().collect();
+        let at = lines[2].find("\\x1b").unwrap();
+        let caret = lines[3].find('^').unwrap();
+        assert_eq!(at, caret, "{text}");
+    }
+
+    #[test]
+    fn the_caret_covers_an_escaped_token() {
+        let d = Diagnostic::new(Location::new("a.des", 1, 1), "bad").with_source("f\x1bo 1", 3);
+        let text = d.to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[2], "1 | f\\x1bo 1");
+        assert_eq!(lines[3], "  | ^^^^^^", "{text}");
+    }
+
+    #[test]
+    fn chains_are_shortened_in_the_middle() {
+        let names: Vec<String> = (0..100).map(|i| format!("f{i}")).collect();
+        assert_eq!(
+            chain(&names),
+            "f0 -> f1 -> f2 -> ... 94 more ... -> f97 -> f98 -> f99"
+        );
     }
 }

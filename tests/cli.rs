@@ -670,14 +670,25 @@ fn det_huge_vertex_count() {
         "expected 1000000000 vertices, file ended after 3",
     );
 
-    // The same for the polygon count.
-    let det = "title liar\ndata\n3 1000000000\n0 0 0\n1 0 0\n0 1 0\n3 1 2 3\n";
+    // The same for the polygon count (a claim within the polygon budget).
+    let det = "title liar\ndata\n3 3000000\n0 0 0\n1 0 0\n0 1 0\n3 1 2 3\n";
     let run = run_scene("defobj liar\nendobj\n", &[("liar", det)], &[]);
     assert_error(
         &run,
         1,
         "det/liar.det:7:8",
-        "expected 1000000000 polygons, file ended after 1",
+        "expected 3000000 polygons, file ended after 1",
+    );
+
+    // A claim beyond the polygon budget is refused at the count, before
+    // any polygon is read.
+    let det = "title liar\ndata\n3 1000000000\n0 0 0\n1 0 0\n0 1 0\n3 1 2 3\n";
+    let run = run_scene("defobj liar\nendobj\n", &[("liar", det)], &[]);
+    assert_error(
+        &run,
+        1,
+        "det/liar.det:3:13",
+        "1000000000 polygons exceed the 4000000 left of the polygon budget; `--max-polygons N` raises it",
     );
 }
 

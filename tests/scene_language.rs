@@ -156,7 +156,7 @@ fn matrix_commands_premultiply_and_projections_load() {
     let i = f.run("translate 5 5 5\northo2 -1 1 -2 2\n").unwrap();
     assert!(mat_close(
         &i.ctm(),
-        &plytrace::math::ortho2(-1.0, 1.0, -2.0, 2.0)
+        &plytrace::scene::interpreter::ortho2(-1.0, 1.0, -2.0, 2.0)
     ));
     let i = f.run("translate 5 5 5\nwindow -1 1 -1 1 1 10\n").unwrap();
     assert!(mat_close(
@@ -396,4 +396,100 @@ fn clockwise_polygons_face_outward_and_mirrors_keep_them_so() {
             );
         }
     }
+}
+
+// The manual, unbent (004 appendix B).
+
+#[test]
+fn ortho2_does_not_clip_z() {
+    use plytrace::geometry::clip::outcode;
+    let f = Fixture::new();
+    let i = f.run("ortho2 -1 1 -1 1\n").unwrap();
+    for z in [-1e6, -50.0, 0.0, 50.0, 1e6] {
+        let p = i.ctm().transform_point4(DVec3::new(0.5, -0.5, z));
+        assert_eq!(outcode(p), 0, "z = {z} is clipped: {p}");
+    }
+    // x and y are still mapped to -1..1, and depth keeps its order.
+    let a = i.ctm().transform_point4(DVec3::new(1.0, -1.0, 2.0));
+    let b = i.ctm().transform_point4(DVec3::new(1.0, -1.0, 1.0));
+    assert!((a.x - 1.0).abs() < 1e-12 && (a.y + 1.0).abs() < 1e-12);
+    assert!(a.z < b.z, "nearer (larger z) is smaller depth");
+}
+
+#[test]
+fn object_names_are_case_folded() {
+    let f = Fixture::new();
+    let s = f.scene("defobj Cube 3\nendobj\ngetobj CUBE\ndelobj cube\n");
+    assert!(s.objects.is_empty(), "{:?}", s.objects.len());
+    let s = f.scene("defobj CUBE 3\nendobj\ncallobj Cube\ndelobj 3\n");
+    assert_eq!(s.objects.len(), 1);
+    assert_eq!(s.objects[0].name, "#3");
+    let s = f.scene("getobj Square\n");
+    assert_eq!(s.objects[0].name, "square");
+    assert!(f.run("delobj nosuch\n").is_err());
+}
+
+#[test]
+fn on_off_setmodes_without_a_value_mean_on() {
+    let f = Fixture::new();
+    let m = f.scene("setmode b\nsetmode h\nsetmode n\nsetmode o\nsetmode p\nsetmode s\nsetmode V\nsetmode x\n").modes;
+    assert!(
+        m.blend
+            && m.shadow_shades
+            && m.nns
+            && m.output_tree
+            && m.boxes_only
+            && m.phong
+            && m.vertex_shades
+            && m.expand
+    );
+    assert!(!f.scene("setmode v\nsetmode v off\n").modes.vertex_shades);
+    assert!(f.run("setmode d\n").is_err(), "d needs a value");
+}
+
+#[test]
+fn setmode_f_is_accepted_in_scene_files() {
+    let f = Fixture::new();
+    let s = f.scene("setmode f other.des\n");
+    assert_eq!(s.scene_file.as_deref(), Some("other.des"));
+    assert!(f.run("setmode f\n").is_err(), "f needs a file name");
+}
+
+#[test]
+fn lookat_with_parentheses() {
+    let f = Fixture::new();
+    let a = f.run("lookat(1, 2, 5, 0, 0, 0, 30)\n").unwrap().ctm();
+    let b = f.run("lookat 1 2 5 0 0 0 30\n").unwrap().ctm();
+    assert!(mat_close(&a, &b));
+    let c = f.run("translate(1, 2, 3)\n").unwrap().ctm();
+    let d = f.run("translate 1 2 3\n").unwrap().ctm();
+    assert!(mat_close(&c, &d));
+}
+
+/// `ortho2` end to end: a square 1000 units in front and one 50 behind are
+/// both drawn (IRIS GL's near and far of -1 and 1 would clip both), and
+/// the nearer hides the farther.
+#[test]
+fn ortho2_renders_without_z_clipping_and_keeps_depth_order() {
+    use plytrace::render::{RenderOptions, render};
+    let f = Fixture::new();
+    let s = f.scene(
+        "viewport 0 63 0 63\northo2 -2 2 -2 2\npushmatrix\nident\n\
+         defobj square\n  translate 0 0 -50\nendobj\n\
+         defobj square\n  scale 0.5 0.5 1\n  translate 0 0 1000\nendobj\npopmatrix\n",
+    );
+    let r = render(&s, &RenderOptions::default()).unwrap();
+    assert_eq!((r.frame.width, r.frame.height), (64, 64));
+    assert_eq!(r.polygon_at(32, 32), Some((1, 0)), "the near square");
+    assert_eq!(r.polygon_at(20, 20), Some((0, 0)), "the far square");
+    assert_eq!(r.polygon_at(2, 2), None, "the background");
+    // Defined the other way round: depth decides, not the order.
+    let s = f.scene(
+        "viewport 0 63 0 63\northo2 -2 2 -2 2\npushmatrix\nident\n\
+         defobj square\n  scale 0.5 0.5 1\n  translate 0 0 1000\nendobj\n\
+         defobj square\n  translate 0 0 -50\nendobj\npopmatrix\n",
+    );
+    let r = render(&s, &RenderOptions::default()).unwrap();
+    assert_eq!(r.polygon_at(32, 32), Some((0, 0)), "the near square");
+    assert_eq!(r.polygon_at(20, 20), Some((1, 0)), "the far square");
 }

@@ -158,6 +158,13 @@ fn grid_point(
     }
 }
 
+/// The number of faces of a geodesic with `n` divisions per edge,
+/// `20 n^2`, computed before anything is built so that a budget can refuse
+/// it (`None` if it overflows).
+pub fn face_count(n: usize) -> Option<usize> {
+    n.checked_mul(n)?.checked_mul(20)
+}
+
 /// A geodesic icosahedron with `n` divisions per edge, its vertices moved
 /// by `radial`. Fails if the radial function is not positive and finite at
 /// every vertex.
@@ -165,6 +172,9 @@ pub fn geodesic(n: usize, division: Division, radial: Radial) -> Result<Mesh, St
     if n == 0 {
         return Err("a geodesic needs at least 1 division per edge".into());
     }
+    let Some(faces) = face_count(n) else {
+        return Err(format!("a geodesic of {n} divisions per edge is too large"));
+    };
     let v = icosahedron_vertices();
     let mut index: HashMap<[i64; 3], u32> = HashMap::new();
     let mut dirs: Vec<DVec3> = Vec::new();
@@ -180,7 +190,7 @@ pub fn geodesic(n: usize, division: Division, radial: Radial) -> Result<Mesh, St
             dirs.len() as u32 - 1
         })
     };
-    let mut polygons = Vec::with_capacity(20 * n * n);
+    let mut polygons = Vec::with_capacity(faces);
     for [ia, ib, ic] in icosahedron_faces() {
         let (a, b, c) = (v[ia], v[ib], v[ic]);
         // Grid indices: i steps from A towards B, j from A towards C.

@@ -19,7 +19,10 @@ use super::lexer::{self, Statement, Token};
 use super::mesh_import;
 use super::model::*;
 use super::object_file::{self, ColorEntry, ColorKind, Mesh};
-use crate::error::{Diagnostic, Error, Location, Result};
+use crate::budget::Budgets;
+use crate::error::{
+    Diagnostic, Error, Location, MAX_SHOWN_PATH, MAX_SHOWN_TOKEN, Result, printable,
+};
 use crate::geometry::polygon::{self, PolygonDefect};
 use crate::math::{self, Axis, Matrix4};
 use crate::modeling::geodesic::{self, Division, Radial};
@@ -70,11 +73,15 @@ pub enum Flow {
 /// An object between `defobj` and `endobj`.
 #[derive(Debug, Clone)]
 struct ActiveObject {
+    /// The name, case-folded (004 appendix: input is converted to lower
+    /// case).
     name: String,
+    /// The name as written, tried first for the geometry file.
+    written: String,
     number: Option<u32>,
     surface: Surface,
     surface_type: SurfaceType,
-    copy_of: Option<u32>,
+    copy_of: Option<(u32, Location)>,
     geodesic: Option<(usize, Division, Location)>,
     radial: Option<(Radial, Location)>,
     pcolors: Option<(String, Location)>,
@@ -82,6 +89,61 @@ struct ActiveObject {
     stack_depth: usize,
     location: Location,
     det_base: PathBuf,
+}
+
+/// A file being read (or a text given to [`Interpreter::execute_source`]).
+struct Frame {
+    file: PathBuf,
+    dir: PathBuf,
+    source: String,
+    statements: Vec<Statement>,
+    next: usize,
+    /// Whether it is recorded in `Interpreter::files`.
+    opened: bool,
+    /// The `call`/`get` that named it.
+    caller: Option<Caller>,
+}
+
+impl Frame {
+    fn context(&self) -> Context<'_> {
+        Context {
+            file: &self.file,
+            dir: self.dir.clone(),
+            source: &self.source,
+        }
+    }
+}
+
+/// The `call` or `get` statement that opened a frame.
+struct Caller {
+    location: Location,
+    get: bool,
+    start: std::time::Instant,
+}
+
+/// A file being read, for cycle detection and the call depth.
+#[derive(Debug, Clone)]
+struct OpenFile {
+    canonical: PathBuf,
+    named: PathBuf,
+    /// Opened by `call`/`get` (not the outermost file).
+    called: bool,
+}
+
+/// The largest scene file read: a scene is held whole, with its tokens,
+/// while it runs, so the limit is smaller than for object files.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// What to do after a statement.
+enum Step {
+    Continue,
+    Quit,
+    /// Read `path` next (`call`, or `get` with `init`).
+    Enter {
+        path: PathBuf,
+        get: bool,
+        token: Token,
+    },
 }
 
 /// Where a statement came from, for diagnostics and relative paths.
@@ -115,9 +177,12 @@ pub struct Interpreter {
     active: Option<ActiveObject>,
     det_dir: PathBuf,
     det_base: PathBuf,
-    files: Vec<PathBuf>,
+    files: Vec<OpenFile>,
+    /// Polygons of the scene's objects (for [`Budgets::polygons`]).
+    polygons: usize,
     overrides: Vec<(char, String)>,
-    warnings: Vec<Diagnostic>,
+    warnings: Warnings,
+    budgets: Budgets,
 }
 
 impl Default for Interpreter {
@@ -144,9 +209,23 @@ impl Interpreter {
             det_dir: default_det_dir(),
             det_base: PathBuf::from("."),
             files: Vec::new(),
+            polygons: 0,
             overrides: Vec::new(),
-            warnings: Vec::new(),
+            warnings: Warnings::default(),
+            budgets: Budgets::default(),
         }
+    }
+
+    /// Sets the limits (`--max-polygons`, `--max-call-depth`, ...) checked
+    /// while reading scenes; [`Budgets::default`] until this is called.
+    /// They survive `init` and `get`.
+    pub fn set_budgets(&mut self, budgets: Budgets) {
+        self.budgets = budgets;
+    }
+
+    /// The limits in force.
+    pub fn budgets(&self) -> Budgets {
+        self.budgets
     }
 
     /// The scene as it stands, with the current CTM as its projection.
@@ -172,8 +251,16 @@ impl Interpreter {
     }
 
     /// Warnings gathered so far (repaired or skipped input), emptied.
+    /// Of each kind of warning only the first [`WARNINGS_SHOWN`] are kept,
+    /// followed by one that counts the rest ("... and N more degenerate
+    /// polygon warnings").
     pub fn take_warnings(&mut self) -> Vec<Diagnostic> {
-        std::mem::take(&mut self.warnings)
+        std::mem::take(&mut self.warnings).finish()
+    }
+
+    /// Records a warning of `kind`.
+    fn warn(&mut self, kind: &'static str, warning: Diagnostic) {
+        self.warnings.add(kind, warning);
     }
 
     /// Forces a `setmode` value given on the command line (`-n on`): it is
@@ -232,7 +319,9 @@ impl Interpreter {
         let files = std::mem::take(&mut self.files);
         let overrides = std::mem::take(&mut self.overrides);
         let warnings = std::mem::take(&mut self.warnings);
+        let budgets = self.budgets;
         *self = Interpreter::new();
+        self.budgets = budgets;
         self.files = files;
         self.overrides = overrides;
         self.warnings = warnings;
@@ -241,9 +330,87 @@ impl Interpreter {
 
     /// `get file` (with `init`) or `call file` (without), as if typed.
     /// A relative path is looked up beside the including file, then in the
-    /// working directory.
+    /// working directory. The file must be a regular file; it is read and
+    /// checked whole (every statement's command, argument count and types)
+    /// before its first statement runs. Nested `call`s run on a stack of
+    /// frames, not by recursion, so that their depth is bounded by
+    /// [`Budgets::call_depth`] alone.
     pub fn execute_file(&mut self, path: &Path, init: bool, host: &mut dyn Host) -> Result<Flow> {
-        let source = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let frame = self.open_file(path, init, None)?;
+        let flow = self.run_frames(frame, host)?;
+        if self.files.is_empty()
+            && let Some(active) = &self.active
+        {
+            return Err(Error::at(
+                active.location.clone(),
+                format!(
+                    "`defobj {}` has no `endobj` before the end of the input",
+                    printable(&active.name, MAX_SHOWN_TOKEN)
+                ),
+            ));
+        }
+        Ok(flow)
+    }
+
+    /// Executes the statements of `source`, which came from `file`. The
+    /// whole text is checked before its first statement runs.
+    pub fn execute_source(
+        &mut self,
+        source: &str,
+        file: &Path,
+        dir: &Path,
+        host: &mut dyn Host,
+    ) -> Result<Flow> {
+        let statements = lexer::lex(source, file)?;
+        let frame = Frame {
+            file: file.to_path_buf(),
+            dir: dir.to_path_buf(),
+            source: source.to_string(),
+            statements,
+            next: 0,
+            opened: false,
+            caller: None,
+        };
+        self.check_frame(&frame)?;
+        self.run_frames(frame, host)
+    }
+
+    /// Checks a scene text whole without running it: every statement's
+    /// command, argument count and argument types, with the parsers the
+    /// interpreter uses. `file` names the text in messages.
+    pub fn check_source(&self, source: &str, file: &Path) -> Result<()> {
+        let statements = lexer::lex(source, file)?;
+        let frame = Frame {
+            file: file.to_path_buf(),
+            dir: PathBuf::from("."),
+            source: source.to_string(),
+            statements,
+            next: 0,
+            opened: false,
+            caller: None,
+        };
+        self.check_frame(&frame)
+    }
+
+    fn check_frame(&self, frame: &Frame) -> Result<()> {
+        let ctx = frame.context();
+        for stmt in &frame.statements {
+            let (spec, cmd, args) = lookup_statement(&ctx, stmt)?;
+            let a = Args {
+                ctx: &ctx,
+                cmd,
+                args,
+                spec,
+            };
+            validate(&a)?;
+        }
+        Ok(())
+    }
+
+    /// Reads, lexes and checks `path`, then (with `init`) initializes and
+    /// records the file as open. `caller` is the `call`/`get` that names it.
+    fn open_file(&mut self, path: &Path, init: bool, caller: Option<Caller>) -> Result<Frame> {
+        let source = object_file::read_regular(path, MAX_SCENE_BYTES)?;
         let source = String::from_utf8(source).map_err(|e| {
             Error::at(
                 Location::file(path),
@@ -254,90 +421,154 @@ impl Interpreter {
             )
         })?;
         let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
-        if self.files.contains(&canonical) {
+        if self.files.iter().any(|f| f.canonical == canonical) {
             return Err(Error::at(
                 Location::file(path),
                 "this file includes itself (a `get`/`call` cycle)",
             ));
         }
-        if init {
-            self.init();
-        }
+        let statements = lexer::lex(&source, path)?;
         let dir = path
             .parent()
             .map(Path::to_path_buf)
             .filter(|p| !p.as_os_str().is_empty())
             .unwrap_or_else(|| PathBuf::from("."));
-        if init || self.files.is_empty() {
-            self.det_base = dir.clone();
+        let frame = Frame {
+            file: path.to_path_buf(),
+            dir: dir.clone(),
+            source,
+            statements,
+            next: 0,
+            opened: true,
+            caller,
+        };
+        self.check_frame(&frame)?;
+        if init {
+            self.init();
         }
-        self.files.push(canonical);
-        let result = self.execute_source(&source, path, &dir, host);
-        self.files.pop();
-        let flow = result?;
-        if self.files.is_empty()
-            && let Some(active) = &self.active
-        {
-            return Err(Error::at(
-                active.location.clone(),
-                format!(
-                    "`defobj {}` has no `endobj` before the end of the input",
-                    active.name
+        if init || self.files.is_empty() {
+            self.det_base = dir;
+        }
+        self.files.push(OpenFile {
+            canonical,
+            called: frame.caller.is_some(),
+            named: path.to_path_buf(),
+        });
+        Ok(frame)
+    }
+
+    /// Runs `base` and every file it calls, on an explicit stack.
+    fn run_frames(&mut self, base: Frame, host: &mut dyn Host) -> Result<Flow> {
+        let open_before = self.files.len();
+        let mut stack = vec![base];
+        let result = self.run_stack(&mut stack, host);
+        self.files.truncate(open_before);
+        result
+    }
+
+    fn run_stack(&mut self, stack: &mut Vec<Frame>, host: &mut dyn Host) -> Result<Flow> {
+        loop {
+            let Some(top) = stack.last_mut() else {
+                return Ok(Flow::Continue);
+            };
+            if top.next >= top.statements.len() {
+                if let Some(done) = stack.pop() {
+                    if done.opened {
+                        self.files.pop();
+                    }
+                    if let Some(caller) = &done.caller
+                        && caller.get
+                    {
+                        host.scanned(&done.file, &self.scene(), caller.start.elapsed());
+                    }
+                }
+                continue;
+            }
+            let index = top.next;
+            top.next += 1;
+            let enter = {
+                let top = &stack[stack.len() - 1];
+                let ctx = top.context();
+                let stmt = &top.statements[index];
+                let step = self
+                    .statement(&ctx, stmt, host)
+                    .map_err(|e| with_callers(e, stack))?;
+                self.apply_overrides();
+                match step {
+                    Step::Continue => None,
+                    Step::Quit => return Ok(Flow::Quit),
+                    Step::Enter { path, get, token } => {
+                        let caller = Caller {
+                            location: ctx.location(&token),
+                            get,
+                            start: std::time::Instant::now(),
+                        };
+                        let frame = self
+                            .enter_file(&ctx, &token, &path, caller, host)
+                            .map_err(|e| with_callers(e, stack))?;
+                        Some(frame)
+                    }
+                }
+            };
+            if let Some(frame) = enter {
+                stack.push(frame);
+            }
+        }
+    }
+
+    /// `call`/`get` of `path` named by `token`: the cycle and depth checks,
+    /// then the file opened and checked.
+    fn enter_file(
+        &mut self,
+        ctx: &Context,
+        token: &Token,
+        path: &Path,
+        caller: Caller,
+        host: &mut dyn Host,
+    ) -> Result<Frame> {
+        let shown = printable(&token.text, MAX_SHOWN_TOKEN);
+        let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        if self.files.iter().any(|f| f.canonical == canonical) {
+            return Err(ctx.error(
+                token,
+                format!("`{shown}` is already being read: a `get`/`call` cycle"),
+            ));
+        }
+        let nested = self.files.iter().filter(|f| f.called).count() + 1;
+        let limit = self.budgets.call_depth;
+        if nested > limit {
+            let names: Vec<String> = self
+                .files
+                .iter()
+                .map(|f| &f.named)
+                .chain(std::iter::once(&path.to_path_buf()))
+                .map(|p| printable(&p.display().to_string(), MAX_SHOWN_PATH))
+                .collect();
+            return Err(ctx.error(
+                token,
+                Budgets::exceeded(
+                    &format!(
+                        "`call` nesting {nested} deep ({})",
+                        crate::error::chain(&names)
+                    ),
+                    limit,
+                    "--max-call-depth",
                 ),
             ));
         }
-        Ok(flow)
-    }
-
-    /// Executes the statements of `source`, which came from `file`.
-    pub fn execute_source(
-        &mut self,
-        source: &str,
-        file: &Path,
-        dir: &Path,
-        host: &mut dyn Host,
-    ) -> Result<Flow> {
-        let statements = lexer::lex(source, file)?;
-        let ctx = Context {
-            file,
-            dir: dir.to_path_buf(),
-            source,
-        };
-        for stmt in &statements {
-            let flow = self.statement(&ctx, stmt, host)?;
-            self.apply_overrides();
-            if flow == Flow::Quit {
-                return Ok(Flow::Quit);
-            }
+        let get = caller.get;
+        if get {
+            host.scanning(path);
         }
-        Ok(Flow::Continue)
+        let location = caller.location.clone();
+        self.open_file(path, get, Some(caller))
+            .map_err(|e| included_from(e, location, token, ctx))
     }
 
-    fn statement(&mut self, ctx: &Context, stmt: &Statement, host: &mut dyn Host) -> Result<Flow> {
-        let cmd = &stmt[0];
-        let spec = match commands::lookup(&cmd.text) {
-            Lookup::Found(spec) => spec,
-            Lookup::Unknown(suggestion) => {
-                let hint = suggestion
-                    .map(|s| format!("; did you mean `{s}`?"))
-                    .unwrap_or_else(|| "; `plytrace --help` lists the commands".into());
-                return Err(ctx.error(cmd, format!("unknown command `{}`{hint}", cmd.text)));
-            }
-            Lookup::Ambiguous(names) => {
-                return Err(ctx.error(
-                    cmd,
-                    format!(
-                        "ambiguous command `{}`: it could be {}",
-                        cmd.text,
-                        names.join(", ")
-                    ),
-                ));
-            }
-        };
-        let args = &stmt[1..];
+    fn statement(&mut self, ctx: &Context, stmt: &Statement, host: &mut dyn Host) -> Result<Step> {
+        let (spec, cmd, args) = lookup_statement(ctx, stmt)?;
         self.command(ctx, spec, cmd, args, host)
     }
-
     fn command(
         &mut self,
         ctx: &Context,
@@ -345,13 +576,14 @@ impl Interpreter {
         cmd: &Token,
         args: &[Token],
         host: &mut dyn Host,
-    ) -> Result<Flow> {
+    ) -> Result<Step> {
         let a = Args {
             ctx,
             cmd,
             args,
             spec,
         };
+        validate(&a)?;
         match spec.name {
             "ambient" => {
                 a.count(3, 3)?;
@@ -363,42 +595,22 @@ impl Interpreter {
             }
             "call" | "get" => {
                 a.count(1, 1)?;
-                let path = resolve(&ctx.dir, &args[0].text);
-                let canonical = path.canonicalize().unwrap_or_else(|_| path.clone());
-                if self.files.contains(&canonical) {
-                    return Err(ctx.error(
-                        &args[0],
-                        format!(
-                            "`{}` is already being read: a `get`/`call` cycle",
-                            args[0].text
-                        ),
-                    ));
-                }
-                let get = spec.name == "get";
-                let start = std::time::Instant::now();
-                if get {
-                    host.scanning(&path);
-                }
-                let result = self.execute_file(&path, get, host);
-                let flow =
-                    result.map_err(|e| included_from(e, ctx.location(&args[0]), &args[0], ctx))?;
-                if get {
-                    host.scanned(&path, &self.scene(), start.elapsed());
-                }
-                return Ok(flow);
+                return Ok(Step::Enter {
+                    path: resolve(&ctx.dir, &args[0].text),
+                    get: spec.name == "get",
+                    token: args[0].clone(),
+                });
             }
             "callobj" => {
                 a.count(1, 1)?;
-                let n = a.integer(0, 0, u32::MAX as i64)? as u32;
-                if !self.scene.objects.iter().any(|o| o.number == n) {
-                    return Err(ctx.error(&args[0], format!("no object number {n} is defined")));
-                }
+                let n = self.find_object(&a, 0)?;
+                let loc = ctx.location(&args[0]);
                 match &mut self.active {
-                    Some(active) => active.copy_of = Some(n),
+                    Some(active) => active.copy_of = Some((n, loc)),
                     None => {
                         self.begin_object(ctx, cmd, format!("#{n}"), None)?;
                         if let Some(active) = &mut self.active {
-                            active.copy_of = Some(n);
+                            active.copy_of = Some((n, loc));
                         }
                         self.end_object(ctx, cmd)?;
                     }
@@ -430,13 +642,22 @@ impl Interpreter {
             "delobj" => {
                 a.count(1, usize::MAX)?;
                 for i in 0..args.len() {
-                    let n = a.integer(i, 0, u32::MAX as i64)? as u32;
                     let before = self.scene.objects.len();
-                    self.scene.objects.retain(|o| o.number != n);
+                    match a.object_ref(i)? {
+                        ObjectRef::Number(n) => self.scene.objects.retain(|o| o.number != n),
+                        ObjectRef::Name(name) => self.scene.objects.retain(|o| o.name != name),
+                    }
                     if self.scene.objects.len() == before {
-                        return Err(ctx.error(&args[i], format!("no object number {n} is defined")));
+                        return Err(ctx.error(
+                            &args[i],
+                            format!(
+                                "no object `{}` is defined",
+                                printable(&args[i].text, MAX_SHOWN_TOKEN)
+                            ),
+                        ));
                     }
                 }
+                self.polygons = self.scene.polygon_count();
             }
             "depth" => {
                 a.count(1, 1)?;
@@ -466,12 +687,7 @@ impl Interpreter {
             "geodesic" => {
                 a.count(1, 2)?;
                 let n = a.integer(0, 1, 1024)? as usize;
-                let division = match args.get(1).map(|t| t.text.to_ascii_lowercase()) {
-                    None => Division::EqualAngle,
-                    Some(d) if d == "equal" => Division::Equal,
-                    Some(d) if d == "angle" => Division::EqualAngle,
-                    Some(_) => return Err(ctx.error(&args[1], "expected `equal` or `angle`")),
-                };
+                let division = division(&a)?;
                 let loc = ctx.location(cmd);
                 let Some(active) = &mut self.active else {
                     return Err(ctx.error(cmd, "`geodesic` outside an object definition"));
@@ -479,35 +695,7 @@ impl Interpreter {
                 active.geodesic = Some((n, division, loc));
             }
             "radial" => {
-                a.count(1, 4)?;
-                let kind = args[0].text.to_ascii_lowercase();
-                let (radial, want) = match kind.as_str() {
-                    "sphere" => (Radial::Sphere, 1),
-                    "ellipsoid" => {
-                        a.count(4, 4)?;
-                        let v = a.vec3(1)?;
-                        if v.min_element() <= 0.0 {
-                            return Err(ctx.error(&args[1], "expected positive semi-axes"));
-                        }
-                        (Radial::Ellipsoid(v.x, v.y, v.z), 4)
-                    }
-                    "bumps" | "lobes" => {
-                        a.count(3, 3)?;
-                        let (amp, f) = (a.number(1)?, a.number(2)?);
-                        if kind == "bumps" {
-                            (Radial::Bumps(amp, f), 3)
-                        } else {
-                            (Radial::Lobes(amp, f), 3)
-                        }
-                    }
-                    _ => {
-                        return Err(ctx.error(
-                            &args[0],
-                            "expected a radial function: sphere, ellipsoid, bumps or lobes",
-                        ));
-                    }
-                };
-                a.count(want, want)?;
+                let radial = radial(&a)?;
                 let loc = ctx.location(cmd);
                 let Some(active) = &mut self.active else {
                     return Err(ctx.error(cmd, "`radial` outside an object definition"));
@@ -549,12 +737,7 @@ impl Interpreter {
                 if range <= 0.0 {
                     return Err(ctx.error(&args[6], "expected a positive light range"));
                 }
-                let kind = match args.get(7).map(|t| t.text.to_ascii_lowercase()) {
-                    None => LightKind::Point,
-                    Some(k) if !k.is_empty() && "point".starts_with(&k) => LightKind::Point,
-                    Some(k) if !k.is_empty() && "diffuse".starts_with(&k) => LightKind::Diffuse,
-                    Some(_) => return Err(ctx.error(&args[7], "expected `Point` or `Diffuse`")),
-                };
+                let kind = light_kind(&a)?;
                 if !position.is_finite() {
                     return Err(ctx.error(cmd, "the light's position is not finite after transformation by the CTM (a projection is still on the CTM, or a number overflowed)"));
                 }
@@ -585,35 +768,10 @@ impl Interpreter {
                 a.count(4, 4)?;
                 let v = a.numbers(4)?;
                 a.distinct_pairs(&v)?;
-                self.load(ctx, cmd, math::ortho2(v[0], v[1], v[2], v[3]))?;
+                self.load(ctx, cmd, ortho2(v[0], v[1], v[2], v[3]))?;
             }
             "outmode" => {
-                a.count(1, 2)?;
-                let mode = args[0].text.to_ascii_lowercase();
-                let bits_ok = |m: &str| m == "a";
-                if args.len() == 2 && !bits_ok(&mode) {
-                    return Err(ctx.error(&args[1], "only outmode `a` takes a second argument"));
-                }
-                self.scene.outmode = match mode.as_str() {
-                    "c" => OutMode::Color,
-                    "r" => OutMode::Red,
-                    "g" => OutMode::Green,
-                    "b" => OutMode::Blue,
-                    "y" => OutMode::Luminance,
-                    "a" => {
-                        if args.len() != 2 {
-                            return Err(
-                                ctx.error(cmd, "outmode `a` needs the bits per colour (1-8)")
-                            );
-                        }
-                        OutMode::Quantized(a.integer(1, 1, 8)? as u8)
-                    }
-                    _ => {
-                        return Err(
-                            ctx.error(&args[0], "expected an output mode: c, r, g, b, y or a")
-                        );
-                    }
-                };
+                self.scene.outmode = outmode(&a)?;
             }
             "pcolors" | "vcolors" => {
                 a.count(1, 1)?;
@@ -668,7 +826,9 @@ impl Interpreter {
                     };
                     return Err(ctx.error(cmd, why));
                 }
-                self.ctm = self.stack.pop().expect("checked above");
+                if let Some(m) = self.stack.pop() {
+                    self.ctm = m;
+                }
             }
             "pushmatrix" => {
                 a.count(0, 0)?;
@@ -676,7 +836,7 @@ impl Interpreter {
             }
             "quit" => {
                 a.count(0, 0)?;
-                return Ok(Flow::Quit);
+                return Ok(Step::Quit);
             }
             "reflectance" => {
                 a.count(1, 1)?;
@@ -704,27 +864,22 @@ impl Interpreter {
             "rotate" => {
                 a.count(2, 2)?;
                 let angle = a.number(0)?;
-                let axis = match args[1].text.to_ascii_lowercase().as_str() {
-                    "x" => Axis::X,
-                    "y" => Axis::Y,
-                    "z" => Axis::Z,
-                    _ => return Err(ctx.error(&args[1], "expected an axis: x, y or z")),
-                };
+                let axis = axis(&a, 1)?;
                 self.premultiply(ctx, cmd, math::rotate(angle, axis))?;
             }
             "run" => {
                 a.count(0, 1)?;
-                let shadows = match args.first().map(|t| t.text.to_ascii_lowercase()) {
-                    None => false,
-                    Some(y) if y == "y" || y == "yes" => true,
-                    Some(n) if n == "n" || n == "no" => false,
-                    Some(_) => return Err(ctx.error(&args[0], "expected `y` (shadows) or nothing")),
-                };
+                let shadows = run_shadows(&a)?;
                 if self.active.is_some() {
                     return Err(ctx.error(cmd, "`run` inside an object definition"));
                 }
-                host.run(&self.scene(), shadows)
-                    .map_err(|e| included_from(e, ctx.location(cmd), cmd, ctx))?;
+                host.run(&self.scene(), shadows).map_err(|e| match e {
+                    Error::Input(mut d) => {
+                        d.included_from.push(ctx.location(cmd));
+                        Error::Input(d)
+                    }
+                    other => other,
+                })?;
             }
             "scale" => {
                 a.count(3, 3)?;
@@ -743,12 +898,7 @@ impl Interpreter {
             }
             "sort" => {
                 a.count(0, 1)?;
-                self.scene.sort_order = match args.first().map(|t| t.text.to_ascii_lowercase()) {
-                    None => SortOrder::BackToFront,
-                    Some(s) if s == "btf" => SortOrder::BackToFront,
-                    Some(s) if s == "ftb" => SortOrder::FrontToBack,
-                    Some(_) => return Err(ctx.error(&args[0], "expected `btf` or `ftb`")),
-                };
+                self.scene.sort_order = sort_order(&a)?;
             }
             "specular" => {
                 a.count(1, 1)?;
@@ -781,28 +931,7 @@ impl Interpreter {
             }
             "type" => {
                 a.count(1, usize::MAX)?;
-                let mut t = SurfaceType::default();
-                for (i, word) in args.iter().enumerate() {
-                    match word.text.to_ascii_lowercase().as_str() {
-                        "polygon" if i == 0 => {}
-                        "open" => t.open = true,
-                        "curved" => t.curved = true,
-                        "concave" => t.concave = true,
-                        "hidden" => t.hidden = true,
-                        "ltsrc" => t.ltsrc = true,
-                        _ if i == 0 => {
-                            return Err(
-                                ctx.error(word, "expected `polygon`, the only surface type")
-                            );
-                        }
-                        _ => {
-                            return Err(ctx.error(
-                                word,
-                                "expected a type attribute: open, curved, concave, hidden or ltsrc",
-                            ));
-                        }
-                    }
-                }
+                let t = surface_type(&a)?;
                 match &mut self.active {
                     Some(o) => o.surface_type = t,
                     None => self.global_type = t,
@@ -840,9 +969,14 @@ impl Interpreter {
                 }
                 self.load(ctx, cmd, math::window(v[0], v[1], v[2], v[3], v[4], v[5]))?;
             }
-            other => unreachable!("command `{other}` is in the table but not interpreted"),
+            other => {
+                return Err(ctx.error(
+                    cmd,
+                    format!("command `{other}` is in the table but not interpreted"),
+                ));
+            }
         }
-        Ok(Flow::Continue)
+        Ok(Step::Continue)
     }
 
     fn setmode(&mut self, ctx: &Context, cmd: &Token, args: &[Token]) -> Result<()> {
@@ -852,65 +986,7 @@ impl Interpreter {
             args,
             spec: commands::spec("setmode"),
         };
-        a.count(1, 2)?;
-        let letter_token = &args[0];
-        let letter = letter_token.text.to_ascii_lowercase();
-        let mut chars = letter.chars();
-        let (Some(l), None) = (chars.next(), chars.next()) else {
-            return Err(ctx.error(
-                letter_token,
-                "expected a mode letter (b d e h l n o p s v x) or a digit",
-            ));
-        };
-        if l.is_ascii_digit() {
-            a.count(1, 1)?;
-            self.scene.modes.debug = l as u8 - b'0';
-            return Ok(());
-        }
-        if args.len() < 2 && !matches!(l, 'i' | 'f') {
-            return Err(ctx.error(letter_token, format!("mode `{l}` needs a value")));
-        }
-        let m = &mut self.scene.modes;
-        match l {
-            'b' => m.blend = a.on_off(1)?,
-            'd' => {
-                let d = a.number(1)?;
-                if d < 0.0 {
-                    return Err(ctx.error(&args[1], "expected a detail size of 0 or more"));
-                }
-                m.min_detail = d;
-            }
-            'e' => {
-                let e = a.number(1)?;
-                if !(e > 0.0 && e < 1.0) {
-                    return Err(ctx.error(&args[1], "expected an epsilon between 0 and 1"));
-                }
-                m.epsilon = e;
-            }
-            'h' => m.shadow_shades = a.on_off(1)?,
-            'l' => m.max_level = a.integer(1, 1, 14)? as u32,
-            'n' => m.nns = a.on_off(1)?,
-            'o' => m.output_tree = a.on_off(1)?,
-            'p' => m.boxes_only = a.on_off(1)?,
-            's' => m.phong = a.on_off(1)?,
-            'v' => m.vertex_shades = a.on_off(1)?,
-            'x' => m.expand = a.on_off(1)?,
-            'i' | 'f' => {
-                return Err(ctx.error(
-                    letter_token,
-                    format!("mode `{l}` can only be given on the command line (-{l})"),
-                ));
-            }
-            _ => {
-                return Err(ctx.error(
-                    letter_token,
-                    format!(
-                        "unknown mode `{l}`: expected b, d, e, h, l, n, o, p, s, v, x or a digit"
-                    ),
-                ));
-            }
-        }
-        Ok(())
+        setmode(&a, &mut self.scene.modes, &mut self.scene.scene_file)
     }
 
     fn surface_mut(&mut self) -> &mut Surface {
@@ -958,13 +1034,16 @@ impl Interpreter {
                 cmd,
                 format!(
                     "`{}` inside the definition of `{}` begun at {} (missing `endobj`)",
-                    cmd.text, active.name, active.location
+                    printable(&cmd.text, MAX_SHOWN_TOKEN),
+                    printable(&active.name, MAX_SHOWN_TOKEN),
+                    active.location
                 ),
             ));
         }
         self.push(ctx, cmd)?;
         self.active = Some(ActiveObject {
-            name,
+            name: name.to_lowercase(),
+            written: name,
             number,
             surface: self.globals,
             surface_type: self.global_type,
@@ -987,10 +1066,19 @@ impl Interpreter {
         // Restore the CTM whatever happens next.
         self.stack.truncate(active.stack_depth);
         let transform = self.ctm;
-        self.ctm = self.stack.pop().expect("defobj pushed a matrix");
+        let Some(saved) = self.stack.pop() else {
+            return Err(ctx.error(
+                cmd,
+                "matrix stack underflow: the matrix `defobj` saved is gone",
+            ));
+        };
+        self.ctm = saved;
 
         let generated = match &active.geodesic {
             Some((n, division, loc)) => {
+                // Refused before anything is allocated.
+                let faces = geodesic::face_count(*n).unwrap_or(usize::MAX);
+                self.check_polygons(faces, loc, &format!("`geodesic {n}` ({faces} faces)"))?;
                 let radial = active.radial.as_ref().map_or(Radial::Sphere, |r| r.0);
                 Some(Arc::new(
                     geodesic::geodesic(*n, *division, radial)
@@ -1007,15 +1095,21 @@ impl Interpreter {
                 None
             }
         };
-        let (mesh, mut pcl, mut vcl) = match (generated, active.copy_of) {
+        let (mesh, mut pcl, mut vcl) = match (generated, &active.copy_of) {
             (Some(mesh), _) => (mesh, None, None),
-            (None, Some(n)) => {
-                let src = self
-                    .scene
-                    .objects
-                    .iter()
-                    .find(|o| o.number == n)
-                    .expect("callobj checked the number");
+            (None, Some((n, loc))) => {
+                // `callobj` checked the number, but a `delobj` may have
+                // deleted the object since.
+                let Some(src) = self.scene.objects.iter().find(|o| o.number == *n) else {
+                    return Err(Error::at(
+                        loc.clone(),
+                        format!(
+                            "object number {n}, copied here by `callobj`, was deleted before `endobj`"
+                        ),
+                    ));
+                };
+                let count = src.polygons.len().max(src.mesh.polygons.len());
+                self.check_polygons(count, loc, &format!("`callobj {n}` ({count} polygons)"))?;
                 (
                     src.mesh.clone(),
                     src.polygon_colors.clone(),
@@ -1028,10 +1122,21 @@ impl Interpreter {
                     .extension()
                     .is_some_and(|e| e.eq_ignore_ascii_case("det"))
                 {
-                    object_file::read_det(&path)?
+                    object_file::read_det_within(
+                        &path,
+                        self.budgets.polygons.saturating_sub(self.polygons),
+                    )
                 } else {
-                    mesh_import::read_mesh(&path)?
+                    mesh_import::read_mesh(&path)
                 };
+                // A problem in the file names the statement that read it.
+                let mesh = mesh.map_err(|e| match e {
+                    Error::Input(mut d) => {
+                        d.included_from.push(active.location.clone());
+                        Error::Input(d)
+                    }
+                    other => other,
+                })?;
                 (Arc::new(mesh), None, None)
             }
         };
@@ -1075,6 +1180,17 @@ impl Interpreter {
                 ),
             ));
         }
+        if active.copy_of.is_none() && active.geodesic.is_none() {
+            let count = mesh.polygons.len();
+            self.check_polygons(
+                count,
+                &active.location,
+                &format!(
+                    "object `{}` ({count} polygons)",
+                    printable(&active.written, MAX_SHOWN_TOKEN)
+                ),
+            )?;
+        }
         let number = active.number.unwrap_or_else(|| self.next_free_number());
         let object = build_object(
             ObjectParts {
@@ -1088,12 +1204,67 @@ impl Interpreter {
                 surface_type: active.surface_type,
             },
             &mut |msg| {
-                self.warnings.push(Diagnostic::new(ctx.location(cmd), msg));
+                let kind = warning_kind(&msg);
+                self.warn(kind, Diagnostic::new(ctx.location(cmd), msg));
             },
         )
         .map_err(|msg| ctx.error(cmd, msg))?;
+        // Splitting non-planar polygons may have added some.
+        self.check_polygons(
+            object
+                .polygons
+                .len()
+                .saturating_sub(object.mesh.polygons.len()),
+            &active.location,
+            "the triangles of split non-planar polygons",
+        )?;
+        self.polygons += object.polygons.len();
         self.scene.objects.push(object);
         Ok(())
+    }
+
+    /// Refuses `adding` more polygons when the scene would then have more
+    /// than [`Budgets::polygons`].
+    fn check_polygons(&self, adding: usize, location: &Location, what: &str) -> Result<()> {
+        let limit = self.budgets.polygons;
+        let total = self.polygons.saturating_add(adding);
+        if total > limit {
+            return Err(Error::at(
+                location.clone(),
+                Budgets::exceeded(
+                    &format!(
+                        "{what}: the scene's polygons, {} with these, {}",
+                        self.polygons,
+                        if total == usize::MAX {
+                            "too many to count".to_string()
+                        } else {
+                            total.to_string()
+                        }
+                    ),
+                    limit,
+                    "--max-polygons",
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The number of the object `callobj` names: by number, or by
+    /// (case-folded) name, the last defined of that name.
+    fn find_object(&self, a: &Args, i: usize) -> Result<u32> {
+        let found = match a.object_ref(i)? {
+            ObjectRef::Number(n) => self.scene.objects.iter().find(|o| o.number == n),
+            ObjectRef::Name(name) => self.scene.objects.iter().rev().find(|o| o.name == name),
+        };
+        found.map(|o| o.number).ok_or_else(|| {
+            a.ctx.error(
+                &a.args[i],
+                format!(
+                    "no object `{}` is defined",
+                    printable(&a.args[i].text, MAX_SHOWN_TOKEN)
+                ),
+            )
+        })
     }
 
     fn next_free_number(&self) -> u32 {
@@ -1129,20 +1300,32 @@ impl Interpreter {
         let mut tried = Vec::new();
         for dir in self.det_dirs(active) {
             for ext in std::iter::once("det").chain(mesh_import::MESH_EXTENSIONS.iter().copied()) {
-                let p = dir.join(format!("{}.{ext}", active.name));
-                if p.is_file() {
-                    return Ok(p);
+                for name in [&active.written, &active.name] {
+                    let p = dir.join(format!("{name}.{ext}"));
+                    if tried.contains(&p) {
+                        continue;
+                    }
+                    if p.is_file() {
+                        return Ok(p);
+                    }
+                    tried.push(p);
                 }
-                tried.push(p);
             }
         }
-        let tried: Vec<String> = tried.iter().map(|p| p.display().to_string()).collect();
+        let shown = tried.len().min(6);
+        let mut list: Vec<String> = tried[..shown]
+            .iter()
+            .map(|p| printable(&p.display().to_string(), MAX_SHOWN_PATH))
+            .collect();
+        if tried.len() > shown {
+            list.push(format!("and {} more", tried.len() - shown));
+        }
         Err(Error::at(
             active.location.clone(),
             format!(
                 "no geometry file for object `{}` (tried {}); set `det_dir`",
-                active.name,
-                tried.join(", ")
+                printable(&active.written, MAX_SHOWN_TOKEN),
+                list.join(", ")
             ),
         ))
     }
@@ -1166,8 +1349,67 @@ impl Interpreter {
         }
         Err(Error::at(
             loc.clone(),
-            format!("colour file `{name}.{ext}` not found in the detail directory"),
+            format!(
+                "colour file `{}.{ext}` not found in the detail directory",
+                printable(name, MAX_SHOWN_TOKEN)
+            ),
         ))
+    }
+}
+
+/// How many warnings of one kind are kept; the rest are counted.
+pub const WARNINGS_SHOWN: usize = 5;
+
+/// Warnings, the first few of each kind kept and the rest counted.
+#[derive(Debug, Clone, Default)]
+struct Warnings {
+    kept: Vec<Diagnostic>,
+    /// Kind, how many, and where the first was.
+    counts: Vec<(&'static str, usize, Location)>,
+}
+
+impl Warnings {
+    fn add(&mut self, kind: &'static str, warning: Diagnostic) {
+        let seen = match self.counts.iter_mut().find(|(k, _, _)| *k == kind) {
+            Some(entry) => {
+                entry.1 += 1;
+                entry.1
+            }
+            None => {
+                self.counts.push((kind, 1, warning.location.clone()));
+                1
+            }
+        };
+        if seen <= WARNINGS_SHOWN {
+            self.kept.push(warning);
+        }
+    }
+
+    fn finish(self) -> Vec<Diagnostic> {
+        let mut out = self.kept;
+        for (kind, count, location) in self.counts {
+            if count > WARNINGS_SHOWN {
+                out.push(Diagnostic::new(
+                    Location::file(location.file),
+                    format!(
+                        "warning: ... and {} more {kind} warnings",
+                        count - WARNINGS_SHOWN
+                    ),
+                ));
+            }
+        }
+        out
+    }
+}
+
+/// The kind of a warning of [`build_object`], for counting.
+fn warning_kind(message: &str) -> &'static str {
+    if message.contains("not planar") {
+        "non-planar polygon"
+    } else if message.contains("distinct vertices") || message.contains("zero area") {
+        "degenerate polygon"
+    } else {
+        "object"
     }
 }
 
@@ -1213,9 +1455,11 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
         .iter()
         .map(|v| transform.transform_point(*v))
         .collect();
+    // The name as messages show it.
+    let shown = printable(&name, MAX_SHOWN_TOKEN);
     if let Some(i) = vertices.iter().position(|v| !v.is_finite()) {
         return Err(format!(
-            "object `{name}`: vertex {} is not finite after transformation by the CTM (a projection is still on the CTM, or a number overflowed; scenes usually `pushmatrix` and `ident` before defining objects)",
+            "object `{shown}`: vertex {} is not finite after transformation by the CTM (a projection is still on the CTM, or a number overflowed; scenes usually `pushmatrix` and `ident` before defining objects)",
             i + 1
         ));
     }
@@ -1227,28 +1471,41 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
         if mirrored {
             indices.reverse();
         }
-        let points: Vec<DVec3> = indices.iter().map(|&i| vertices[i as usize]).collect();
+        let Some(points) = indices
+            .iter()
+            .map(|&i| vertices.get(i as usize).copied())
+            .collect::<Option<Vec<DVec3>>>()
+        else {
+            return Err(format!(
+                "object `{shown}` polygon {}: a vertex index is beyond the {} vertices",
+                pi + 1,
+                vertices.len()
+            ));
+        };
         match polygon::outward_plane(&points) {
             Ok(plane) => {
                 polygons.push(Polygon { indices, plane });
                 source_polygon.push(pi as u32);
             }
             Err(PolygonDefect::TooFewVertices(n)) => warn(format!(
-                "warning: object `{name}` polygon {}: only {n} distinct vertices; skipped",
+                "warning: object `{shown}` polygon {}: only {n} distinct vertices; skipped",
                 pi + 1
             )),
             Err(PolygonDefect::ZeroArea) => warn(format!(
-                "warning: object `{name}` polygon {}: zero area; skipped",
+                "warning: object `{shown}` polygon {}: zero area; skipped",
                 pi + 1
             )),
             Err(PolygonDefect::NonPlanar(off)) => {
                 warn(format!(
-                    "warning: object `{name}` polygon {}: not planar (off by {off:.2e} of its size); split into triangles",
+                    "warning: object `{shown}` polygon {}: not planar (off by {off:.2e} of its size); split into triangles",
                     pi + 1
                 ));
                 for k in 1..indices.len() - 1 {
                     let tri = vec![indices[0], indices[k], indices[k + 1]];
-                    let pts: Vec<DVec3> = tri.iter().map(|&i| vertices[i as usize]).collect();
+                    let pts: Vec<DVec3> = tri
+                        .iter()
+                        .filter_map(|&i| vertices.get(i as usize).copied())
+                        .collect();
                     if let Ok(plane) = polygon::outward_plane(&pts) {
                         polygons.push(Polygon {
                             indices: tri,
@@ -1302,6 +1559,19 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
     })
 }
 
+/// Near and far of `ortho2`'s box: so far apart that nothing is clipped
+/// in z.
+pub const ORTHO2_DEPTH: f64 = 1e30;
+
+/// `ortho2 left right bottom top`: a 2-D orthographic projection. The
+/// manual (004 appendix) says "for 3-D coordinates, the z values are
+/// unaffected by this transformation": nothing is clipped in z, so near and
+/// far are at -/+[`ORTHO2_DEPTH`] (depth is kept as `-z`, scaled, so that
+/// the order of depths is that of [`math::ortho`]).
+pub fn ortho2(l: f64, r: f64, b: f64, t: f64) -> Matrix4 {
+    math::ortho(l, r, b, t, -ORTHO2_DEPTH, ORTHO2_DEPTH)
+}
+
 fn linear_determinant(m: &Matrix4) -> f64 {
     let a = &m.m;
     a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
@@ -1331,11 +1601,417 @@ fn included_from(e: Error, loc: Location, token: &Token, ctx: &Context) -> Error
             d.included_from.push(loc);
             Error::Input(d)
         }
-        Error::Io { path, source } if source.kind() == std::io::ErrorKind::NotFound => {
-            ctx.error(token, format!("cannot open `{}`: {source}", path.display()))
+        Error::Io { path, source } => ctx.error(
+            token,
+            format!(
+                "cannot open `{}`: {source}",
+                printable(&path.display().to_string(), MAX_SHOWN_PATH)
+            ),
+        ),
+        other => other,
+    }
+}
+
+/// Checks a statement's argument count and types without running it (the
+/// pre-pass over a whole file); the same parsers as the interpreter.
+fn validate(a: &Args) -> Result<()> {
+    let n = a.args.len();
+    match a.spec.name {
+        "ambient" | "background" | "color" => {
+            a.count(3, 3)?;
+            a.color(0)?;
+        }
+        "call" | "get" | "det_dir" | "fname" | "getobj" | "pcolors" | "vcolors" => a.count(1, 1)?,
+        "callobj" => {
+            a.count(1, 1)?;
+            a.object_ref(0)?;
+        }
+        "clear" | "endobj" | "ident" | "init" | "nolight" | "popmatrix" | "pushmatrix" | "quit"
+        | "wait" => a.count(0, 0)?,
+        "defobj" => {
+            a.count(1, 2)?;
+            if n == 2 {
+                a.integer(1, 0, u32::MAX as i64)?;
+            }
+        }
+        "delobj" => {
+            a.count(1, usize::MAX)?;
+            for i in 0..n {
+                a.object_ref(i)?;
+            }
+        }
+        "depth" => {
+            a.count(1, 1)?;
+            a.integer(0, 1, 14)?;
+        }
+        "diffuse" | "reflectance" | "specular" | "transmittance" => {
+            a.count(1, 1)?;
+            a.unit(0)?;
+        }
+        "disp" => {
+            a.count(0, 1)?;
+            if n == 1 {
+                a.on_off(0)?;
+            }
+        }
+        "geodesic" => {
+            a.count(1, 2)?;
+            a.integer(0, 1, 1024)?;
+            division(a)?;
+        }
+        "index" | "shininess" | "threshold" => {
+            a.count(1, 1)?;
+            a.number(0)?;
+        }
+        "light" => {
+            a.count(7, 8)?;
+            a.numbers(7)?;
+            light_kind(a)?;
+        }
+        "lookat" => {
+            a.count(7, 7)?;
+            a.numbers(7)?;
+        }
+        "ortho" | "window" => {
+            a.count(6, 6)?;
+            let v = a.numbers(6)?;
+            a.distinct_pairs(&v)?;
+        }
+        "ortho2" => {
+            a.count(4, 4)?;
+            let v = a.numbers(4)?;
+            a.distinct_pairs(&v)?;
+        }
+        "outmode" => {
+            outmode(a)?;
+        }
+        "perspective" | "polarview" => {
+            a.count(4, 4)?;
+            a.numbers(4)?;
+        }
+        "radial" => {
+            radial(a)?;
+        }
+        "resolution" => {
+            a.count(2, 2)?;
+            a.integer(0, 1, MAX_IMAGE_SIDE)?;
+            a.integer(1, 1, MAX_IMAGE_SIDE)?;
+        }
+        "rotate" => {
+            a.count(2, 2)?;
+            a.number(0)?;
+            axis(a, 1)?;
+        }
+        "run" => {
+            run_shadows(a)?;
+        }
+        "scale" | "translate" => {
+            a.count(3, 3)?;
+            a.numbers(3)?;
+        }
+        "setmode" => {
+            setmode(a, &mut Modes::default(), &mut None)?;
+        }
+        "sort" => {
+            sort_order(a)?;
+        }
+        "transparency" => {
+            a.count(1, 2)?;
+            a.unit(0)?;
+            if n == 2 {
+                a.number(1)?;
+            }
+        }
+        "type" => {
+            surface_type(a)?;
+        }
+        "viewport" => {
+            a.count(4, 4)?;
+            for i in 0..4 {
+                a.integer(i, -MAX_IMAGE_SIDE, MAX_IMAGE_SIDE)?;
+            }
+        }
+        other => {
+            return Err(a.ctx.error(
+                a.cmd,
+                format!("command `{other}` is in the table but not interpreted"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `geodesic n [equal|angle]`: the division method.
+fn division(a: &Args) -> Result<Division> {
+    match a.args.get(1).map(|t| t.text.to_ascii_lowercase()) {
+        None => Ok(Division::EqualAngle),
+        Some(d) if d == "equal" => Ok(Division::Equal),
+        Some(d) if d == "angle" => Ok(Division::EqualAngle),
+        Some(_) => Err(a.ctx.error(&a.args[1], "expected `equal` or `angle`")),
+    }
+}
+
+/// `radial sphere|ellipsoid a b c|bumps amp freq|lobes amp k`.
+fn radial(a: &Args) -> Result<Radial> {
+    let (ctx, args) = (a.ctx, a.args);
+    a.count(1, 4)?;
+    let kind = args[0].text.to_ascii_lowercase();
+    let (radial, want) = match kind.as_str() {
+        "sphere" => (Radial::Sphere, 1),
+        "ellipsoid" => {
+            a.count(4, 4)?;
+            let v = a.vec3(1)?;
+            if v.min_element() <= 0.0 {
+                return Err(ctx.error(&args[1], "expected positive semi-axes"));
+            }
+            (Radial::Ellipsoid(v.x, v.y, v.z), 4)
+        }
+        "bumps" | "lobes" => {
+            a.count(3, 3)?;
+            let (amp, f) = (a.number(1)?, a.number(2)?);
+            if kind == "bumps" {
+                (Radial::Bumps(amp, f), 3)
+            } else {
+                (Radial::Lobes(amp, f), 3)
+            }
+        }
+        _ => {
+            return Err(ctx.error(
+                &args[0],
+                "expected a radial function: sphere, ellipsoid, bumps or lobes",
+            ));
+        }
+    };
+    a.count(want, want)?;
+    Ok(radial)
+}
+
+/// The optional `Point|Diffuse` of `light` (any prefix).
+fn light_kind(a: &Args) -> Result<LightKind> {
+    match a.args.get(7).map(|t| t.text.to_ascii_lowercase()) {
+        None => Ok(LightKind::Point),
+        Some(k) if !k.is_empty() && "point".starts_with(&k) => Ok(LightKind::Point),
+        Some(k) if !k.is_empty() && "diffuse".starts_with(&k) => Ok(LightKind::Diffuse),
+        Some(_) => Err(a.ctx.error(&a.args[7], "expected `Point` or `Diffuse`")),
+    }
+}
+
+/// `outmode c|r|g|b|y|a bits`.
+fn outmode(a: &Args) -> Result<OutMode> {
+    let (ctx, args) = (a.ctx, a.args);
+    a.count(1, 2)?;
+    let mode = args[0].text.to_ascii_lowercase();
+    if args.len() == 2 && mode != "a" {
+        return Err(ctx.error(&args[1], "only outmode `a` takes a second argument"));
+    }
+    Ok(match mode.as_str() {
+        "c" => OutMode::Color,
+        "r" => OutMode::Red,
+        "g" => OutMode::Green,
+        "b" => OutMode::Blue,
+        "y" => OutMode::Luminance,
+        "a" => {
+            if args.len() != 2 {
+                return Err(ctx.error(a.cmd, "outmode `a` needs the bits per colour (1-8)"));
+            }
+            OutMode::Quantized(a.integer(1, 1, 8)? as u8)
+        }
+        _ => {
+            return Err(ctx.error(&args[0], "expected an output mode: c, r, g, b, y or a"));
+        }
+    })
+}
+
+/// The axis letter of `rotate`.
+fn axis(a: &Args, i: usize) -> Result<Axis> {
+    match a.args[i].text.to_ascii_lowercase().as_str() {
+        "x" => Ok(Axis::X),
+        "y" => Ok(Axis::Y),
+        "z" => Ok(Axis::Z),
+        _ => Err(a.ctx.error(&a.args[i], "expected an axis: x, y or z")),
+    }
+}
+
+/// `run [y]`: whether shadows are wanted.
+fn run_shadows(a: &Args) -> Result<bool> {
+    a.count(0, 1)?;
+    match a.args.first().map(|t| t.text.to_ascii_lowercase()) {
+        None => Ok(false),
+        Some(y) if y == "y" || y == "yes" => Ok(true),
+        Some(n) if n == "n" || n == "no" => Ok(false),
+        Some(_) => Err(a.ctx.error(&a.args[0], "expected `y` (shadows) or nothing")),
+    }
+}
+
+/// `sort [btf|ftb]`.
+fn sort_order(a: &Args) -> Result<SortOrder> {
+    a.count(0, 1)?;
+    match a.args.first().map(|t| t.text.to_ascii_lowercase()) {
+        None => Ok(SortOrder::BackToFront),
+        Some(s) if s == "btf" => Ok(SortOrder::BackToFront),
+        Some(s) if s == "ftb" => Ok(SortOrder::FrontToBack),
+        Some(_) => Err(a.ctx.error(&a.args[0], "expected `btf` or `ftb`")),
+    }
+}
+
+/// `type polygon [open curved concave hidden ltsrc]`.
+fn surface_type(a: &Args) -> Result<SurfaceType> {
+    a.count(1, usize::MAX)?;
+    let mut t = SurfaceType::default();
+    for (i, word) in a.args.iter().enumerate() {
+        match word.text.to_ascii_lowercase().as_str() {
+            "polygon" if i == 0 => {}
+            "open" => t.open = true,
+            "curved" => t.curved = true,
+            "concave" => t.concave = true,
+            "hidden" => t.hidden = true,
+            "ltsrc" => t.ltsrc = true,
+            _ if i == 0 => {
+                return Err(a
+                    .ctx
+                    .error(word, "expected `polygon`, the only surface type"));
+            }
+            _ => {
+                return Err(a.ctx.error(
+                    word,
+                    "expected a type attribute: open, curved, concave, hidden or ltsrc",
+                ));
+            }
+        }
+    }
+    Ok(t)
+}
+
+/// An object named by its number or (case-folded) name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum ObjectRef {
+    Number(u32),
+    Name(String),
+}
+
+/// `setmode mode [value]` applied to `modes` (and, for `f`, the scene file
+/// name). A mode that is on or off is on when no value is given.
+fn setmode(a: &Args, modes: &mut Modes, scene_file: &mut Option<String>) -> Result<()> {
+    let (ctx, args) = (a.ctx, a.args);
+    a.count(1, 2)?;
+    let letter_token = &args[0];
+    let letter = letter_token.text.to_ascii_lowercase();
+    let mut chars = letter.chars();
+    let (Some(l), None) = (chars.next(), chars.next()) else {
+        return Err(ctx.error(
+            letter_token,
+            format!(
+                "expected a mode letter (b d e f h l n o p s v x) or a digit, found `{}`",
+                printable(&letter_token.text, MAX_SHOWN_TOKEN)
+            ),
+        ));
+    };
+    if l.is_ascii_digit() {
+        a.count(1, 1)?;
+        modes.debug = l as u8 - b'0';
+        return Ok(());
+    }
+    // On/off modes: `setmode v` alone means on (004 appendix: `setmode
+    // <mode> [<on, off>]`).
+    let flag = |i: usize| -> Result<bool> {
+        if args.len() > i {
+            a.on_off(i)
+        } else {
+            Ok(true)
+        }
+    };
+    if args.len() < 2 && matches!(l, 'd' | 'e' | 'l' | 'f') {
+        return Err(ctx.error(letter_token, format!("mode `{l}` needs a value")));
+    }
+    let m = modes;
+    match l {
+        'b' => m.blend = flag(1)?,
+        'd' => {
+            let d = a.number(1)?;
+            if d < 0.0 {
+                return Err(ctx.error(&args[1], "expected a detail size of 0 or more"));
+            }
+            m.min_detail = d;
+        }
+        'e' => {
+            let e = a.number(1)?;
+            if !(e > 0.0 && e < 1.0) {
+                return Err(ctx.error(&args[1], "expected an epsilon between 0 and 1"));
+            }
+            m.epsilon = e;
+        }
+        'f' => *scene_file = Some(args[1].text.clone()),
+        'h' => m.shadow_shades = flag(1)?,
+        'l' => m.max_level = a.integer(1, 1, 14)? as u32,
+        'n' => m.nns = flag(1)?,
+        'o' => m.output_tree = flag(1)?,
+        'p' => m.boxes_only = flag(1)?,
+        's' => m.phong = flag(1)?,
+        'v' => m.vertex_shades = flag(1)?,
+        'x' => m.expand = flag(1)?,
+        'i' => {
+            return Err(ctx.error(
+                letter_token,
+                format!("mode `{l}` can only be given on the command line (-{l})"),
+            ));
+        }
+        _ => {
+            return Err(ctx.error(
+                letter_token,
+                format!(
+                    "unknown mode `{}`: expected b, d, e, f, h, l, n, o, p, s, v, x or a digit",
+                    printable(&l.to_string(), 4)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `e`, raised in the top frame of `stack`, with the `call`/`get`
+/// statements that led there (innermost first).
+fn with_callers(e: Error, stack: &[Frame]) -> Error {
+    match e {
+        Error::Input(mut d) => {
+            for frame in stack.iter().rev() {
+                if let Some(caller) = &frame.caller {
+                    d.included_from.push(caller.location.clone());
+                }
+            }
+            Error::Input(d)
         }
         other => other,
     }
+}
+
+/// The command of a statement and its arguments.
+fn lookup_statement<'s>(
+    ctx: &Context,
+    stmt: &'s Statement,
+) -> Result<(&'static CommandSpec, &'s Token, &'s [Token])> {
+    let Some((cmd, args)) = stmt.split_first() else {
+        return Err(Error::at(Location::file(ctx.file), "empty statement"));
+    };
+    let shown = printable(&cmd.text, MAX_SHOWN_TOKEN);
+    let spec = match commands::lookup(&cmd.text) {
+        Lookup::Found(spec) => spec,
+        Lookup::Unknown(suggestion) => {
+            let hint = suggestion
+                .map(|s| format!("; did you mean `{s}`?"))
+                .unwrap_or_else(|| "; `plytrace --help` lists the commands".into());
+            return Err(ctx.error(cmd, format!("unknown command `{shown}`{hint}")));
+        }
+        Lookup::Ambiguous(names) => {
+            return Err(ctx.error(
+                cmd,
+                format!(
+                    "ambiguous command `{shown}`: it could be {}",
+                    names.join(", ")
+                ),
+            ));
+        }
+    };
+    Ok((spec, cmd, args))
 }
 
 fn check_pixels(ctx: &Context, cmd: &Token, w: i64, h: i64) -> Result<()> {
@@ -1391,12 +2067,20 @@ impl Args<'_> {
         let t = &self.args[i];
         match t.text.parse::<f64>() {
             Ok(v) if v.is_finite() && !t.text.to_ascii_lowercase().contains("inf") => Ok(v),
-            Ok(_) => Err(self
-                .ctx
-                .error(t, format!("expected a finite number, found `{}`", t.text))),
-            Err(_) => Err(self
-                .ctx
-                .error(t, format!("expected a number, found `{}`", t.text))),
+            Ok(_) => Err(self.ctx.error(
+                t,
+                format!(
+                    "expected a finite number, found `{}`",
+                    printable(&t.text, MAX_SHOWN_TOKEN)
+                ),
+            )),
+            Err(_) => Err(self.ctx.error(
+                t,
+                format!(
+                    "expected a number, found `{}`",
+                    printable(&t.text, MAX_SHOWN_TOKEN)
+                ),
+            )),
         }
     }
 
@@ -1434,8 +2118,13 @@ impl Args<'_> {
     fn integer(&self, i: usize, min: i64, max: i64) -> Result<i64> {
         let t = &self.args[i];
         let v: i64 = t.text.parse().map_err(|_| {
-            self.ctx
-                .error(t, format!("expected a whole number, found `{}`", t.text))
+            self.ctx.error(
+                t,
+                format!(
+                    "expected a whole number, found `{}`",
+                    printable(&t.text, MAX_SHOWN_TOKEN)
+                ),
+            )
         })?;
         if v < min || v > max {
             return Err(self.ctx.error(
@@ -1446,14 +2135,31 @@ impl Args<'_> {
         Ok(v)
     }
 
+    /// An object number, or a name (case-folded).
+    fn object_ref(&self, i: usize) -> Result<ObjectRef> {
+        let t = &self.args[i];
+        if t.text
+            .starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '+')
+        {
+            return Ok(ObjectRef::Number(
+                self.integer(i, 0, u32::MAX as i64)? as u32
+            ));
+        }
+        Ok(ObjectRef::Name(t.text.to_lowercase()))
+    }
+
     fn on_off(&self, i: usize) -> Result<bool> {
         let t = &self.args[i];
         match t.text.to_ascii_lowercase().as_str() {
             "on" | "1" | "true" | "yes" => Ok(true),
             "off" | "0" | "false" | "no" => Ok(false),
-            _ => Err(self
-                .ctx
-                .error(t, format!("expected `on` or `off`, found `{}`", t.text))),
+            _ => Err(self.ctx.error(
+                t,
+                format!(
+                    "expected `on` or `off`, found `{}`",
+                    printable(&t.text, MAX_SHOWN_TOKEN)
+                ),
+            )),
         }
     }
 

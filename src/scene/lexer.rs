@@ -2,6 +2,8 @@
 //! `#` comments to the end of the line, `/* */` comments that may span
 //! lines, arguments separated by white space or commas. One statement per
 //! line; a statement is a command word followed by its arguments.
+//! Parentheses count as separators too, so that the manual's
+//! `lookat(vx, vy, vz, px, py, pz, twist)` reads as `lookat vx ... twist`.
 
 use std::path::Path;
 
@@ -77,7 +79,7 @@ pub fn lex(source: &str, file: &Path) -> Result<Vec<Statement>> {
                 in_block = Some((line, column));
                 column += 1;
             }
-            c if c.is_whitespace() || c == ',' => {
+            c if c.is_whitespace() || matches!(c, ',' | '(' | ')') => {
                 flush(&mut word, word_start, &mut current);
             }
             c => {
@@ -124,6 +126,17 @@ mod tests {
             vec![
                 vec!["color", "1", "0.5", "0"],
                 vec!["ident"],
+                vec!["scale", "1", "2", "3"]
+            ]
+        );
+    }
+
+    #[test]
+    fn parentheses_separate_arguments() {
+        assert_eq!(
+            words("lookat(0, 0, 5, 0,0,0, 0)\nscale (1 2 3)"),
+            vec![
+                vec!["lookat", "0", "0", "5", "0", "0", "0", "0"],
                 vec!["scale", "1", "2", "3"]
             ]
         );

@@ -33,7 +33,7 @@ pub fn read_mesh(path: &Path) -> Result<Mesh> {
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = super::object_file::read_regular(path, super::object_file::MAX_INPUT_BYTES)?;
     let mesh = match extension.as_str() {
         "obj" => read_obj(&bytes, path)?,
         "ply" => read_ply(&bytes, path)?,
@@ -56,7 +56,10 @@ pub fn read_mesh(path: &Path) -> Result<Mesh> {
 fn format_error(path: &Path, format: &str, message: impl std::fmt::Display) -> Error {
     Error::at(
         Location::file(path),
-        format!("cannot read {format}: {message}"),
+        format!(
+            "cannot read {format}: {}",
+            crate::error::printable(&message.to_string(), 200)
+        ),
     )
 }
 

@@ -284,6 +284,8 @@ pub struct Scene {
     pub outmode: OutMode,
     /// `disp on|off`.
     pub display: bool,
+    /// `setmode f FILE`: the scene file named for immediate mode.
+    pub scene_file: Option<String>,
 }
 
 impl Default for Scene {
@@ -301,6 +303,7 @@ impl Default for Scene {
             fname: None,
             outmode: OutMode::default(),
             display: true,
+            scene_file: None,
         }
     }
 }

@@ -237,7 +237,7 @@ impl<'a> Scanner<'a> {
                 &token,
                 format!(
                     "expected {what} (a non-negative integer), found `{}`",
-                    token.text
+                    crate::error::printable(token.text, crate::error::MAX_SHOWN_TOKEN)
                 ),
             )
         })
@@ -248,7 +248,10 @@ impl<'a> Scanner<'a> {
         let value: f64 = token.text.parse().map_err(|_| {
             self.error(
                 token,
-                format!("expected {what} (a number), found `{}`", token.text),
+                format!(
+                    "expected {what} (a number), found `{}`",
+                    crate::error::printable(token.text, crate::error::MAX_SHOWN_TOKEN)
+                ),
             )
         })?;
         if !value.is_finite() {
@@ -256,7 +259,7 @@ impl<'a> Scanner<'a> {
                 token,
                 format!(
                     "non-finite number `{}` where {what} was expected",
-                    token.text
+                    crate::error::printable(token.text, crate::error::MAX_SHOWN_TOKEN)
                 ),
             ));
         }
@@ -275,6 +278,13 @@ impl<'a> Scanner<'a> {
 ///
 /// Errors name the line and column of the offending word.
 pub fn parse_det_ascii(text: &str, file: &Path) -> Result<Mesh> {
+    parse_det_ascii_within(text, file, usize::MAX)
+}
+
+/// [`parse_det_ascii`], refusing a file that declares more than
+/// `max_polygons` polygons before any is read (the polygon budget,
+/// `--max-polygons`).
+pub fn parse_det_ascii_within(text: &str, file: &Path, max_polygons: usize) -> Result<Mesh> {
     let mut scanner = Scanner::after_data(text, file)?;
     let num_vtx = scanner.count("the number of vertices")?;
     if num_vtx > u64::from(u32::MAX) {
@@ -284,6 +294,12 @@ pub fn parse_det_ascii(text: &str, file: &Path) -> Result<Mesh> {
         )));
     }
     let num_polys = scanner.count("the number of polygons")?;
+    if num_polys > max_polygons as u64 {
+        return Err(scanner.error_at_end(format!(
+            "{num_polys} polygons exceed the {max_polygons} left of the polygon budget; \
+             `--max-polygons N` raises it"
+        )));
+    }
     let vertices = read_vertices(&mut scanner, num_vtx)?;
     let polygons = read_polygons(&mut scanner, num_polys, num_vtx)?;
     scanner.expect_end("unexpected text after the last polygon")?;
@@ -315,7 +331,7 @@ fn read_polygons(scanner: &mut Scanner, count: u64, num_vtx: u64) -> Result<Vec<
                 &token,
                 format!(
                     "expected the number of vertices of polygon {number} (an integer), found `{}`",
-                    token.text
+                    crate::error::printable(token.text, crate::error::MAX_SHOWN_TOKEN)
                 ),
             )
         })?;
@@ -342,7 +358,7 @@ fn vertex_index(scanner: &Scanner, token: &Token, polygon: u64, num_vtx: u64) ->
             token,
             format!(
                 "expected a vertex index (an integer in 1..={num_vtx}), found `{}`",
-                token.text
+                crate::error::printable(token.text, crate::error::MAX_SHOWN_TOKEN)
             ),
         )
     })?;
@@ -780,7 +796,93 @@ fn is_plain_text(bytes: &[u8]) -> bool {
 }
 
 fn read_file(path: &Path) -> Result<Vec<u8>> {
-    fs::read(path).map_err(|e| Error::io(path, e))
+    read_regular(path, MAX_INPUT_BYTES)
+}
+
+/// The largest input file read (scene, geometry or colour file): 1 GiB.
+pub const MAX_INPUT_BYTES: u64 = 1 << 30;
+
+/// What kind of file `meta` describes, for messages.
+fn file_kind(meta: &fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let t = meta.file_type();
+        if t.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_block_device() {
+            return "a block device";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if meta.is_dir() {
+        "a directory"
+    } else {
+        "not a regular file"
+    }
+}
+
+/// Reads the whole of `path`, which must be a regular file (symbolic links
+/// are followed) of at most `limit` bytes. A FIFO, a device, a socket or a
+/// directory is refused before it is opened, so that reading never blocks
+/// on a pipe nor runs on an endless stream, and the size is checked before
+/// anything is read. The read itself is bounded too, in case the file grows.
+pub fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let shown = crate::error::printable(&path.display().to_string(), 200);
+    let refuse = |meta: &fs::Metadata| {
+        Error::at(
+            Location::file(path),
+            format!(
+                "`{shown}` is {}: only regular files are read",
+                file_kind(meta)
+            ),
+        )
+    };
+    let meta = fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(refuse(&meta));
+    }
+    let mut options = OpenOptions::new();
+    options.read(true);
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        // O_NONBLOCK: should the file have been replaced by a FIFO since
+        // the check above, opening it must not wait for a writer.
+        options.custom_flags(0o4000);
+    }
+    let file = options.open(path).map_err(|e| Error::io(path, e))?;
+    let meta = file.metadata().map_err(|e| Error::io(path, e))?;
+    if !meta.is_file() {
+        return Err(refuse(&meta));
+    }
+    if meta.len() > limit {
+        return Err(Error::at(
+            Location::file(path),
+            format!(
+                "`{shown}` has {} bytes, more than the {limit} bytes an input file may have",
+                meta.len()
+            ),
+        ));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    if bytes.len() as u64 > limit {
+        return Err(Error::at(
+            Location::file(path),
+            format!("`{shown}` grew past the {limit} bytes an input file may have"),
+        ));
+    }
+    Ok(bytes)
 }
 
 /// The file as UTF-8 text, or an error at the first invalid byte.
@@ -804,11 +906,18 @@ fn as_text<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str> {
 
 /// Reads a geometry file, binary (starting with `DET`) or ASCII.
 pub fn read_det(path: &Path) -> Result<Mesh> {
+    read_det_within(path, usize::MAX)
+}
+
+/// [`read_det`], refusing an ASCII file that declares more than
+/// `max_polygons` polygons before they are read (a binary file has at most
+/// 65,535, and is checked by the caller).
+pub fn read_det_within(path: &Path, max_polygons: usize) -> Result<Mesh> {
     let bytes = read_file(path)?;
     if is_binary(&bytes, &[DET_TAG]) {
         parse_det_binary(&bytes, path)
     } else {
-        parse_det_ascii(as_text(&bytes, path)?, path)
+        parse_det_ascii_within(as_text(&bytes, path)?, path, max_polygons)
     }
 }
 
