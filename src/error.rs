@@ -286,32 +286,6 @@ impl From<Diagnostic> for Error {
     }
 }
 
-/// `s` made safe to print: control characters (below 0x20 except tab, DEL
-/// and the C1 controls 0x80 to 0x9f) are escaped as `\x1b` or `\u{9b}`, so
-/// that input cannot move the cursor or recolour the terminal; and at most
-/// `max` characters of `s` are kept, the rest replaced by
-/// `... (N bytes)`, N the length of the whole of `s`.
-pub fn printable(s: &str, max: usize) -> String {
-    let mut out = String::with_capacity(s.len().min(max.saturating_mul(4)) + 16);
-    let mut chars = s.chars();
-    for c in chars.by_ref().take(max) {
-        match c {
-            '\t' => out.push(c),
-            c if (c as u32) < 0x20 || c == '\x7f' => {
-                out.push_str(&format!("\\x{:02x}", c as u32));
-            }
-            c if (0x80..=0x9f).contains(&(c as u32)) => {
-                out.push_str(&format!("\\u{{{:x}}}", c as u32));
-            }
-            c => out.push(c),
-        }
-    }
-    if chars.next().is_some() {
-        out.push_str(&format!("... ({} bytes)", s.len()));
-    }
-    out
-}
-
 /// Result with the library's error.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -325,8 +299,8 @@ mod tests {
             printable("a\x1b[31mb\tc\0\x7f", 100),
             "a\\x1b[31mb\tc\\x00\\x7f"
         );
-        assert_eq!(printable("x\ny\u{9b}", 100), "x\\x0ay\\u{9b}");
-        assert_eq!(printable("abcdef", 3), "abc... (6 bytes)");
+        assert_eq!(printable("x\ny\u{9b}", 100), "x\\x0ay\\x9b");
+        assert_eq!(printable("abcdef", 3), "abc... (6 characters)");
         assert_eq!(printable("abc", 3), "abc");
     }
 

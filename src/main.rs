@@ -454,9 +454,9 @@ struct CliHost {
     /// `--allow-outside`: the scene's `fname` may leave the working
     /// directory.
     allow_outside: bool,
-    /// The limits of the session. Only `pixels` is checked here; the
-    /// others are wired at merge (the interpreter, tree builder and NNS
-    /// sort take theirs from here).
+    /// The limits of the session: the interpreter has its own copy
+    /// (polygons, call depth); `run` checks pixels and hands the rest to
+    /// the renderer.
     budgets: Budgets,
     /// A progress bar on stderr during the scan conversion.
     progress: bool,
@@ -1015,6 +1015,7 @@ fn main() -> ExitCode {
         }
     }
     let mut interp = Interpreter::new();
+    interp.set_budgets(options.budgets);
     for (letter, value) in &options.modes {
         if let Err(e) = interp.force_mode(*letter, value) {
             let msg = match e.diagnostic() {
@@ -1044,9 +1045,6 @@ fn main() -> ExitCode {
         quiet: options.quiet,
         interactive: !options.immediate,
         allow_outside: options.allow_outside,
-        // wired at merge: the interpreter (polygons, call depth), the tree
-        // builder (tree nodes) and the NNS sort (splits) take their
-        // budgets from here; `pixels` is checked by `run`.
         budgets: options.budgets,
         progress: !options.quiet && std::io::stderr().is_terminal(),
         aspect_warned: false,

@@ -652,7 +652,7 @@ fn long_input_is_cut_in_messages() {
         "{} bytes of stderr",
         run.stderr.len()
     );
-    assert!(run.err().contains("bytes)"), "{}", run.transcript());
+    assert!(run.err().contains("characters)"), "{}", run.transcript());
 }
 
 // ---------------------------------------------------------------------------
