@@ -180,9 +180,7 @@ COMMANDS of the scene descriptor language (shortest unique prefix accepted):
 "
     );
     for c in COMMANDS {
-        // The manual's modes are the setmode letters listed under FLAGS.
-        let help = c.help.replace("(see MODES)", "(the letters under FLAGS)");
-        s.push_str(&format!("    {:<13} {:<38} {help}\n", c.name, c.usage));
+        s.push_str(&format!("    {:<13} {:<38} {}\n", c.name, c.usage, c.help));
     }
     s.push_str(
         "\nNot yet acted on (parsed, checked and kept): clear (every run starts from the\n\
