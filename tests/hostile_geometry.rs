@@ -1,0 +1,136 @@
+//! Hostile geometry: inputs whose cost used to grow with the square (or
+//! worse) of their size, and the budgets that bound the rest. Each test
+//! would hang (or fail) without its fix; none measures time: they check
+//! counts and structure, on inputs large enough that a quadratic step
+//! could not finish.
+
+use glam::DVec3;
+use plytrace::geometry::polygon;
+use plytrace::scene::Scene;
+
+/// Writes `det/NAME.det` for each `(name, det text)` and `s.des` holding
+/// `des` into a temporary directory, and loads the scene.
+fn load(dets: &[(&str, String)], des: &str) -> Scene {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("det")).unwrap();
+    for (name, text) in dets {
+        std::fs::write(dir.path().join(format!("det/{name}.det")), text).unwrap();
+    }
+    let path = dir.path().join("s.des");
+    std::fs::write(&path, des).unwrap();
+    plytrace::scene::load(&path).unwrap().0
+}
+
+/// A `.det` text of the given vertices and polygons (0-based indices).
+fn det(vertices: &[DVec3], polygons: &[Vec<usize>]) -> String {
+    use std::fmt::Write;
+    let mut s = format!("title t\ndata\n{} {}\n", vertices.len(), polygons.len());
+    for v in vertices {
+        writeln!(s, "{} {} {}", v.x, v.y, v.z).unwrap();
+    }
+    for p in polygons {
+        write!(s, "{}", p.len()).unwrap();
+        for i in p {
+            write!(s, " {}", i + 1).unwrap();
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// A 6 x 6 square in z = 0 facing +z.
+fn floor_det() -> String {
+    let v =
+        [(-3.0, -3.0), (-3.0, 3.0), (3.0, 3.0), (3.0, -3.0)].map(|(x, y)| DVec3::new(x, y, 0.0));
+    det(&v, &[vec![0, 1, 2, 3]])
+}
+
+/// `n` points on a circle of radius 1 in z = 0, clockwise seen from +z
+/// (facing +z); every second one at radius `inner` (a star when < 1).
+fn circle(n: usize, inner: f64) -> Vec<DVec3> {
+    (0..n)
+        .map(|k| {
+            let a = -std::f64::consts::TAU * k as f64 / n as f64;
+            let r = if k % 2 == 0 { 1.0 } else { inner };
+            DVec3::new(r * a.cos(), r * a.sin(), 0.0)
+        })
+        .collect()
+}
+
+const HEAD: &str =
+    "resolution 64 64\nperspective 45 1 0.1 100\npushmatrix\nident\npolarview 6 0 30 0\n";
+
+// ---------------------------------------------------------------------
+// Item 1: one polygon of 200,000 vertices.
+// ---------------------------------------------------------------------
+
+/// The plane of a 200,000-gon: its size and distinct-vertex count were
+/// quadratic (2 * 10^10 distance computations each).
+#[test]
+fn plane_of_a_200000_vertex_polygon() {
+    let c = circle(200_000, 1.0);
+    let plane = polygon::outward_plane(&c).unwrap();
+    assert!((plane.truncate() - DVec3::Z).length() < 1e-9);
+    // 200,000 copies of two points: still too few vertices.
+    let two: Vec<DVec3> = (0..200_000)
+        .map(|k| if k % 2 == 0 { DVec3::ZERO } else { DVec3::X })
+        .collect();
+    assert_eq!(
+        polygon::outward_plane(&two),
+        Err(polygon::PolygonDefect::TooFewVertices(2))
+    );
+}
+
+/// A star of 200,000 vertices (100,000 reflex) is cut into n - 2
+/// triangles of the same total area and orientation; ear clipping that
+/// tests every vertex against every candidate ear took the cube of n.
+#[test]
+fn triangulate_a_200000_vertex_star() {
+    let n = 200_000;
+    let star = circle(n, 0.8);
+    assert!(!polygon::is_convex(&star));
+    let tris = polygon::triangulate(&star);
+    assert_eq!(tris.len(), n - 2);
+    let normal = polygon::newell_vector(star.iter().copied());
+    let total: f64 = tris
+        .iter()
+        .map(|t| polygon::newell_vector(t.iter().copied()).dot(normal) / normal.length() / 2.0)
+        .sum();
+    assert!((total - polygon::area(&star)).abs() < 1e-9 * polygon::area(&star));
+    // No triangle reversed beyond rounding.
+    for t in &tris {
+        let a = polygon::newell_vector(t.iter().copied()).dot(normal) / normal.length() / 2.0;
+        assert!(a > -1e-12, "{a}");
+    }
+}
+
+/// The whole pipeline with one 200,000-gon: level 1, its mirror image at
+/// level 2 and the shadows it casts.
+#[test]
+fn a_200000_vertex_polygon_goes_through_the_pipeline() {
+    let mut big = circle(200_000, 1.0);
+    for p in &mut big {
+        p.z = 0.5;
+    }
+    let idx: Vec<usize> = (0..big.len()).collect();
+    let scene = load(
+        &[("big", det(&big, &[idx])), ("floor", floor_det())],
+        &format!(
+            "{HEAD}depth 2\nlight 2 2 5 1 1 1 100 Point\ndefobj floor\nreflectance 0.5\nendobj\n\
+             defobj big\ntype open\nendobj\npopmatrix\n"
+        ),
+    );
+    let r = plytrace::render::render(
+        &scene,
+        &plytrace::render::RenderOptions {
+            shadows: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(r.stats.max_depth, 2);
+    // The polygon is seen directly and in the mirror, and casts a shadow.
+    let big_seen = r.polygons.iter().filter(|p| p.0 == 1).count();
+    assert!(big_seen >= 2, "{big_seen}");
+    assert!(r.shadows.iter().any(|s| s.is_some()));
+}
