@@ -858,9 +858,13 @@ impl Builder<'_> {
         let mut out = Vec::new();
         for k in candidates {
             let caster = &index.casters[k];
-            let object = &scene.objects[caster.object as usize];
-            if caster.object == c.object
-                && (!object.surface_type.concave || caster.polygon == c.polygon)
+            // A polygon casts no shadow on its own object unless that is
+            // `type concave`, and never on itself; a caster standing for
+            // several identical polygons casts if any of them may.
+            if let Some(o) = caster.single_object
+                && o == c.object
+                && (!scene.objects[o as usize].surface_type.concave
+                    || (caster.copies == 1 && caster.polygon == c.polygon))
             {
                 continue;
             }
@@ -878,6 +882,12 @@ impl Builder<'_> {
                     .map(|p| t.transform_point(*p))
                     .collect()
             };
+            // A caster in the target's plane (a coincident copy, or a
+            // neighbour of a tessellated plane) shadows nothing on it.
+            let n = target.truncate();
+            if pts.iter().all(|p| (n.dot(*p) + target.w).abs() <= self.eps) {
+                continue;
+            }
             out.extend(self.project_caster(&pts, &volume, target, lv));
         }
         out
@@ -957,10 +967,17 @@ impl Builder<'_> {
     }
 }
 
-/// A polygon that may cast a shadow, in the virtual coordinates of a level.
+/// A polygon that may cast a shadow, in world coordinates; identical
+/// polygons (the same vertices from the same start, the same `type open`)
+/// share one caster, since they cast the same shadow.
 struct Caster {
-    object: u32,
+    /// The first polygon it stands for.
     polygon: u32,
+    /// The object of every polygon it stands for, or `None` when they come
+    /// from several objects.
+    single_object: Option<u32>,
+    /// How many identical polygons it stands for.
+    copies: u32,
     points: Vec<DVec3>,
     /// Outward plane (unit normal).
     plane: DVec4,
@@ -984,7 +1001,11 @@ impl CasterIndex {
     /// The index of every displayed polygon of `scene`, in world
     /// coordinates (levels below 1 map their shadow volumes back to them).
     fn new(scene: &Scene) -> CasterIndex {
-        let mut casters = Vec::new();
+        let mut casters: Vec<Caster> = Vec::new();
+        // Identical polygons (65,535 copies of one triangle) would each
+        // be found by every query of the others: one caster for all.
+        let mut seen: std::collections::HashMap<(bool, Vec<[u64; 3]>), usize> =
+            std::collections::HashMap::new();
         for (oi, object) in scene.objects.iter().enumerate() {
             if object.surface_type.hidden {
                 continue;
@@ -995,14 +1016,31 @@ impl CasterIndex {
                     .iter()
                     .map(|&i| object.vertices[i as usize])
                     .collect();
+                let key = (
+                    object.surface_type.open,
+                    points
+                        .iter()
+                        .map(|p| p.to_array().map(f64::to_bits))
+                        .collect(),
+                );
+                if let Some(&k) = seen.get(&key) {
+                    let caster = &mut casters[k];
+                    caster.copies += 1;
+                    if caster.single_object != Some(oi as u32) {
+                        caster.single_object = None;
+                    }
+                    continue;
+                }
+                seen.insert(key, casters.len());
                 let plane = poly.plane;
                 let (lo, hi) = points.iter().fold(
                     (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
                     |(lo, hi), p| (lo.min(*p), hi.max(*p)),
                 );
                 casters.push(Caster {
-                    object: oi as u32,
                     polygon: pi as u32,
+                    single_object: Some(oi as u32),
+                    copies: 1,
                     points,
                     plane,
                     open: object.surface_type.open,

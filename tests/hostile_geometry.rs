@@ -134,3 +134,82 @@ fn a_200000_vertex_polygon_goes_through_the_pipeline() {
     assert!(big_seen >= 2, "{big_seen}");
     assert!(r.shadows.iter().any(|s| s.is_some()));
 }
+
+// ---------------------------------------------------------------------
+// Item 2: shadows over coincident casters.
+// ---------------------------------------------------------------------
+
+/// The tree of `scene` at 64 x 64 with shadows, level 1.
+fn shadow_tree(scene: &Scene) -> plytrace::image_tree::VirtualImageTree {
+    let view = plytrace::geometry::view::View::new(scene, 64, 64).unwrap();
+    plytrace::image_tree::build(
+        scene,
+        &view,
+        plytrace::image_tree::TreeOptions {
+            shadows: true,
+            ..Default::default()
+        },
+    )
+}
+
+fn shadow_count(tree: &plytrace::image_tree::VirtualImageTree) -> usize {
+    tree.nodes
+        .iter()
+        .filter(|f| matches!(f.kind, plytrace::image_tree::FragmentKind::Shadow { .. }))
+        .count()
+}
+
+/// A triangle above the floor, facing +z.
+fn triangle() -> [DVec3; 3] {
+    [
+        DVec3::new(-1.0, -1.0, 0.5),
+        DVec3::new(-1.0, 1.0, 0.5),
+        DVec3::new(1.0, 1.0, 0.5),
+    ]
+}
+
+/// 65,535 copies of one triangle in one object over a floor, with a Point
+/// light: every copy's shadow query found every other copy (and sorted
+/// them), 4 * 10^9 steps. Identical casters are one caster now: the floor
+/// gets one shadow, the triangles none.
+#[test]
+fn shadows_of_65535_identical_triangles() {
+    let tris = vec![vec![0, 1, 2]; 65_535];
+    let scene = load(
+        &[("tris", det(&triangle(), &tris)), ("floor", floor_det())],
+        &format!(
+            "{HEAD}light 0.5 0.3 5 1 1 1 100 Point\ndefobj floor\nendobj\ndefobj tris\nendobj\npopmatrix\n"
+        ),
+    );
+    let tree = shadow_tree(&scene);
+    assert_eq!(tree.roots.len(), 65_536);
+    assert_eq!(shadow_count(&tree), 1);
+    let shadow = tree
+        .nodes
+        .iter()
+        .find(|f| matches!(f.kind, plytrace::image_tree::FragmentKind::Shadow { .. }))
+        .unwrap();
+    assert_eq!(shadow.object, 0, "the shadow falls on the floor");
+}
+
+/// The same triangle in 500 objects: every copy is coplanar with the
+/// others (no shadow on one another), and they cast one shadow on the
+/// floor instead of 500 coincident ones.
+#[test]
+fn identical_triangles_in_separate_objects() {
+    let mut des = format!("{HEAD}light 0.5 0.3 5 1 1 1 100 Point\ndefobj floor\nendobj\n");
+    for _ in 0..500 {
+        des.push_str("defobj tri\nendobj\n");
+    }
+    des.push_str("popmatrix\n");
+    let scene = load(
+        &[
+            ("tri", det(&triangle(), &[vec![0, 1, 2]])),
+            ("floor", floor_det()),
+        ],
+        &des,
+    );
+    let tree = shadow_tree(&scene);
+    assert_eq!(tree.roots.len(), 501);
+    assert_eq!(shadow_count(&tree), 1);
+}
