@@ -42,7 +42,7 @@ use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
 use crate::profile::{Category, Profile};
 use crate::scene::model::{Color, Scene, SortOrder};
-use crate::shading::{ShadingModel, facet_shade_with_model, polygon_material};
+use crate::shading::{FacetTerms, ShadingModel, facet_shade_with_model, polygon_material};
 use crate::visibility::{depth_sort, nns};
 
 /// What a fragment of the tree is.
@@ -725,10 +725,29 @@ impl Builder<'_> {
             regions.extend(pieces.iter().map(|p| (p.clone(), vec![*j])));
         }
         let inverse = t.inverse();
-        let mut cache: Vec<(Vec<u32>, Color)> = Vec::new();
+        // One pass over the lights for the target; each region then costs
+        // only its own lights.
+        let terms = (!regions.is_empty()).then(|| {
+            FacetTerms::new(
+                self.scene,
+                *eye_real,
+                c.object,
+                c.polygon,
+                c.back_facing,
+                None,
+                self.options.shading,
+            )
+        });
         let mut out = Vec::with_capacity(regions.len());
         for (points, lights) in regions {
-            let shade = self.shadow_shade(c, eye_real, &lights, &points, inverse, &mut cache);
+            let shade = self.shadow_shade(
+                c,
+                eye_real,
+                &lights,
+                &points,
+                inverse,
+                terms.as_ref().expect("made for regions"),
+            );
             let screen = points.iter().map(|p| self.view.project(*p)).collect();
             out.push(self.push(Fragment {
                 level,
@@ -752,9 +771,10 @@ impl Builder<'_> {
         out
     }
 
-    /// The target's shade without `lights` (004 section 4.7): one shade per
-    /// light set and target (cached), or with `setmode h on` at the
-    /// region's centroid mapped back to world space.
+    /// The target's shade without `lights` (004 section 4.7): the
+    /// target's shade with all lights (`terms`) less those lights, or with
+    /// `setmode h on` the same at the region's centroid mapped back to
+    /// world space (one pass over the lights per region).
     fn shadow_shade(
         &self,
         c: &Candidate,
@@ -762,35 +782,23 @@ impl Builder<'_> {
         lights: &[u32],
         points: &[DVec3],
         inverse: Option<Matrix4>,
-        cache: &mut Vec<(Vec<u32>, Color)>,
+        terms: &FacetTerms,
     ) -> Color {
-        let scene = self.scene;
-        let others: Vec<_> = (0..scene.lights.len() as u32)
-            .filter(|k| !lights.contains(k))
-            .map(|k| scene.lights[k as usize])
-            .collect();
-        let shade_at = |at| {
-            facet_shade_with_model(
-                scene,
+        if self.options.explicit_shadow_shades {
+            let at = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+            let at = inverse.map_or(at, |i| i.transform_point(at));
+            return FacetTerms::new(
+                self.scene,
                 *eye_real,
                 c.object,
                 c.polygon,
                 c.back_facing,
-                &others,
-                at,
+                Some(at),
                 self.options.shading,
             )
-        };
-        if self.options.explicit_shadow_shades {
-            let at = points.iter().copied().sum::<DVec3>() / points.len() as f64;
-            return shade_at(Some(inverse.map_or(at, |i| i.transform_point(at))));
+            .without(lights);
         }
-        if let Some((_, s)) = cache.iter().find(|(l, _)| l == lights) {
-            return *s;
-        }
-        let s = shade_at(None);
-        cache.push((lights.to_vec(), s));
-        s
+        terms.without(lights)
     }
 
     /// The shadow volume of fragment `points` for a light at `lv` (virtual

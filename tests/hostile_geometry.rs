@@ -213,3 +213,65 @@ fn identical_triangles_in_separate_objects() {
     assert_eq!(tree.roots.len(), 501);
     assert_eq!(shadow_count(&tree), 1);
 }
+
+// ---------------------------------------------------------------------
+// Item 3: the cost per light.
+// ---------------------------------------------------------------------
+
+/// 20,000 dim Point lights over a cube on a floor: each shadow's shade is
+/// the target's shade without its light, which was a new sum over the
+/// other 19,999 lights per shadow (4 * 10^8 light terms on the floor
+/// alone). Now the target's sum less the shadow's lights; the shades
+/// agree with the sum over the others.
+#[test]
+fn twenty_thousand_point_lights() {
+    let mut des = HEAD.to_string();
+    let mut state = 12345u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for _ in 0..20_000 {
+        des.push_str(&format!(
+            "light {} {} {} 0.001 0.001 0.001 100 Point\n",
+            next() * 8.0 - 4.0,
+            next() * 8.0 - 4.0,
+            next() * 3.0 + 3.0
+        ));
+    }
+    let cube = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/det/cube.det"),
+    )
+    .unwrap();
+    des.push_str(
+        "defobj floor\nendobj\ndefobj cube\nscale 0.5 0.5 0.5\ntranslate 0 0 0.5\nendobj\npopmatrix\n",
+    );
+    let scene = load(&[("floor", floor_det()), ("cube", cube)], &des);
+    assert_eq!(scene.lights.len(), 20_000);
+    let tree = shadow_tree(&scene);
+    let shadows: Vec<_> = tree
+        .nodes
+        .iter()
+        .filter(|f| matches!(f.kind, plytrace::image_tree::FragmentKind::Shadow { .. }))
+        .collect();
+    // Most lights cast the cube's shadow on the floor.
+    assert!(shadows.len() > 10_000, "{}", shadows.len());
+    for f in shadows.iter().step_by(2_000) {
+        let others: Vec<_> = (0..scene.lights.len() as u32)
+            .filter(|k| !f.shadowed_from.contains(k))
+            .map(|k| scene.lights[k as usize])
+            .collect();
+        let want = plytrace::shading::facet_shade_with(
+            &scene,
+            f.eye,
+            f.object,
+            f.polygon,
+            f.back_facing,
+            &others,
+            None,
+        );
+        assert!((f.shade - want).length() < 1e-9, "{} {}", f.shade, want);
+    }
+}
