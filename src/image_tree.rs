@@ -36,6 +36,7 @@
 
 use glam::{DVec3, DVec4};
 
+use crate::budget::Budgets;
 use crate::geometry::face_splitter;
 use crate::geometry::polygon;
 use crate::geometry::view::{self, GeometryStats, View};
@@ -125,8 +126,13 @@ pub struct VirtualImageTree {
     pub max_depth: u32,
     /// Geometry counters of level 1.
     pub geometry: GeometryStats,
-    /// NNS counters summed over every level sorted, when NNS sorted.
+    /// NNS counters summed over every level sorted, when NNS sorted;
+    /// `fallbacks` counts the levels that ran out of the split budget and
+    /// were ordered by the simple depth sort.
     pub nns: Option<crate::visibility::nns::NnsStats>,
+    /// Warnings for the user: budgets that ran out and what was done
+    /// instead (one line per kind).
+    pub warnings: Vec<String>,
 }
 
 impl VirtualImageTree {
@@ -243,11 +249,15 @@ pub struct TreeOptions {
     /// The illumination model of the fragments' shades (Garcia's, 004
     /// section 4.8, by default; or Donovan's, 000 section 6).
     pub shading: ShadingModel,
+    /// The limits: tree fragments ([`Budgets::tree_nodes`]) and NNS splits
+    /// per level ([`Budgets::splits`]).
+    pub budgets: Budgets,
 }
 
 impl Default for TreeOptions {
     /// One level, no threshold, the simple sort, no shadows, the
-    /// linearized refraction matrix, shared shadow shades, Garcia's model.
+    /// linearized refraction matrix, shared shadow shades, Garcia's model,
+    /// the default budgets.
     fn default() -> TreeOptions {
         TreeOptions {
             max_level: 1,
@@ -257,6 +267,7 @@ impl Default for TreeOptions {
             refraction: Refraction::default(),
             explicit_shadow_shades: false,
             shading: ShadingModel::default(),
+            budgets: Budgets::default(),
         }
     }
 }
@@ -327,6 +338,13 @@ pub fn build_profiled(
         None,
     );
     b.tree.roots = roots;
+    if let Some(n) = b.tree.nns
+        && n.fallbacks > 0
+    {
+        b.tree
+            .warnings
+            .push(nns::fallback_warning(b.options.budgets.splits, n.fallbacks));
+    }
     b.tree
 }
 
@@ -454,7 +472,8 @@ impl Builder<'_> {
                 .iter()
                 .map(|c| ((c.object, c.polygon), c.back_facing))
                 .collect();
-            let (sorted, stats) = nns::sort(faces, self.view, self.eps);
+            let (sorted, stats) =
+                nns::sort_budgeted(faces, self.view, self.eps, self.options.budgets.splits);
             let total = self.tree.nns.get_or_insert_with(Default::default);
             total.faces_in += stats.faces_in;
             total.faces_out += stats.faces_out;
@@ -463,6 +482,8 @@ impl Builder<'_> {
             total.longer_cycles += stats.longer_cycles;
             total.exact_tests += stats.exact_tests;
             total.unresolved += stats.unresolved;
+            total.work += stats.work;
+            total.fallbacks += stats.fallbacks;
             return sorted
                 .into_iter()
                 .map(|f| Candidate {

@@ -275,3 +275,109 @@ fn twenty_thousand_point_lights() {
         assert!((f.shade - want).length() < 1e-9, "{} {}", f.shade, want);
     }
 }
+
+// ---------------------------------------------------------------------
+// Item 4: NNS worst cases.
+// ---------------------------------------------------------------------
+
+/// `n` random triangles of size about 1 in the cube [-1, 1]^3, most of
+/// them interpenetrating others.
+fn random_triangles(n: usize) -> String {
+    let mut state = 7u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut vertices = Vec::new();
+    let mut polygons = Vec::new();
+    for i in 0..n {
+        let c = DVec3::new(next(), next(), next());
+        for _ in 0..3 {
+            vertices.push(c + DVec3::new(next(), next(), next()) * 0.5);
+        }
+        polygons.push(vec![3 * i, 3 * i + 1, 3 * i + 2]);
+    }
+    det(&vertices, &polygons)
+}
+
+fn random_scene(n: usize) -> Scene {
+    load(
+        &[("rand", random_triangles(n))],
+        &format!("{HEAD}setmode n on\ndefobj rand\ntype open\nendobj\npopmatrix\n"),
+    )
+}
+
+/// 20,000 random interpenetrating triangles: NNS split and searched
+/// without end. Within the default budgets the level is sorted (by NNS or,
+/// past the budget, by the simple sort) and every face comes out.
+#[test]
+fn nns_on_20000_random_intersecting_triangles() {
+    let scene = random_scene(20_000);
+    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
+    let tree = plytrace::image_tree::build(
+        &scene,
+        &view,
+        plytrace::image_tree::TreeOptions {
+            nns: true,
+            ..Default::default()
+        },
+    );
+    let nns = tree.nns.unwrap();
+    let budgets = plytrace::budget::Budgets::default();
+    assert!(nns.splits <= budgets.splits);
+    // The work is checked between searches: one search may overrun it by
+    // what it visits.
+    let max_work = budgets.splits * plytrace::visibility::nns::WORK_PER_SPLIT;
+    assert!(nns.work <= max_work + max_work / 10, "{}", nns.work);
+    assert_eq!(tree.roots.len(), nns.faces_out);
+    assert!(nns.faces_out >= nns.faces_in);
+    assert_eq!(nns.fallbacks > 0, !tree.warnings.is_empty());
+}
+
+/// A small split budget: the sort stops, the level comes out in the
+/// simple depth sort's order (unsplit, farthest first), and the tree
+/// says so in a warning naming the flag.
+#[test]
+fn nns_falls_back_to_the_depth_sort_past_its_split_budget() {
+    let scene = random_scene(2_000);
+    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
+    let budgets = plytrace::budget::Budgets {
+        splits: 50,
+        ..Default::default()
+    };
+    let tree = plytrace::image_tree::build(
+        &scene,
+        &view,
+        plytrace::image_tree::TreeOptions {
+            nns: true,
+            budgets,
+            ..Default::default()
+        },
+    );
+    let nns = tree.nns.unwrap();
+    assert_eq!(nns.fallbacks, 1);
+    assert!(nns.splits <= 50, "{}", nns.splits);
+    assert_eq!(nns.faces_out, nns.faces_in);
+    assert_eq!(tree.roots.len(), nns.faces_in);
+    let zmax: Vec<f64> = tree
+        .roots
+        .iter()
+        .map(|&r| {
+            tree.nodes[r]
+                .screen
+                .iter()
+                .map(|p| p.z)
+                .fold(f64::NEG_INFINITY, f64::max)
+        })
+        .collect();
+    assert!(zmax.windows(2).all(|w| w[0] >= w[1] - 1e-12));
+    assert_eq!(tree.warnings.len(), 1);
+    assert!(
+        tree.warnings[0].contains("--max-splits"),
+        "{}",
+        tree.warnings[0]
+    );
+    assert!(tree.warnings[0].starts_with("NNS stopped after 50 splits"));
+}
