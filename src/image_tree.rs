@@ -133,6 +133,10 @@ pub struct VirtualImageTree {
     /// Warnings for the user: budgets that ran out and what was done
     /// instead (one line per kind).
     pub warnings: Vec<String>,
+    /// Branches (reflected or refracted sub-trees) left out because the
+    /// tree reached its node budget ([`Budgets::tree_nodes`]): the
+    /// lightest ones, after the `threshold` cut.
+    pub pruned: usize,
 }
 
 impl VirtualImageTree {
@@ -283,6 +287,52 @@ struct Builder<'a> {
     eps: f64,
     frustum: Vec<DVec4>,
     tree: VirtualImageTree,
+    /// Branches found and not yet traced.
+    pending: std::collections::BinaryHeap<Pending>,
+    next_seq: usize,
+    /// Nodes kept for restore copies still to be made.
+    reserved: usize,
+}
+
+/// A branch waiting to be traced: the scene seen by reflection in (or
+/// refraction through) fragment `parent`.
+struct Pending {
+    /// The product of the coefficients down to the branch.
+    weight: f64,
+    /// Order found, to break ties deterministically.
+    seq: usize,
+    parent: usize,
+    branch: Branch,
+    level: u32,
+    /// The mapping of the branch's level.
+    t: Matrix4,
+    /// The parent's plane, towards the eye.
+    plane: DVec4,
+    /// The parent's pre-blended shade.
+    blend: Color,
+}
+
+impl PartialEq for Pending {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == std::cmp::Ordering::Equal
+    }
+}
+
+impl Eq for Pending {}
+
+impl PartialOrd for Pending {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Pending {
+    /// Heaviest first; among equals, the first found.
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.weight
+            .total_cmp(&other.weight)
+            .then(other.seq.cmp(&self.seq))
+    }
 }
 
 /// A polygon found at some level, before sorting.
@@ -326,18 +376,25 @@ pub fn build_profiled(
             max_depth: 1,
             ..VirtualImageTree::default()
         },
+        pending: std::collections::BinaryHeap::new(),
+        next_seq: 0,
+        reserved: 0,
     };
     let level1 = b.level_one();
-    let roots = b.trace(
-        1,
-        level1,
-        &Matrix4::IDENTITY,
-        Branch::Direct,
-        1.0,
-        Color::ZERO,
-        None,
-    );
+    let roots = b
+        .trace(
+            1,
+            level1,
+            &Matrix4::IDENTITY,
+            Branch::Direct,
+            1.0,
+            Color::ZERO,
+            None,
+            0,
+        )
+        .expect("level 1 is not budgeted here");
     b.tree.roots = roots;
+    b.expand();
     if let Some(n) = b.tree.nns
         && n.fallbacks > 0
     {
@@ -557,7 +614,17 @@ impl Builder<'_> {
         weight: f64,
         parent_blend: Color,
         parent: Option<usize>,
-    ) -> Vec<usize> {
+        reserve: usize,
+    ) -> Option<Vec<usize>> {
+        let sorted = self.sort(candidates);
+        // Below level 1 the node budget is checked before anything is
+        // added; `reserve` more nodes (a restore copy) must fit as well.
+        if level > 1
+            && self.tree.nodes.len() + self.reserved + sorted.len() + reserve
+                > self.options.budgets.tree_nodes
+        {
+            return None;
+        }
         self.tree.max_depth = self.tree.max_depth.max(level);
         let inverse = t.inverse();
         let eye_real = inverse
@@ -566,7 +633,7 @@ impl Builder<'_> {
         let mut ids = Vec::new();
         // The casters of this level, built when the first shadow is cast.
 
-        for c in self.sort(candidates) {
+        for c in sorted {
             let own = {
                 let _t = self.profile.time(Category::Shading);
                 facet_shade_with_model(
@@ -629,26 +696,19 @@ impl Builder<'_> {
             let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
                 continue;
             };
-            let mut reflected = false;
             if material.reflectance > 0.0 && weight * material.reflectance > self.options.threshold
             {
                 let m = math::reflection(plane);
-                let t2 = t.mul(&m);
-                let planes = self.volume(&c.points, plane);
-                let found = self.mapped_level(&t2, &planes);
-                if !found.is_empty() {
-                    let kids = self.trace(
-                        level + 1,
-                        found,
-                        &t2,
-                        Branch::Reflected,
-                        weight * material.reflectance,
-                        blended,
-                        Some(id),
-                    );
-                    reflected = !kids.is_empty();
-                    self.tree.nodes[id].children.extend(kids);
-                }
+                self.enqueue(Pending {
+                    weight: weight * material.reflectance,
+                    seq: 0,
+                    parent: id,
+                    branch: Branch::Reflected,
+                    level: level + 1,
+                    t: t.mul(&m),
+                    plane,
+                    blend: blended,
+                });
             }
             if material.transmittance > 0.0
                 && weight * material.transmittance > self.options.threshold
@@ -671,33 +731,95 @@ impl Builder<'_> {
                     Refraction::Paraxial => Some(math::refraction_paraxial(plane, eta)),
                 };
                 if let Some(m) = matrix {
-                    let t2 = t.mul(&m);
-                    let planes = self.volume(&c.points, plane);
-                    let found = self.mapped_level(&t2, &planes);
-                    if !found.is_empty() {
-                        if reflected {
-                            let mut restore = self.tree.nodes[id].clone();
-                            restore.kind = FragmentKind::Restore;
-                            restore.parent = Some(id);
-                            restore.children.clear();
-                            let r = self.push(restore);
-                            self.tree.nodes[id].children.push(r);
-                        }
-                        let kids = self.trace(
-                            level + 1,
-                            found,
-                            &t2,
-                            Branch::Refracted,
-                            weight * material.transmittance,
-                            blended,
-                            Some(id),
-                        );
-                        self.tree.nodes[id].children.extend(kids);
-                    }
+                    self.enqueue(Pending {
+                        weight: weight * material.transmittance,
+                        seq: 0,
+                        parent: id,
+                        branch: Branch::Refracted,
+                        level: level + 1,
+                        t: t.mul(&m),
+                        plane,
+                        blend: blended,
+                    });
                 }
             }
         }
-        ids
+        Some(ids)
+    }
+
+    fn enqueue(&mut self, mut p: Pending) {
+        p.seq = self.next_seq;
+        self.next_seq += 1;
+        self.pending.push(p);
+    }
+
+    /// Traces the pending branches, heaviest first (largest product of
+    /// coefficients; among equals, in the order they were found), until
+    /// the node budget: a branch whose fragments would pass it is pruned
+    /// with every lighter branch still waiting, and counted in
+    /// [`VirtualImageTree::pruned`]. Then each fragment's children are put
+    /// in output order: shadows, the reflected branch, the restore copy
+    /// (when both branches exist), the refracted branch.
+    fn expand(&mut self) {
+        let mut branches: std::collections::HashMap<usize, (Vec<usize>, Vec<usize>)> =
+            std::collections::HashMap::new();
+        while let Some(p) = self.pending.pop() {
+            if self.tree.pruned > 0 {
+                self.tree.pruned += 1;
+                continue;
+            }
+            let planes = self.volume(&self.tree.nodes[p.parent].virtual_points, p.plane);
+            let found = self.mapped_level(&p.t, &planes);
+            if found.is_empty() {
+                continue;
+            }
+            let reserve = usize::from(p.branch == Branch::Refracted);
+            let Some(kids) = self.trace(
+                p.level,
+                found,
+                &p.t,
+                p.branch,
+                p.weight,
+                p.blend,
+                Some(p.parent),
+                reserve,
+            ) else {
+                self.tree.pruned += 1;
+                continue;
+            };
+            // A restore copy may join the refracted branch at the end.
+            self.reserved += reserve;
+            let entry = branches.entry(p.parent).or_default();
+            if p.branch == Branch::Reflected {
+                entry.0 = kids;
+            } else {
+                entry.1 = kids;
+            }
+        }
+        let mut parents: Vec<usize> = branches.keys().copied().collect();
+        parents.sort_unstable();
+        for id in parents {
+            let (reflected, refracted) = branches.remove(&id).expect("listed");
+            let both = !reflected.is_empty() && !refracted.is_empty();
+            self.tree.nodes[id].children.extend(reflected);
+            if both {
+                let mut restore = self.tree.nodes[id].clone();
+                restore.kind = FragmentKind::Restore;
+                restore.parent = Some(id);
+                restore.children.clear();
+                let r = self.push(restore);
+                self.tree.nodes[id].children.push(r);
+            }
+            self.tree.nodes[id].children.extend(refracted);
+        }
+        if self.tree.pruned > 0 {
+            self.tree.warnings.push(format!(
+                "the virtual image tree reached its budget of {} fragments (--max-tree-nodes \
+                 raises it; `threshold` cuts light branches too): the {} lightest branches \
+                 were pruned",
+                self.options.budgets.tree_nodes, self.tree.pruned
+            ));
+        }
     }
 
     /// The shadow polygons cast on fragment `c` (virtual coordinates under
@@ -744,6 +866,16 @@ impl Builder<'_> {
         );
         for (j, pieces) in &per_light[split..] {
             regions.extend(pieces.iter().map(|p| (p.clone(), vec![*j])));
+        }
+        // Below level 1 the shadows of a fragment fit in the node budget
+        // whole, or are pruned like a branch.
+        if level > 1
+            && !regions.is_empty()
+            && self.tree.nodes.len() + self.reserved + regions.len()
+                > self.options.budgets.tree_nodes
+        {
+            self.tree.pruned += 1;
+            return Vec::new();
         }
         let inverse = t.inverse();
         // One pass over the lights for the target; each region then costs

@@ -381,3 +381,74 @@ fn nns_falls_back_to_the_depth_sort_past_its_split_budget() {
     );
     assert!(tree.warnings[0].starts_with("NNS stopped after 50 splits"));
 }
+
+// ---------------------------------------------------------------------
+// Item 5: the node budget of the virtual image tree.
+// ---------------------------------------------------------------------
+
+/// 12 glass slabs (kr 0.4, kt 0.5) stacked under the eye at depth 14:
+/// every fragment both reflects and refracts, so the tree doubles at every
+/// level (killed past 1.5 GB before). With a budget it stops there,
+/// pruning the lightest branches, and says how many.
+fn glass_slabs() -> Scene {
+    let mut des = "resolution 64 64\nperspective 45 1 0.1 100\ndepth 14\npushmatrix\nident\n\
+                   polarview 8 0 20 0\nlight 2 2 6 1 1 1 100 Diffuse\ndefobj floor\nendobj\n"
+        .to_string();
+    for i in 0..12 {
+        des.push_str(&format!(
+            "defobj cube\nreflectance 0.4\ntransmittance 0.5\nscale 2 2 0.05\n\
+             translate 0 0 {}\nendobj\n",
+            0.3 + 0.25 * i as f64
+        ));
+    }
+    des.push_str("popmatrix\n");
+    let cube = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/det/cube.det"),
+    )
+    .unwrap();
+    load(&[("floor", floor_det()), ("cube", cube)], &des)
+}
+
+fn glass_tree(budget: usize) -> plytrace::image_tree::VirtualImageTree {
+    let scene = glass_slabs();
+    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
+    plytrace::image_tree::build(
+        &scene,
+        &view,
+        plytrace::image_tree::TreeOptions {
+            max_level: scene.modes.max_level,
+            threshold: scene.threshold,
+            budgets: plytrace::budget::Budgets {
+                tree_nodes: budget,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
+    )
+}
+
+#[test]
+fn twelve_glass_slabs_stay_within_the_node_budget() {
+    let budget = 20_000;
+    let tree = glass_tree(budget);
+    assert!(tree.nodes.len() <= budget, "{}", tree.nodes.len());
+    assert!(tree.pruned > 0);
+    assert!(tree.max_depth > 2);
+    assert!(tree.warnings.iter().any(|w| w.contains("--max-tree-nodes")));
+    // The heaviest branches were kept: every pruned branch is at most as
+    // heavy as the lightest fragment kept below level 1 ... (checked through
+    // the weights of the deepest fragments: all kept fragments outweigh
+    // 0.4^14).
+    let lightest = tree
+        .nodes
+        .iter()
+        .map(|f| f.weight)
+        .fold(f64::INFINITY, f64::min);
+    assert!(lightest > 0.4f64.powi(14));
+    // The tree is whole: every child's parent is the node that lists it.
+    for (i, f) in tree.nodes.iter().enumerate() {
+        for &c in &f.children {
+            assert_eq!(tree.nodes[c].parent, Some(i));
+        }
+    }
+}
