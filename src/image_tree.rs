@@ -43,7 +43,7 @@ use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
 use crate::profile::{Category, Profile};
 use crate::scene::model::{Color, Scene, SortOrder};
-use crate::shading::{FacetTerms, ShadingModel, facet_shade_with_model, polygon_material};
+use crate::shading::{FacetTerms, ShadingModel, polygon_material};
 use crate::visibility::{depth_sort, nns};
 
 /// What a fragment of the tree is.
@@ -405,7 +405,7 @@ pub fn build_profiled(
     b.tree
 }
 
-impl Builder<'_> {
+impl<'a> Builder<'a> {
     /// Level 1: the geometry stage's polygons (homogeneous clipping).
     fn level_one(&mut self) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Expobj);
@@ -633,20 +633,32 @@ impl Builder<'_> {
         let mut ids = Vec::new();
         // The casters of this level, built when the first shadow is cast.
 
+        let mut facets: std::collections::HashMap<(u32, u32, bool), FacetTerms<'a>> =
+            std::collections::HashMap::new();
         for c in sorted {
-            let own = {
+            // One shade per source polygon and side at this level (the
+            // fragments of a level share the eye): the pieces of a polygon
+            // of 200,000 vertices would each average all its vertices.
+            let terms = {
                 let _t = self.profile.time(Category::Shading);
-                facet_shade_with_model(
-                    self.scene,
-                    eye_real,
-                    c.object,
-                    c.polygon,
-                    c.back_facing,
-                    &self.scene.lights,
-                    None,
-                    self.options.shading,
-                )
+                let scene: &'a Scene = self.scene;
+                let shading = self.options.shading;
+                facets
+                    .entry((c.object, c.polygon, c.back_facing))
+                    .or_insert_with(|| {
+                        FacetTerms::new(
+                            scene,
+                            eye_real,
+                            c.object,
+                            c.polygon,
+                            c.back_facing,
+                            None,
+                            shading,
+                        )
+                    })
+                    .clone()
             };
+            let own = terms.shade();
             let blended = parent_blend + own * weight;
             let screen: Vec<DVec3> = c.points.iter().map(|p| self.view.project(*p)).collect();
             let id = self.push(Fragment {
@@ -684,7 +696,7 @@ impl Builder<'_> {
                 let index = &*index;
                 let start = std::time::Instant::now();
                 let shadows =
-                    self.shadows_on(index, &c, t, &eye_real, weight, parent_blend, id, level);
+                    self.shadows_on(index, &c, t, &terms, weight, parent_blend, id, level);
                 self.profile.add(Category::Shadows, start.elapsed());
                 self.tree.nodes[id].children.extend(shadows);
             }
@@ -838,12 +850,13 @@ impl Builder<'_> {
         index: &CasterIndex,
         c: &Candidate,
         t: &Matrix4,
-        eye_real: &DVec4,
+        terms: &FacetTerms,
         weight: f64,
         parent_blend: Color,
         parent: usize,
         level: u32,
     ) -> Vec<usize> {
+        let eye_real = &terms.eye();
         let Some(target) = toward_eye_plane(&c.points, self.view.eye) else {
             return Vec::new();
         };
@@ -880,27 +893,9 @@ impl Builder<'_> {
         let inverse = t.inverse();
         // One pass over the lights for the target; each region then costs
         // only its own lights.
-        let terms = (!regions.is_empty()).then(|| {
-            FacetTerms::new(
-                self.scene,
-                *eye_real,
-                c.object,
-                c.polygon,
-                c.back_facing,
-                None,
-                self.options.shading,
-            )
-        });
         let mut out = Vec::with_capacity(regions.len());
         for (points, lights) in regions {
-            let shade = self.shadow_shade(
-                c,
-                eye_real,
-                &lights,
-                &points,
-                inverse,
-                terms.as_ref().expect("made for regions"),
-            );
+            let shade = self.shadow_shade(c, eye_real, &lights, &points, inverse, terms);
             let screen = points.iter().map(|p| self.view.project(*p)).collect();
             out.push(self.push(Fragment {
                 level,

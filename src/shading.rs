@@ -148,6 +148,7 @@ fn light_term_donovan(
 #[derive(Debug, Clone)]
 pub struct FacetTerms<'a> {
     lights: &'a [Light],
+    eye: DVec4,
     model: ShadingModel,
     material: Material,
     point: DVec3,
@@ -184,6 +185,7 @@ impl<'a> FacetTerms<'a> {
         let to_eye = crate::geometry::view::direction_to_eye(eye, point);
         let mut terms = FacetTerms {
             lights: &scene.lights,
+            eye,
             model,
             material,
             point,
@@ -209,6 +211,11 @@ impl<'a> FacetTerms<'a> {
             ShadingModel::Garcia => light_term(m, p, n, e, light),
             ShadingModel::Donovan => light_term_donovan(m, p, n, e, light),
         }
+    }
+
+    /// The eye (homogeneous world point) the shade is seen from.
+    pub fn eye(&self) -> DVec4 {
+        self.eye
     }
 
     /// The shade with every light.
