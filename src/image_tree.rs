@@ -292,6 +292,8 @@ struct Builder<'a> {
     next_seq: usize,
     /// Nodes kept for restore copies still to be made.
     reserved: usize,
+    /// Splits made by the first NNS sort that fell back.
+    first_fallback_splits: usize,
 }
 
 /// A branch waiting to be traced: the scene seen by reflection in (or
@@ -379,6 +381,7 @@ pub fn build_profiled(
         pending: std::collections::BinaryHeap::new(),
         next_seq: 0,
         reserved: 0,
+        first_fallback_splits: 0,
     };
     let level1 = b.level_one();
     let roots = b
@@ -400,7 +403,7 @@ pub fn build_profiled(
     {
         b.tree
             .warnings
-            .push(nns::fallback_warning(b.options.budgets.splits, n.fallbacks));
+            .push(nns::fallback_warning(b.first_fallback_splits, n.fallbacks));
     }
     b.tree
 }
@@ -540,6 +543,9 @@ impl<'a> Builder<'a> {
             total.exact_tests += stats.exact_tests;
             total.unresolved += stats.unresolved;
             total.work += stats.work;
+            if stats.fallbacks > 0 && total.fallbacks == 0 {
+                self.first_fallback_splits = stats.splits;
+            }
             total.fallbacks += stats.fallbacks;
             return sorted
                 .into_iter()

@@ -85,14 +85,15 @@ pub struct NnsStats {
 /// every other without splitting much.
 pub const WORK_PER_SPLIT: usize = 5000;
 
-/// The warning of a sort that fell back, naming the flag that raises the
-/// budget.
+/// The warning of sorts that fell back: `splits` made by the first of
+/// them, `levels` of them in all. It names the flag that raises the
+/// budget (the work allowed grows with it).
 pub fn fallback_warning(splits: usize, levels: usize) -> String {
     format!(
         "NNS stopped after {splits} splits (--max-splits raises it); the simple depth sort \
-         ordered {} instead: the image may be wrong where polygons interpenetrate",
+         ordered {}: the image may be wrong where polygons interpenetrate",
         if levels == 1 {
-            "one level".to_string()
+            "this level".to_string()
         } else {
             format!("{levels} levels")
         }
