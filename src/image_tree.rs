@@ -36,13 +36,14 @@
 
 use glam::{DVec3, DVec4};
 
+use crate::budget::Budgets;
 use crate::geometry::face_splitter;
 use crate::geometry::polygon;
 use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
 use crate::profile::{Category, Profile};
 use crate::scene::model::{Color, Scene, SortOrder};
-use crate::shading::{ShadingModel, facet_shade_with_model, polygon_material};
+use crate::shading::{FacetTerms, ShadingModel, polygon_material};
 use crate::visibility::{depth_sort, nns};
 
 /// What a fragment of the tree is.
@@ -125,8 +126,17 @@ pub struct VirtualImageTree {
     pub max_depth: u32,
     /// Geometry counters of level 1.
     pub geometry: GeometryStats,
-    /// NNS counters summed over every level sorted, when NNS sorted.
+    /// NNS counters summed over every level sorted, when NNS sorted;
+    /// `fallbacks` counts the levels that ran out of the split budget and
+    /// were ordered by the simple depth sort.
     pub nns: Option<crate::visibility::nns::NnsStats>,
+    /// Warnings for the user: budgets that ran out and what was done
+    /// instead (one line per kind).
+    pub warnings: Vec<String>,
+    /// Branches (reflected or refracted sub-trees) left out because the
+    /// tree reached its node budget ([`Budgets::tree_nodes`]): the
+    /// lightest ones, after the `threshold` cut.
+    pub pruned: usize,
 }
 
 impl VirtualImageTree {
@@ -243,11 +253,15 @@ pub struct TreeOptions {
     /// The illumination model of the fragments' shades (Garcia's, 004
     /// section 4.8, by default; or Donovan's, 000 section 6).
     pub shading: ShadingModel,
+    /// The limits: tree fragments ([`Budgets::tree_nodes`]) and NNS splits
+    /// per level ([`Budgets::splits`]).
+    pub budgets: Budgets,
 }
 
 impl Default for TreeOptions {
     /// One level, no threshold, the simple sort, no shadows, the
-    /// linearized refraction matrix, shared shadow shades, Garcia's model.
+    /// linearized refraction matrix, shared shadow shades, Garcia's model,
+    /// the default budgets.
     fn default() -> TreeOptions {
         TreeOptions {
             max_level: 1,
@@ -257,6 +271,7 @@ impl Default for TreeOptions {
             refraction: Refraction::default(),
             explicit_shadow_shades: false,
             shading: ShadingModel::default(),
+            budgets: Budgets::default(),
         }
     }
 }
@@ -272,6 +287,54 @@ struct Builder<'a> {
     eps: f64,
     frustum: Vec<DVec4>,
     tree: VirtualImageTree,
+    /// Branches found and not yet traced.
+    pending: std::collections::BinaryHeap<Pending>,
+    next_seq: usize,
+    /// Nodes kept for restore copies still to be made.
+    reserved: usize,
+    /// Splits made by the first NNS sort that fell back.
+    first_fallback_splits: usize,
+}
+
+/// A branch waiting to be traced: the scene seen by reflection in (or
+/// refraction through) fragment `parent`.
+struct Pending {
+    /// The product of the coefficients down to the branch.
+    weight: f64,
+    /// Order found, to break ties deterministically.
+    seq: usize,
+    parent: usize,
+    branch: Branch,
+    level: u32,
+    /// The mapping of the branch's level.
+    t: Matrix4,
+    /// The parent's plane, towards the eye.
+    plane: DVec4,
+    /// The parent's pre-blended shade.
+    blend: Color,
+}
+
+impl PartialEq for Pending {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == std::cmp::Ordering::Equal
+    }
+}
+
+impl Eq for Pending {}
+
+impl PartialOrd for Pending {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Pending {
+    /// Heaviest first; among equals, the first found.
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.weight
+            .total_cmp(&other.weight)
+            .then(other.seq.cmp(&self.seq))
+    }
 }
 
 /// A polygon found at some level, before sorting.
@@ -315,22 +378,37 @@ pub fn build_profiled(
             max_depth: 1,
             ..VirtualImageTree::default()
         },
+        pending: std::collections::BinaryHeap::new(),
+        next_seq: 0,
+        reserved: 0,
+        first_fallback_splits: 0,
     };
     let level1 = b.level_one();
-    let roots = b.trace(
-        1,
-        level1,
-        &Matrix4::IDENTITY,
-        Branch::Direct,
-        1.0,
-        Color::ZERO,
-        None,
-    );
+    let roots = b
+        .trace(
+            1,
+            level1,
+            &Matrix4::IDENTITY,
+            Branch::Direct,
+            1.0,
+            Color::ZERO,
+            None,
+            0,
+        )
+        .expect("level 1 is not budgeted here");
     b.tree.roots = roots;
+    b.expand();
+    if let Some(n) = b.tree.nns
+        && n.fallbacks > 0
+    {
+        b.tree
+            .warnings
+            .push(nns::fallback_warning(b.first_fallback_splits, n.fallbacks));
+    }
     b.tree
 }
 
-impl Builder<'_> {
+impl<'a> Builder<'a> {
     /// Level 1: the geometry stage's polygons (homogeneous clipping).
     fn level_one(&mut self) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Expobj);
@@ -454,7 +532,8 @@ impl Builder<'_> {
                 .iter()
                 .map(|c| ((c.object, c.polygon), c.back_facing))
                 .collect();
-            let (sorted, stats) = nns::sort(faces, self.view, self.eps);
+            let (sorted, stats) =
+                nns::sort_budgeted(faces, self.view, self.eps, self.options.budgets.splits);
             let total = self.tree.nns.get_or_insert_with(Default::default);
             total.faces_in += stats.faces_in;
             total.faces_out += stats.faces_out;
@@ -463,6 +542,11 @@ impl Builder<'_> {
             total.longer_cycles += stats.longer_cycles;
             total.exact_tests += stats.exact_tests;
             total.unresolved += stats.unresolved;
+            total.work += stats.work;
+            if stats.fallbacks > 0 && total.fallbacks == 0 {
+                self.first_fallback_splits = stats.splits;
+            }
+            total.fallbacks += stats.fallbacks;
             return sorted
                 .into_iter()
                 .map(|f| Candidate {
@@ -536,7 +620,17 @@ impl Builder<'_> {
         weight: f64,
         parent_blend: Color,
         parent: Option<usize>,
-    ) -> Vec<usize> {
+        reserve: usize,
+    ) -> Option<Vec<usize>> {
+        let sorted = self.sort(candidates);
+        // Below level 1 the node budget is checked before anything is
+        // added; `reserve` more nodes (a restore copy) must fit as well.
+        if level > 1
+            && self.tree.nodes.len() + self.reserved + sorted.len() + reserve
+                > self.options.budgets.tree_nodes
+        {
+            return None;
+        }
         self.tree.max_depth = self.tree.max_depth.max(level);
         let inverse = t.inverse();
         let eye_real = inverse
@@ -545,20 +639,32 @@ impl Builder<'_> {
         let mut ids = Vec::new();
         // The casters of this level, built when the first shadow is cast.
 
-        for c in self.sort(candidates) {
-            let own = {
+        let mut facets: std::collections::HashMap<(u32, u32, bool), FacetTerms<'a>> =
+            std::collections::HashMap::new();
+        for c in sorted {
+            // One shade per source polygon and side at this level (the
+            // fragments of a level share the eye): the pieces of a polygon
+            // of 200,000 vertices would each average all its vertices.
+            let terms = {
                 let _t = self.profile.time(Category::Shading);
-                facet_shade_with_model(
-                    self.scene,
-                    eye_real,
-                    c.object,
-                    c.polygon,
-                    c.back_facing,
-                    &self.scene.lights,
-                    None,
-                    self.options.shading,
-                )
+                let scene: &'a Scene = self.scene;
+                let shading = self.options.shading;
+                facets
+                    .entry((c.object, c.polygon, c.back_facing))
+                    .or_insert_with(|| {
+                        FacetTerms::new(
+                            scene,
+                            eye_real,
+                            c.object,
+                            c.polygon,
+                            c.back_facing,
+                            None,
+                            shading,
+                        )
+                    })
+                    .clone()
             };
+            let own = terms.shade();
             let blended = parent_blend + own * weight;
             let screen: Vec<DVec3> = c.points.iter().map(|p| self.view.project(*p)).collect();
             let id = self.push(Fragment {
@@ -596,7 +702,7 @@ impl Builder<'_> {
                 let index = &*index;
                 let start = std::time::Instant::now();
                 let shadows =
-                    self.shadows_on(index, &c, t, &eye_real, weight, parent_blend, id, level);
+                    self.shadows_on(index, &c, t, &terms, weight, parent_blend, id, level);
                 self.profile.add(Category::Shadows, start.elapsed());
                 self.tree.nodes[id].children.extend(shadows);
             }
@@ -608,26 +714,19 @@ impl Builder<'_> {
             let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
                 continue;
             };
-            let mut reflected = false;
             if material.reflectance > 0.0 && weight * material.reflectance > self.options.threshold
             {
                 let m = math::reflection(plane);
-                let t2 = t.mul(&m);
-                let planes = self.volume(&c.points, plane);
-                let found = self.mapped_level(&t2, &planes);
-                if !found.is_empty() {
-                    let kids = self.trace(
-                        level + 1,
-                        found,
-                        &t2,
-                        Branch::Reflected,
-                        weight * material.reflectance,
-                        blended,
-                        Some(id),
-                    );
-                    reflected = !kids.is_empty();
-                    self.tree.nodes[id].children.extend(kids);
-                }
+                self.enqueue(Pending {
+                    weight: weight * material.reflectance,
+                    seq: 0,
+                    parent: id,
+                    branch: Branch::Reflected,
+                    level: level + 1,
+                    t: t.mul(&m),
+                    plane,
+                    blend: blended,
+                });
             }
             if material.transmittance > 0.0
                 && weight * material.transmittance > self.options.threshold
@@ -650,33 +749,95 @@ impl Builder<'_> {
                     Refraction::Paraxial => Some(math::refraction_paraxial(plane, eta)),
                 };
                 if let Some(m) = matrix {
-                    let t2 = t.mul(&m);
-                    let planes = self.volume(&c.points, plane);
-                    let found = self.mapped_level(&t2, &planes);
-                    if !found.is_empty() {
-                        if reflected {
-                            let mut restore = self.tree.nodes[id].clone();
-                            restore.kind = FragmentKind::Restore;
-                            restore.parent = Some(id);
-                            restore.children.clear();
-                            let r = self.push(restore);
-                            self.tree.nodes[id].children.push(r);
-                        }
-                        let kids = self.trace(
-                            level + 1,
-                            found,
-                            &t2,
-                            Branch::Refracted,
-                            weight * material.transmittance,
-                            blended,
-                            Some(id),
-                        );
-                        self.tree.nodes[id].children.extend(kids);
-                    }
+                    self.enqueue(Pending {
+                        weight: weight * material.transmittance,
+                        seq: 0,
+                        parent: id,
+                        branch: Branch::Refracted,
+                        level: level + 1,
+                        t: t.mul(&m),
+                        plane,
+                        blend: blended,
+                    });
                 }
             }
         }
-        ids
+        Some(ids)
+    }
+
+    fn enqueue(&mut self, mut p: Pending) {
+        p.seq = self.next_seq;
+        self.next_seq += 1;
+        self.pending.push(p);
+    }
+
+    /// Traces the pending branches, heaviest first (largest product of
+    /// coefficients; among equals, in the order they were found), until
+    /// the node budget: a branch whose fragments would pass it is pruned
+    /// with every lighter branch still waiting, and counted in
+    /// [`VirtualImageTree::pruned`]. Then each fragment's children are put
+    /// in output order: shadows, the reflected branch, the restore copy
+    /// (when both branches exist), the refracted branch.
+    fn expand(&mut self) {
+        let mut branches: std::collections::HashMap<usize, (Vec<usize>, Vec<usize>)> =
+            std::collections::HashMap::new();
+        while let Some(p) = self.pending.pop() {
+            if self.tree.pruned > 0 {
+                self.tree.pruned += 1;
+                continue;
+            }
+            let planes = self.volume(&self.tree.nodes[p.parent].virtual_points, p.plane);
+            let found = self.mapped_level(&p.t, &planes);
+            if found.is_empty() {
+                continue;
+            }
+            let reserve = usize::from(p.branch == Branch::Refracted);
+            let Some(kids) = self.trace(
+                p.level,
+                found,
+                &p.t,
+                p.branch,
+                p.weight,
+                p.blend,
+                Some(p.parent),
+                reserve,
+            ) else {
+                self.tree.pruned += 1;
+                continue;
+            };
+            // A restore copy may join the refracted branch at the end.
+            self.reserved += reserve;
+            let entry = branches.entry(p.parent).or_default();
+            if p.branch == Branch::Reflected {
+                entry.0 = kids;
+            } else {
+                entry.1 = kids;
+            }
+        }
+        let mut parents: Vec<usize> = branches.keys().copied().collect();
+        parents.sort_unstable();
+        for id in parents {
+            let (reflected, refracted) = branches.remove(&id).expect("listed");
+            let both = !reflected.is_empty() && !refracted.is_empty();
+            self.tree.nodes[id].children.extend(reflected);
+            if both {
+                let mut restore = self.tree.nodes[id].clone();
+                restore.kind = FragmentKind::Restore;
+                restore.parent = Some(id);
+                restore.children.clear();
+                let r = self.push(restore);
+                self.tree.nodes[id].children.push(r);
+            }
+            self.tree.nodes[id].children.extend(refracted);
+        }
+        if self.tree.pruned > 0 {
+            self.tree.warnings.push(format!(
+                "the virtual image tree reached its budget of {} fragments (--max-tree-nodes \
+                 raises it; `threshold` cuts light branches too): the {} lightest branches \
+                 were pruned",
+                self.options.budgets.tree_nodes, self.tree.pruned
+            ));
+        }
     }
 
     /// The shadow polygons cast on fragment `c` (virtual coordinates under
@@ -695,12 +856,13 @@ impl Builder<'_> {
         index: &CasterIndex,
         c: &Candidate,
         t: &Matrix4,
-        eye_real: &DVec4,
+        terms: &FacetTerms,
         weight: f64,
         parent_blend: Color,
         parent: usize,
         level: u32,
     ) -> Vec<usize> {
+        let eye_real = &terms.eye();
         let Some(target) = toward_eye_plane(&c.points, self.view.eye) else {
             return Vec::new();
         };
@@ -724,11 +886,22 @@ impl Builder<'_> {
         for (j, pieces) in &per_light[split..] {
             regions.extend(pieces.iter().map(|p| (p.clone(), vec![*j])));
         }
+        // Below level 1 the shadows of a fragment fit in the node budget
+        // whole, or are pruned like a branch.
+        if level > 1
+            && !regions.is_empty()
+            && self.tree.nodes.len() + self.reserved + regions.len()
+                > self.options.budgets.tree_nodes
+        {
+            self.tree.pruned += 1;
+            return Vec::new();
+        }
         let inverse = t.inverse();
-        let mut cache: Vec<(Vec<u32>, Color)> = Vec::new();
+        // One pass over the lights for the target; each region then costs
+        // only its own lights.
         let mut out = Vec::with_capacity(regions.len());
         for (points, lights) in regions {
-            let shade = self.shadow_shade(c, eye_real, &lights, &points, inverse, &mut cache);
+            let shade = self.shadow_shade(c, eye_real, &lights, &points, inverse, terms);
             let screen = points.iter().map(|p| self.view.project(*p)).collect();
             out.push(self.push(Fragment {
                 level,
@@ -752,9 +925,10 @@ impl Builder<'_> {
         out
     }
 
-    /// The target's shade without `lights` (004 section 4.7): one shade per
-    /// light set and target (cached), or with `setmode h on` at the
-    /// region's centroid mapped back to world space.
+    /// The target's shade without `lights` (004 section 4.7): the
+    /// target's shade with all lights (`terms`) less those lights, or with
+    /// `setmode h on` the same at the region's centroid mapped back to
+    /// world space (one pass over the lights per region).
     fn shadow_shade(
         &self,
         c: &Candidate,
@@ -762,35 +936,23 @@ impl Builder<'_> {
         lights: &[u32],
         points: &[DVec3],
         inverse: Option<Matrix4>,
-        cache: &mut Vec<(Vec<u32>, Color)>,
+        terms: &FacetTerms,
     ) -> Color {
-        let scene = self.scene;
-        let others: Vec<_> = (0..scene.lights.len() as u32)
-            .filter(|k| !lights.contains(k))
-            .map(|k| scene.lights[k as usize])
-            .collect();
-        let shade_at = |at| {
-            facet_shade_with_model(
-                scene,
+        if self.options.explicit_shadow_shades {
+            let at = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+            let at = inverse.map_or(at, |i| i.transform_point(at));
+            return FacetTerms::new(
+                self.scene,
                 *eye_real,
                 c.object,
                 c.polygon,
                 c.back_facing,
-                &others,
-                at,
+                Some(at),
                 self.options.shading,
             )
-        };
-        if self.options.explicit_shadow_shades {
-            let at = points.iter().copied().sum::<DVec3>() / points.len() as f64;
-            return shade_at(Some(inverse.map_or(at, |i| i.transform_point(at))));
+            .without(lights);
         }
-        if let Some((_, s)) = cache.iter().find(|(l, _)| l == lights) {
-            return *s;
-        }
-        let s = shade_at(None);
-        cache.push((lights.to_vec(), s));
-        s
+        terms.without(lights)
     }
 
     /// The shadow volume of fragment `points` for a light at `lv` (virtual
@@ -858,9 +1020,13 @@ impl Builder<'_> {
         let mut out = Vec::new();
         for k in candidates {
             let caster = &index.casters[k];
-            let object = &scene.objects[caster.object as usize];
-            if caster.object == c.object
-                && (!object.surface_type.concave || caster.polygon == c.polygon)
+            // A polygon casts no shadow on its own object unless that is
+            // `type concave`, and never on itself; a caster standing for
+            // several identical polygons casts if any of them may.
+            if let Some(o) = caster.single_object
+                && o == c.object
+                && (!scene.objects[o as usize].surface_type.concave
+                    || (caster.copies == 1 && caster.polygon == c.polygon))
             {
                 continue;
             }
@@ -878,6 +1044,12 @@ impl Builder<'_> {
                     .map(|p| t.transform_point(*p))
                     .collect()
             };
+            // A caster in the target's plane (a coincident copy, or a
+            // neighbour of a tessellated plane) shadows nothing on it.
+            let n = target.truncate();
+            if pts.iter().all(|p| (n.dot(*p) + target.w).abs() <= self.eps) {
+                continue;
+            }
             out.extend(self.project_caster(&pts, &volume, target, lv));
         }
         out
@@ -957,10 +1129,17 @@ impl Builder<'_> {
     }
 }
 
-/// A polygon that may cast a shadow, in the virtual coordinates of a level.
+/// A polygon that may cast a shadow, in world coordinates; identical
+/// polygons (the same vertices from the same start, the same `type open`)
+/// share one caster, since they cast the same shadow.
 struct Caster {
-    object: u32,
+    /// The first polygon it stands for.
     polygon: u32,
+    /// The object of every polygon it stands for, or `None` when they come
+    /// from several objects.
+    single_object: Option<u32>,
+    /// How many identical polygons it stands for.
+    copies: u32,
     points: Vec<DVec3>,
     /// Outward plane (unit normal).
     plane: DVec4,
@@ -984,7 +1163,11 @@ impl CasterIndex {
     /// The index of every displayed polygon of `scene`, in world
     /// coordinates (levels below 1 map their shadow volumes back to them).
     fn new(scene: &Scene) -> CasterIndex {
-        let mut casters = Vec::new();
+        let mut casters: Vec<Caster> = Vec::new();
+        // Identical polygons (65,535 copies of one triangle) would each
+        // be found by every query of the others: one caster for all.
+        let mut seen: std::collections::HashMap<(bool, Vec<[u64; 3]>), usize> =
+            std::collections::HashMap::new();
         for (oi, object) in scene.objects.iter().enumerate() {
             if object.surface_type.hidden {
                 continue;
@@ -995,14 +1178,31 @@ impl CasterIndex {
                     .iter()
                     .map(|&i| object.vertices[i as usize])
                     .collect();
+                let key = (
+                    object.surface_type.open,
+                    points
+                        .iter()
+                        .map(|p| p.to_array().map(f64::to_bits))
+                        .collect(),
+                );
+                if let Some(&k) = seen.get(&key) {
+                    let caster = &mut casters[k];
+                    caster.copies += 1;
+                    if caster.single_object != Some(oi as u32) {
+                        caster.single_object = None;
+                    }
+                    continue;
+                }
+                seen.insert(key, casters.len());
                 let plane = poly.plane;
                 let (lo, hi) = points.iter().fold(
                     (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
                     |(lo, hi), p| (lo.min(*p), hi.max(*p)),
                 );
                 casters.push(Caster {
-                    object: oi as u32,
                     polygon: pi as u32,
+                    single_object: Some(oi as u32),
+                    copies: 1,
                     points,
                     plane,
                     open: object.surface_type.open,

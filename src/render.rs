@@ -400,6 +400,7 @@ pub fn prepare(
             refraction: options.refraction,
             explicit_shadow_shades: scene.modes.shadow_shades,
             shading: options.shading,
+            budgets: crate::budget::Budgets::default(),
         },
         &profile,
     );

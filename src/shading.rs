@@ -83,29 +83,160 @@ pub fn shade(
 ) -> Color {
     let mut c = m.color * ambient * m.ambient_coefficient();
     for light in lights {
-        let to_light = light.position - p;
-        let d = to_light.length();
-        if d == 0.0 {
-            continue;
+        if let Some(term) = light_term(m, p, n, to_eye, light) {
+            c += term;
         }
-        let l = to_light / d;
-        let n_dot_l = n.dot(l);
-        if n_dot_l <= 0.0 {
-            continue;
-        }
-        let k = range_attenuation(d, light.range);
-        if k == 0.0 {
-            continue;
-        }
-        let mut term = m.color * m.diffuse * n_dot_l;
-        if m.specular > 0.0 {
-            let h = (l + to_eye).normalize_or_zero();
-            let n_dot_h = n.dot(h).max(0.0);
-            term += DVec3::splat(m.specular * n_dot_h.powf(m.shininess));
-        }
-        c += light.color * term * k;
     }
     c.clamp(DVec3::ZERO, DVec3::ONE)
+}
+
+/// The unclamped contribution of one light to [`shade`], `None` when it
+/// gives nothing.
+fn light_term(m: &Material, p: DVec3, n: DVec3, to_eye: DVec3, light: &Light) -> Option<Color> {
+    let to_light = light.position - p;
+    let d = to_light.length();
+    if d == 0.0 {
+        return None;
+    }
+    let l = to_light / d;
+    let n_dot_l = n.dot(l);
+    if n_dot_l <= 0.0 {
+        return None;
+    }
+    let k = range_attenuation(d, light.range);
+    if k == 0.0 {
+        return None;
+    }
+    let mut term = m.color * m.diffuse * n_dot_l;
+    if m.specular > 0.0 {
+        let h = (l + to_eye).normalize_or_zero();
+        let n_dot_h = n.dot(h).max(0.0);
+        term += DVec3::splat(m.specular * n_dot_h.powf(m.shininess));
+    }
+    Some(light.color * term * k)
+}
+
+/// The unclamped contribution of one light to [`shade_donovan`] (rules
+/// (1) and (2)), `None` when it gives nothing.
+fn light_term_donovan(
+    m: &Material,
+    p: DVec3,
+    n: DVec3,
+    to_eye: DVec3,
+    light: &Light,
+) -> Option<Color> {
+    let theta1 = n.dot(to_eye).clamp(-1.0, 1.0).acos();
+    let l = (light.position - p).try_normalize()?;
+    let cos_theta = n.dot(l).clamp(-1.0, 1.0);
+    if cos_theta <= 0.0 {
+        return None;
+    }
+    let mut c = light.color * m.color * (m.diffuse * cos_theta);
+    let cos_spec = (cos_theta.acos() - theta1).cos();
+    if m.specular > 0.0 && cos_spec > 0.0 {
+        c += light.color * (m.specular * cos_spec.powf(m.shininess));
+    }
+    Some(c)
+}
+
+/// The faceted shade of one polygon seen from one eye, kept as its
+/// unclamped sum over all lights, so that its shade without a few lights
+/// (the shade of a shadow, 004 section 4.7) costs those lights only, not
+/// a new sum over all the others: with thousands of lights and a shadow
+/// per light, that sum made the cost grow with the square of the light
+/// count.
+#[derive(Debug, Clone)]
+pub struct FacetTerms<'a> {
+    lights: &'a [Light],
+    eye: DVec4,
+    model: ShadingModel,
+    material: Material,
+    point: DVec3,
+    normal: DVec3,
+    to_eye: DVec3,
+    /// `None` for `type ltsrc`: the colour itself, lights or not.
+    total: Option<Color>,
+}
+
+impl<'a> FacetTerms<'a> {
+    /// The terms of [`facet_shade_with_model`] with all of the scene's
+    /// lights: one pass over them.
+    pub fn new(
+        scene: &'a Scene,
+        eye: DVec4,
+        object: u32,
+        polygon: u32,
+        back: bool,
+        at: Option<DVec3>,
+        model: ShadingModel,
+    ) -> FacetTerms<'a> {
+        let object = &scene.objects[object as usize];
+        let pi = polygon as usize;
+        let poly = &object.polygons[pi];
+        let material = polygon_material(object, pi);
+        let point = at.unwrap_or_else(|| {
+            poly.indices
+                .iter()
+                .map(|&i| object.vertices[i as usize])
+                .sum::<DVec3>()
+                / poly.indices.len() as f64
+        });
+        let normal = if back { -poly.normal() } else { poly.normal() };
+        let to_eye = crate::geometry::view::direction_to_eye(eye, point);
+        let mut terms = FacetTerms {
+            lights: &scene.lights,
+            eye,
+            model,
+            material,
+            point,
+            normal,
+            to_eye,
+            total: None,
+        };
+        if !object.surface_type.ltsrc {
+            let mut c = material.color * scene.ambient * material.ambient_coefficient();
+            for light in &scene.lights {
+                if let Some(t) = terms.term(light) {
+                    c += t;
+                }
+            }
+            terms.total = Some(c);
+        }
+        terms
+    }
+
+    fn term(&self, light: &Light) -> Option<Color> {
+        let (m, p, n, e) = (&self.material, self.point, self.normal, self.to_eye);
+        match self.model {
+            ShadingModel::Garcia => light_term(m, p, n, e, light),
+            ShadingModel::Donovan => light_term_donovan(m, p, n, e, light),
+        }
+    }
+
+    /// The eye (homogeneous world point) the shade is seen from.
+    pub fn eye(&self) -> DVec4 {
+        self.eye
+    }
+
+    /// The shade with every light.
+    pub fn shade(&self) -> Color {
+        self.total
+            .map_or(self.material.color, |c| c.clamp(DVec3::ZERO, DVec3::ONE))
+    }
+
+    /// The shade without the lights of these indices (distinct), in the
+    /// time of their number.
+    pub fn without(&self, lights: &[u32]) -> Color {
+        let Some(mut c) = self.total else {
+            return self.material.color;
+        };
+        for &j in lights {
+            if let Some(t) = self.lights.get(j as usize).and_then(|l| self.term(l)) {
+                c -= t;
+            }
+        }
+        c.clamp(DVec3::ZERO, DVec3::ONE)
+    }
 }
 
 /// The intensity at `p` under `model` (see [`shade`] and

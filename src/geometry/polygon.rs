@@ -35,16 +35,21 @@ pub fn area(points: &[DVec3]) -> f64 {
     newell_vector(points.iter().copied()).length() / 2.0
 }
 
-/// The largest distance between two of `points` (the diameter), 0 if fewer
-/// than two.
-pub fn diameter(points: &[DVec3]) -> f64 {
-    let mut d: f64 = 0.0;
-    for (i, a) in points.iter().enumerate() {
-        for b in &points[i + 1..] {
-            d = d.max(a.distance(*b));
-        }
+/// The diagonal of the axis-aligned bounding box of `points`: the size
+/// that the tolerances of [`outward_plane`] scale with. It lies between the
+/// diameter (the largest distance between two points) and `sqrt(3)` times
+/// it, and takes one pass over the points (the exact diameter takes a
+/// pass over every pair, which a polygon of 200,000 vertices cannot
+/// afford). 0 for fewer than two points; NaN coordinates are ignored.
+pub fn extent(points: &[DVec3]) -> f64 {
+    if points.len() < 2 {
+        return 0.0;
     }
-    d
+    let (lo, hi) = points.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    (hi - lo).max(DVec3::ZERO).length()
 }
 
 /// What is wrong with a polygon, if anything.
@@ -54,16 +59,18 @@ pub enum PolygonDefect {
     TooFewVertices(usize),
     /// All vertices on a line (zero area).
     ZeroArea,
-    /// Vertices off the best-fit plane by this fraction of the diameter.
+    /// Vertices off the best-fit plane by this fraction of the polygon's
+    /// size ([`extent`]).
     NonPlanar(f64),
 }
 
 /// The outward plane `[A B C D]` (unit normal) of a clockwise-from-outside
-/// polygon, or its defect. Consecutive duplicate vertices are ignored when
-/// counting distinct vertices.
+/// polygon, or its defect. Vertices closer than the coincidence tolerance
+/// count once when counting distinct vertices. Linear in the number of
+/// vertices.
 pub fn outward_plane(points: &[DVec3]) -> Result<DVec4, PolygonDefect> {
-    let diam = diameter(points);
-    let distinct = distinct_count(points, diam);
+    let diam = extent(points);
+    let distinct = distinct_count_up_to_3(points, diam);
     if distinct < 3 {
         return Err(PolygonDefect::TooFewVertices(distinct));
     }
@@ -89,12 +96,19 @@ pub fn outward_plane(points: &[DVec3]) -> Result<DVec4, PolygonDefect> {
     Ok(normal.extend(d))
 }
 
-fn distinct_count(points: &[DVec3], diam: f64) -> usize {
-    let tol = precision::COINCIDENT_VERTEX * diam;
-    let mut unique: Vec<DVec3> = Vec::new();
+/// The number of distinct vertices (greedily: a vertex is new when no
+/// vertex already counted lies within the tolerance), counted up to 3: the
+/// only question asked is whether there are fewer than three, so at most
+/// two vertices are ever compared with, and the count is linear.
+fn distinct_count_up_to_3(points: &[DVec3], size: f64) -> usize {
+    let tol = precision::COINCIDENT_VERTEX * size;
+    let mut unique: Vec<DVec3> = Vec::with_capacity(3);
     for p in points {
         if !unique.iter().any(|q| q.distance(*p) <= tol) {
             unique.push(*p);
+            if unique.len() == 3 {
+                break;
+            }
         }
     }
     unique.len()
@@ -125,6 +139,14 @@ pub fn is_convex(points: &[DVec3]) -> bool {
 
 /// Cuts a simple planar polygon into triangles by ear clipping, keeping its
 /// orientation. Convex polygons become fans.
+///
+/// The remaining outline is a linked ring, walked once around and
+/// resumed after each ear cut. Only reflex vertices can lie inside an
+/// ear, and a vertex that stops being reflex never becomes reflex again,
+/// so the ear test looks up the reflex vertices in a grid over the
+/// polygon's plane: a polygon of 200,000 vertices is cut in about linear
+/// time instead of the cube of its vertex count. When a whole turn finds
+/// no ear (a degenerate outline), the vertex reached is cut anyway.
 pub fn triangulate(points: &[DVec3]) -> Vec<[DVec3; 3]> {
     let m = points.len();
     if m < 3 {
@@ -136,41 +158,180 @@ pub fn triangulate(points: &[DVec3]) -> Vec<[DVec3; 3]> {
             .collect();
     }
     let n = newell_vector(points.iter().copied());
-    let mut idx: Vec<usize> = (0..m).collect();
-    let mut out = Vec::with_capacity(m - 2);
-    let convex_at = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - b).dot(n) > 0.0;
     let inside = |p: DVec3, a: DVec3, b: DVec3, c: DVec3| {
         (b - a).cross(p - a).dot(n) >= 0.0
             && (c - b).cross(p - b).dot(n) >= 0.0
             && (a - c).cross(p - c).dot(n) >= 0.0
     };
-    let mut guard = 0;
-    while idx.len() > 3 && guard < 4 * m * m {
-        guard += 1;
-        let k = idx.len();
-        let ear = (0..k).find(|&i| {
-            let (a, b, c) = (
-                points[idx[(i + k - 1) % k]],
-                points[idx[i]],
-                points[idx[(i + 1) % k]],
-            );
-            convex_at(a, b, c)
-                && idx
-                    .iter()
-                    .all(|&j| [a, b, c].contains(&points[j]) || !inside(points[j], a, b, c))
-        });
-        let i = ear.unwrap_or(0);
-        out.push([
-            points[idx[(i + k - 1) % k]],
-            points[idx[i]],
-            points[idx[(i + 1) % k]],
-        ]);
-        idx.remove(i);
+    let mut prev: Vec<usize> = (0..m).map(|i| (i + m - 1) % m).collect();
+    let mut next: Vec<usize> = (0..m).map(|i| (i + 1) % m).collect();
+    let mut alive = vec![true; m];
+    // Reflex beyond rounding, with the tolerance of `is_convex`: nearly
+    // collinear vertices (thousands of them on a finely divided circle)
+    // stay out of the grid.
+    let scale = n.length();
+    let reflex_at = |a: DVec3, b: DVec3, c: DVec3| {
+        (b - a).cross(c - b).dot(n) < -1e-12 * scale * (b - a).length().max((c - b).length())
+    };
+    let mut reflex: Vec<bool> = (0..m)
+        .map(|i| reflex_at(points[prev[i]], points[i], points[next[i]]))
+        .collect();
+    let mut grid = ReflexGrid::new(points, n, &reflex);
+    let mut out = Vec::with_capacity(m - 2);
+    let mut remaining = m;
+    let (mut ear, mut stop, mut forced) = (0, 0, false);
+    while remaining > 3 {
+        let (i, j, k) = (prev[ear], ear, next[ear]);
+        let (a, b, c) = (points[i], points[j], points[k]);
+        let is_ear = forced
+            || (!reflex[j]
+                && grid.none_inside(
+                    a,
+                    b,
+                    c,
+                    |v| alive[v] && reflex[v],
+                    |v| ![a, b, c].contains(&points[v]) && inside(points[v], a, b, c),
+                ));
+        if is_ear {
+            out.push([a, b, c]);
+            alive[j] = false;
+            next[i] = k;
+            prev[k] = i;
+            remaining -= 1;
+            for v in [i, k] {
+                if reflex[v] && !reflex_at(points[prev[v]], points[v], points[next[v]]) {
+                    reflex[v] = false;
+                }
+            }
+            // Skip a vertex before the next try, so that the cuts spread
+            // around the ring instead of fanning out of one vertex (long
+            // slivers whose boxes cover the whole grid).
+            ear = next[k];
+            stop = ear;
+            forced = false;
+            continue;
+        }
+        ear = k;
+        // A whole turn without an ear: cut the next vertex anyway.
+        forced = ear == stop;
     }
-    if idx.len() == 3 {
-        out.push([points[idx[0]], points[idx[1]], points[idx[2]]]);
-    }
+    let j = next[ear];
+    out.push([points[ear], points[j], points[next[j]]]);
     out
+}
+
+/// The reflex vertices of a polygon bucketed in a square grid over its
+/// plane (the two coordinates other than the normal's largest).
+struct ReflexGrid {
+    cells: Vec<Vec<u32>>,
+    side: usize,
+    axes: (usize, usize),
+    lo: (f64, f64),
+    cell: (f64, f64),
+    points_2d: Vec<(f64, f64)>,
+}
+
+impl ReflexGrid {
+    fn new(points: &[DVec3], normal: DVec3, reflex: &[bool]) -> ReflexGrid {
+        let a = normal.abs();
+        let axes = if a.z >= a.x && a.z >= a.y {
+            (0, 1)
+        } else if a.y >= a.x {
+            (0, 2)
+        } else {
+            (1, 2)
+        };
+        let points_2d: Vec<(f64, f64)> = points
+            .iter()
+            .map(|p| (p.to_array()[axes.0], p.to_array()[axes.1]))
+            .collect();
+        let count = reflex.iter().filter(|r| **r).count();
+        let side = ((count as f64).sqrt().ceil() as usize).clamp(1, 1024);
+        let (mut lo, mut hi) = (
+            (f64::INFINITY, f64::INFINITY),
+            (f64::NEG_INFINITY, f64::NEG_INFINITY),
+        );
+        for &(x, y) in &points_2d {
+            lo = (lo.0.min(x), lo.1.min(y));
+            hi = (hi.0.max(x), hi.1.max(y));
+        }
+        let size = |l: f64, h: f64| {
+            let s = (h - l) / side as f64;
+            if s.is_finite() && s > 0.0 { s } else { 1.0 }
+        };
+        let mut grid = ReflexGrid {
+            cells: vec![Vec::new(); side * side],
+            side,
+            axes,
+            lo: (
+                if lo.0.is_finite() { lo.0 } else { 0.0 },
+                if lo.1.is_finite() { lo.1 } else { 0.0 },
+            ),
+            cell: (size(lo.0, hi.0), size(lo.1, hi.1)),
+            points_2d,
+        };
+        for (v, _) in reflex.iter().enumerate().filter(|(_, r)| **r) {
+            let (x, y) = grid.points_2d[v];
+            let (cx, cy) = (grid.index(x, 0), grid.index(y, 1));
+            grid.cells[cy * side + cx].push(v as u32);
+        }
+        grid
+    }
+
+    /// The cell column (`axis` 0) or row (1) of a coordinate, clamped;
+    /// NaN goes to cell 0.
+    fn index(&self, v: f64, axis: usize) -> usize {
+        let (lo, cell) = if axis == 0 {
+            (self.lo.0, self.cell.0)
+        } else {
+            (self.lo.1, self.cell.1)
+        };
+        (((v - lo) / cell).floor().max(0.0) as usize).min(self.side - 1)
+    }
+
+    /// Whether no vertex bucketed in the cells under the triangle's box
+    /// passes `hit`; vertices that fail `live` (cut, or no longer reflex)
+    /// are dropped from the cells on the way.
+    fn none_inside(
+        &mut self,
+        a: DVec3,
+        b: DVec3,
+        c: DVec3,
+        live: impl Fn(usize) -> bool,
+        hit: impl Fn(usize) -> bool,
+    ) -> bool {
+        let (ax, ay) = (self.axes.0, self.axes.1);
+        let coords = [a, b, c].map(|p| (p.to_array()[ax], p.to_array()[ay]));
+        let xs = coords.map(|p| p.0);
+        let ys = coords.map(|p| p.1);
+        let (x0, x1) = (
+            self.index(xs.iter().copied().fold(f64::INFINITY, f64::min), 0),
+            self.index(xs.iter().copied().fold(f64::NEG_INFINITY, f64::max), 0),
+        );
+        let (y0, y1) = (
+            self.index(ys.iter().copied().fold(f64::INFINITY, f64::min), 1),
+            self.index(ys.iter().copied().fold(f64::NEG_INFINITY, f64::max), 1),
+        );
+        if xs.iter().chain(&ys).any(|v| v.is_nan()) {
+            // Unknown position: look everywhere.
+            return self
+                .cells
+                .iter()
+                .flatten()
+                .all(|&v| !(live(v as usize) && hit(v as usize)));
+        }
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                if self.cells[y * self.side + x]
+                    .iter()
+                    .any(|&v| hit(v as usize))
+                {
+                    return false;
+                }
+            }
+        }
+        true
+    }
 }
 
 /// The polygon itself if convex, else its triangles (as loops).

@@ -31,9 +31,10 @@
 //! Preconditions: faces are planar and convex (non-convex faces are cut
 //! into triangles first by [`crate::geometry::polygon::triangulate`]) and
 //! lie inside the view volume (clipped). Faces seen edge-on cover no area
-//! and are output as they come. A guard bounds the number of splits; a
-//! cycle still unbroken after it is output as is and counted in
-//! [`NnsStats::unresolved`].
+//! and are output as they come. A cycle that cannot be split numerically is
+//! output as is and counted in [`NnsStats::unresolved`]. A budget bounds
+//! the splits and the work ([`sort_budgeted`]); past it the level is
+//! ordered by the simple depth sort instead, and the fact is reported.
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -69,8 +70,34 @@ pub struct NnsStats {
     pub longer_cycles: usize,
     /// Occlusion tests that needed the exact overlap test (test 4).
     pub exact_tests: usize,
-    /// Cycles left unbroken by the guard.
+    /// Cycles left unbroken (numerically unsplittable).
     pub unresolved: usize,
+    /// Work done: faces visited as neighbour candidates plus occlusion
+    /// tests; bounded by [`WORK_PER_SPLIT`] times the split budget.
+    pub work: usize,
+    /// Sorts that stopped at the split (or work) budget and were ordered
+    /// by the simple depth sort instead (see [`sort_budgeted`]).
+    pub fallbacks: usize,
+}
+
+/// The work an NNS sort may do per split of its budget before it falls
+/// back: random interpenetrating faces can make every face a neighbour of
+/// every other without splitting much.
+pub const WORK_PER_SPLIT: usize = 5000;
+
+/// The warning of sorts that fell back: `splits` made by the first of
+/// them, `levels` of them in all. It names the flag that raises the
+/// budget (the work allowed grows with it).
+pub fn fallback_warning(splits: usize, levels: usize) -> String {
+    format!(
+        "NNS stopped after {splits} splits (--max-splits raises it); the simple depth sort \
+         ordered {}: the image may be wrong where polygons interpenetrate",
+        if levels == 1 {
+            "this level".to_string()
+        } else {
+            format!("{levels} levels")
+        }
+    )
 }
 
 struct Face {
@@ -113,7 +140,10 @@ struct Sorter<'v> {
     stamp: Vec<u32>,
     epoch: u32,
     stats: NnsStats,
-    split_budget: usize,
+    max_splits: usize,
+    max_work: usize,
+    /// Set when a budget ran out: the sort gives up.
+    stopped: bool,
 }
 
 struct Grid {
@@ -154,10 +184,31 @@ impl Grid {
     }
 }
 
-/// Sorts `faces` back to front, splitting where needed. `epsilon` is the
-/// absolute world distance under which points count as on a plane.
+/// Sorts `faces` back to front, splitting where needed, within the
+/// default split budget ([`crate::budget::Budgets::splits`]). `epsilon` is
+/// the absolute world distance under which points count as on a plane.
 pub fn sort(faces: Vec<NnsFace>, view: &View, epsilon: f64) -> (Vec<NnsFace>, NnsStats) {
+    sort_budgeted(
+        faces,
+        view,
+        epsilon,
+        crate::budget::Budgets::default().splits,
+    )
+}
+
+/// [`sort`] with at most `max_splits` splits and `WORK_PER_SPLIT *
+/// max_splits` units of work. Past either, the sort stops and the faces
+/// (unsplit) are ordered by the simple depth sort (farthest vertex first,
+/// 004 section 4.4), which is correct wherever faces do not overlap in
+/// depth and on the screen; [`NnsStats::fallbacks`] is then 1.
+pub fn sort_budgeted(
+    faces: Vec<NnsFace>,
+    view: &View,
+    epsilon: f64,
+    max_splits: usize,
+) -> (Vec<NnsFace>, NnsStats) {
     let n = faces.len();
+    let originals = faces.clone();
     let mut s = Sorter {
         view,
         eps: epsilon,
@@ -170,7 +221,9 @@ pub fn sort(faces: Vec<NnsFace>, view: &View, epsilon: f64) -> (Vec<NnsFace>, Nn
             faces_in: n,
             ..NnsStats::default()
         },
-        split_budget: 8 * n + 1000,
+        max_splits,
+        max_work: max_splits.saturating_mul(WORK_PER_SPLIT),
+        stopped: false,
     };
     for f in faces {
         s.add(f);
@@ -178,8 +231,33 @@ pub fn sort(faces: Vec<NnsFace>, view: &View, epsilon: f64) -> (Vec<NnsFace>, Nn
     let mut out = Vec::with_capacity(n);
     while let Some(head) = s.head() {
         let p = s.find_minimum(head);
+        if s.stopped {
+            break;
+        }
         s.faces[p].alive = false;
         out.push(s.faces[p].source.clone());
+    }
+    if s.stopped {
+        let keys: Vec<f64> = originals
+            .iter()
+            .map(|f| {
+                let zmax = f
+                    .world
+                    .iter()
+                    .map(|p| view.project(*p).z)
+                    .fold(f64::NEG_INFINITY, f64::max);
+                crate::visibility::depth_sort::sort_key(
+                    (f64::NEG_INFINITY, zmax),
+                    crate::scene::model::SortOrder::BackToFront,
+                )
+            })
+            .collect();
+        let mut slots: Vec<Option<NnsFace>> = originals.into_iter().map(Some).collect();
+        out = crate::visibility::depth_sort::sorted_order(&keys)
+            .into_iter()
+            .map(|k| slots[k].take().expect("a permutation"))
+            .collect();
+        s.stats.fallbacks = 1;
     }
     s.stats.faces_out = out.len();
     (out, s.stats)
@@ -237,6 +315,10 @@ impl Sorter<'_> {
         let mut p = start;
         let mut chain: Vec<usize> = Vec::new();
         loop {
+            if self.stats.work >= self.max_work {
+                self.stopped = true;
+                return p;
+            }
             let Some(q) = self.first_occulted(p, &chain) else {
                 return p;
             };
@@ -247,8 +329,8 @@ impl Sorter<'_> {
                 p = q;
                 continue;
             }
-            if self.split_budget == 0 {
-                self.stats.unresolved += 1;
+            if self.stats.splits >= self.max_splits || self.stats.work >= self.max_work {
+                self.stopped = true;
                 return p;
             }
             let split = if mutual {
@@ -298,6 +380,7 @@ impl Sorter<'_> {
                 let cell = &mut self.grid.cells[y * self.grid.n + x];
                 // Drop faces already output, lazily.
                 cell.retain(|&q| self.faces[q as usize].alive);
+                self.stats.work += cell.len();
                 for &q in cell.iter() {
                     let q = q as usize;
                     if q == p || self.stamp[q] == self.epoch {
@@ -323,6 +406,7 @@ impl Sorter<'_> {
     /// Whether `a` may be nearer the eye than `b` somewhere both cover
     /// (tests 1 to 4 of the module comment).
     fn may_occult(&mut self, a: usize, b: usize) -> bool {
+        self.stats.work += 1;
         let (fa, fb) = (&self.faces[a], &self.faces[b]);
         // Test 1: screen extents.
         if fa.hi.x <= fb.lo.x || fb.hi.x <= fa.lo.x || fa.hi.y <= fb.lo.y || fb.hi.y <= fa.lo.y {
@@ -416,7 +500,6 @@ impl Sorter<'_> {
             return false;
         }
         self.stats.splits += 1;
-        self.split_budget -= 1;
         self.faces[q].alive = false;
         let (object, polygon) = (self.faces[q].source.object, self.faces[q].source.polygon);
         for world in pieces {
