@@ -23,7 +23,7 @@ impl Default for Budgets {
         Budgets {
             polygons: 4_000_000,
             call_depth: 64,
-            tree_nodes: 4_000_000,
+            tree_nodes: 500_000,
             splits: 200_000,
             pixels: 1 << 30,
         }

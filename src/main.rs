@@ -658,6 +658,7 @@ impl Host for CliHost {
             aa: self.aa,
             threads: self.threads,
             shading: self.shading,
+            budgets: self.budgets,
         };
         let streamed = scene.display
             && self.id_image.is_none()
@@ -746,6 +747,9 @@ impl Host for CliHost {
             "{} Polygons tiled, Max depth = {}",
             s.polygons_tiled, s.max_depth
         ));
+        for w in &s.warnings {
+            err(&format!("warning: {w}"));
+        }
         if let Some(m) = s.method {
             let fragments = if s.scan.total_fragments > 0 {
                 format!(

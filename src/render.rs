@@ -55,6 +55,8 @@ pub struct RenderOptions {
     /// The illumination model (`--shading`); Donovan's brings his
     /// transparency rule (3) to the scan converter.
     pub shading: crate::shading::ShadingModel,
+    /// Limits on the tree (nodes) and the NNS sort (splits).
+    pub budgets: crate::budget::Budgets,
 }
 
 /// Figures of one render.
@@ -84,6 +86,10 @@ pub struct RenderStats {
     pub method: Option<Method>,
     /// Scan conversion figures (fragments of method 4).
     pub scan: ScanStats,
+    /// Branches of the tree pruned by its node budget.
+    pub pruned: usize,
+    /// What the tree builder had to give up (budgets), for the user.
+    pub warnings: Vec<String>,
 }
 
 /// A rendered image and what is painted where.
@@ -400,7 +406,7 @@ pub fn prepare(
             refraction: options.refraction,
             explicit_shadow_shades: scene.modes.shadow_shades,
             shading: options.shading,
-            budgets: crate::budget::Budgets::default(),
+            budgets: options.budgets,
         },
         &profile,
     );
@@ -408,6 +414,8 @@ pub fn prepare(
     stats.geometry = tree.geometry;
     stats.max_depth = tree.max_depth;
     stats.nns = tree.nns;
+    stats.pruned = tree.pruned;
+    stats.warnings = tree.warnings.clone();
     let t = Instant::now();
     let (width, height) = (view.width as u32, view.height as u32);
     let method = best_method(options);
