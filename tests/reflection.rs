@@ -170,12 +170,75 @@ fn cube_on_mirror_output_orders() {
         assert!((f.blended - (i11 + f.shade * 0.5)).length() < 1e-12);
         assert_eq!(f.weight, 0.5);
     }
-    // Every reflected fragment lies beyond the mirror plane z = 0 (in
-    // virtual coordinates, the reflection of the scene) and inside the
-    // mirror's outline seen from the eye.
+    // The mirror sees the cube's bottom face and the two side faces seen
+    // directly; every reflected fragment lies beyond the mirror plane (in
+    // virtual coordinates, the reflection of the scene), its corners are
+    // exactly the mirror images of its cube face's corners (the cube lies
+    // wholly inside the mirror's outline, so nothing is clipped off), and
+    // on screen it lies inside the mirror's outline.
+    let mut seen: Vec<u32> = tree
+        .roots
+        .iter()
+        .map(|&n| &tree.nodes[n])
+        .filter(|f| f.object == 1)
+        .map(|f| f.polygon)
+        .collect();
+    seen.sort_unstable();
+    let cube = &scene.objects[1];
+    let (top, bottom) = (0u32, 1u32);
+    // (In eye coordinates: the top faces the way the mirror does.)
+    let up = scene.objects[0].polygons[0].normal().normalize();
+    assert!(
+        cube.polygons[top as usize].normal().normalize().dot(up) > 0.999
+            && cube.polygons[bottom as usize].normal().normalize().dot(up) < -0.999
+    );
+    assert_eq!(seen.len(), 3, "level 1 sees three cube faces: {seen:?}");
+    assert!(seen.contains(&top) && !seen.contains(&bottom));
+    let mut want: Vec<u32> = seen
+        .iter()
+        .map(|&p| if p == top { bottom } else { p })
+        .collect();
+    want.sort_unstable();
+    let mut reflected: Vec<u32> = tree.nodes[mirror]
+        .children
+        .iter()
+        .map(|&c| tree.nodes[c].polygon)
+        .collect();
+    reflected.sort_unstable();
+    assert_eq!(reflected, want, "the cube faces seen in the mirror");
+    let plane = scene.objects[0].polygons[0].plane;
+    let (n, d) = (plane.truncate(), plane.w);
+    let side = |p: DVec3| (n.dot(p) + d) / n.length();
+    let mirror_image = |p: DVec3| p - n * (2.0 * (n.dot(p) + d) / n.length_squared());
+    let outline = &tree.nodes[mirror].screen;
+    let turn = |a: DVec3, b: DVec3, p: DVec3| (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+    let orientation = (0..outline.len())
+        .map(|i| turn(outline[0], outline[i], outline[(i + 1) % outline.len()]))
+        .sum::<f64>()
+        .signum();
     for &c in &tree.nodes[mirror].children {
-        for p in &tree.nodes[c].screen {
-            assert!(p.x >= -1e-6 && p.y >= -1e-6);
+        let f = &tree.nodes[c];
+        let face = &cube.polygons[f.polygon as usize];
+        assert_eq!(f.virtual_points.len(), face.indices.len());
+        for &p in &f.virtual_points {
+            assert!(side(p) < -1e-3, "{p} is not beyond the mirror");
+            let q = mirror_image(p);
+            assert!(
+                face.indices
+                    .iter()
+                    .any(|&i| (cube.vertices[i as usize] - q).length() < 1e-9),
+                "the mirror image {q} of {p} is not a corner of cube face {}",
+                f.polygon
+            );
+        }
+        for &p in &f.screen {
+            for i in 0..outline.len() {
+                let (a, b) = (outline[i], outline[(i + 1) % outline.len()]);
+                assert!(
+                    orientation * turn(a, b, p) >= -1e-6 * (b - a).length(),
+                    "{p} is outside the mirror's outline"
+                );
+            }
         }
     }
     // The painted image agrees with the reflecting oracle.
@@ -191,7 +254,6 @@ fn cube_on_mirror_output_orders() {
         "{} of {checked}",
         bad.len()
     );
-    let _ = DVec3::ZERO;
 }
 
 /// 004 section 5.9, figure 5.14, a cube on a partly diffuse mirror with a
@@ -265,10 +327,29 @@ fn tree_file_of_the_cube_on_a_mirror() {
         plytrace::tree::RecordStream::from_text(&tree.to_text(), path).unwrap(),
         tree
     );
-    // Normalized coordinates.
-    for rec in &tree.records {
-        for p in &rec.points {
-            assert!((-1e-6..=1.0 + 1e-6).contains(&p[0]) && (-1e-6..=1.0 + 1e-6).contains(&p[1]));
+    // Normalized coordinates: each record's points are its fragment's
+    // screen points (pixels from the lower left corner) over the image
+    // size, in the tree's back-to-front order.
+    let view = View::new(&scene, 128, 128).unwrap();
+    let built = image_tree::build(
+        &scene,
+        &view,
+        TreeOptions {
+            max_level: 2,
+            ..Default::default()
+        },
+    );
+    let order = built.output_order(SortOrder::BackToFront);
+    assert_eq!(order.len(), tree.records.len());
+    for (rec, &n) in tree.records.iter().zip(&order) {
+        let screen = &built.nodes[n].screen;
+        assert_eq!(rec.points.len(), screen.len());
+        for (p, s) in rec.points.iter().zip(screen) {
+            let want = [(s.x / 128.0) as f32, (s.y / 128.0) as f32];
+            assert!(
+                (p[0] - want[0]).abs() <= 1e-6 && (p[1] - want[1]).abs() <= 1e-6,
+                "record point {p:?}, want {want:?} (screen {s})"
+            );
         }
     }
 }
