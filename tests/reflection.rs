@@ -170,12 +170,75 @@ fn cube_on_mirror_output_orders() {
         assert!((f.blended - (i11 + f.shade * 0.5)).length() < 1e-12);
         assert_eq!(f.weight, 0.5);
     }
-    // Every reflected fragment lies beyond the mirror plane z = 0 (in
-    // virtual coordinates, the reflection of the scene) and inside the
-    // mirror's outline seen from the eye.
+    // The mirror sees the cube's bottom face and the two side faces seen
+    // directly; every reflected fragment lies beyond the mirror plane (in
+    // virtual coordinates, the reflection of the scene), its corners are
+    // exactly the mirror images of its cube face's corners (the cube lies
+    // wholly inside the mirror's outline, so nothing is clipped off), and
+    // on screen it lies inside the mirror's outline.
+    let mut seen: Vec<u32> = tree
+        .roots
+        .iter()
+        .map(|&n| &tree.nodes[n])
+        .filter(|f| f.object == 1)
+        .map(|f| f.polygon)
+        .collect();
+    seen.sort_unstable();
+    let cube = &scene.objects[1];
+    let (top, bottom) = (0u32, 1u32);
+    // (In eye coordinates: the top faces the way the mirror does.)
+    let up = scene.objects[0].polygons[0].normal().normalize();
+    assert!(
+        cube.polygons[top as usize].normal().normalize().dot(up) > 0.999
+            && cube.polygons[bottom as usize].normal().normalize().dot(up) < -0.999
+    );
+    assert_eq!(seen.len(), 3, "level 1 sees three cube faces: {seen:?}");
+    assert!(seen.contains(&top) && !seen.contains(&bottom));
+    let mut want: Vec<u32> = seen
+        .iter()
+        .map(|&p| if p == top { bottom } else { p })
+        .collect();
+    want.sort_unstable();
+    let mut reflected: Vec<u32> = tree.nodes[mirror]
+        .children
+        .iter()
+        .map(|&c| tree.nodes[c].polygon)
+        .collect();
+    reflected.sort_unstable();
+    assert_eq!(reflected, want, "the cube faces seen in the mirror");
+    let plane = scene.objects[0].polygons[0].plane;
+    let (n, d) = (plane.truncate(), plane.w);
+    let side = |p: DVec3| (n.dot(p) + d) / n.length();
+    let mirror_image = |p: DVec3| p - n * (2.0 * (n.dot(p) + d) / n.length_squared());
+    let outline = &tree.nodes[mirror].screen;
+    let turn = |a: DVec3, b: DVec3, p: DVec3| (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+    let orientation = (0..outline.len())
+        .map(|i| turn(outline[0], outline[i], outline[(i + 1) % outline.len()]))
+        .sum::<f64>()
+        .signum();
     for &c in &tree.nodes[mirror].children {
-        for p in &tree.nodes[c].screen {
-            assert!(p.x >= -1e-6 && p.y >= -1e-6);
+        let f = &tree.nodes[c];
+        let face = &cube.polygons[f.polygon as usize];
+        assert_eq!(f.virtual_points.len(), face.indices.len());
+        for &p in &f.virtual_points {
+            assert!(side(p) < -1e-3, "{p} is not beyond the mirror");
+            let q = mirror_image(p);
+            assert!(
+                face.indices
+                    .iter()
+                    .any(|&i| (cube.vertices[i as usize] - q).length() < 1e-9),
+                "the mirror image {q} of {p} is not a corner of cube face {}",
+                f.polygon
+            );
+        }
+        for &p in &f.screen {
+            for i in 0..outline.len() {
+                let (a, b) = (outline[i], outline[(i + 1) % outline.len()]);
+                assert!(
+                    orientation * turn(a, b, p) >= -1e-6 * (b - a).length(),
+                    "{p} is outside the mirror's outline"
+                );
+            }
         }
     }
     // The painted image agrees with the reflecting oracle.
@@ -191,7 +254,6 @@ fn cube_on_mirror_output_orders() {
         "{} of {checked}",
         bad.len()
     );
-    let _ = DVec3::ZERO;
 }
 
 /// 004 section 5.9, figure 5.14, a cube on a partly diffuse mirror with a
@@ -265,10 +327,29 @@ fn tree_file_of_the_cube_on_a_mirror() {
         plytrace::tree::RecordStream::from_text(&tree.to_text(), path).unwrap(),
         tree
     );
-    // Normalized coordinates.
-    for rec in &tree.records {
-        for p in &rec.points {
-            assert!((-1e-6..=1.0 + 1e-6).contains(&p[0]) && (-1e-6..=1.0 + 1e-6).contains(&p[1]));
+    // Normalized coordinates: each record's points are its fragment's
+    // screen points (pixels from the lower left corner) over the image
+    // size, in the tree's back-to-front order.
+    let view = View::new(&scene, 128, 128).unwrap();
+    let built = image_tree::build(
+        &scene,
+        &view,
+        TreeOptions {
+            max_level: 2,
+            ..Default::default()
+        },
+    );
+    let order = built.output_order(SortOrder::BackToFront);
+    assert_eq!(order.len(), tree.records.len());
+    for (rec, &n) in tree.records.iter().zip(&order) {
+        let screen = &built.nodes[n].screen;
+        assert_eq!(rec.points.len(), screen.len());
+        for (p, s) in rec.points.iter().zip(screen) {
+            let want = [(s.x / 128.0) as f32, (s.y / 128.0) as f32];
+            assert!(
+                (p[0] - want[0]).abs() <= 1e-6 && (p[1] - want[1]).abs() <= 1e-6,
+                "record point {p:?}, want {want:?} (screen {s})"
+            );
         }
     }
 }
@@ -353,6 +434,166 @@ fn refraction_models_map_the_pool_floor() {
     );
     let differing = lin.iter().zip(&par).filter(|(a, b)| a != b).count();
     assert!(differing > 50, "only {differing} pixels differ");
+    // Seen in parallel projection, the orthographic matrix M_to is exact,
+    // and so is the linearization (every ray has the direction of the one
+    // through the centre): what each shows through the water is what a
+    // ray refracted by Snell's law hits (the bent stick included), at every
+    // pixel where that is unambiguous. (The water's reflection is turned off, so that what is
+    // painted last over it is what is seen through it.)
+    let mut parallel = scene.clone();
+    parallel.projection = plytrace::math::ortho(-3.2, 3.2, -3.2, 3.2, 0.01, 1000.0);
+    let water = parallel
+        .objects
+        .iter()
+        .position(|o| o.surface.transmittance > 0.0)
+        .expect("the water");
+    parallel.objects[water].surface.reflectance = 0.0;
+    // NNS at every level, as above: the stick's foot nearly touches the
+    // floor, which the simple depth sort need not get right.
+    parallel.modes.nns = true;
+    let size = 192;
+    let oracle = snell_oracle(&parallel, size);
+    let through_water = oracle
+        .iter()
+        .flatten()
+        .filter(|&&(o, _)| o as usize != water)
+        .count();
+    for model in [
+        image_tree::Refraction::Orthographic,
+        image_tree::Refraction::Linearized,
+    ] {
+        let r = render(
+            &parallel,
+            &RenderOptions {
+                size: Some((size, size)),
+                refraction: model,
+                aa: Some(plytrace::raster::scan::Method::Point),
+                ..RenderOptions::default()
+            },
+        )
+        .unwrap();
+        let (checked, bad) = support::mismatches(&oracle, &support::painted_ids(&r), size, size);
+        assert!(
+            checked > (size * size / 2) as usize && through_water > 4000,
+            "{model:?}: {checked} checked, {through_water} seen through the water"
+        );
+        assert!(
+            bad.is_empty(),
+            "{model:?}: {} of {checked} pixels differ from Snell's law, e.g. {:?}",
+            bad.len(),
+            &bad[..bad.len().min(6)]
+        );
+    }
+}
+
+/// The nearest polygon hit by the ray `o + t d`, `t` in `(from, 1]`,
+/// skipping polygons seen from behind (unless `type open`) and those in
+/// the plane `skip`: (t, object, polygon).
+fn nearest_hit(
+    scene: &Scene,
+    o: DVec3,
+    d: DVec3,
+    from: f64,
+    skip: Option<glam::DVec4>,
+) -> Option<(f64, u32, u32)> {
+    let mut best: Option<(f64, u32, u32)> = None;
+    for (oi, obj) in scene.objects.iter().enumerate() {
+        if obj.surface_type.hidden {
+            continue;
+        }
+        for (pi, poly) in obj.polygons.iter().enumerate() {
+            if skip.is_some_and(|s| (s - poly.plane).length() < 1e-9) {
+                continue;
+            }
+            let n = poly.normal();
+            let denom = n.dot(d);
+            if denom == 0.0 || (denom > 0.0 && !obj.surface_type.open) {
+                continue;
+            }
+            let t = -(n.dot(o) + poly.plane.w) / denom;
+            if t <= from || t > 1.0 || best.is_some_and(|b| b.0 <= t) {
+                continue;
+            }
+            let pts: Vec<DVec3> = poly
+                .indices
+                .iter()
+                .map(|&i| obj.vertices[i as usize])
+                .collect();
+            if inside_polygon(&pts, n, o + d * t) {
+                best = Some((t, oi as u32, pi as u32));
+            }
+        }
+    }
+    best
+}
+
+/// Even-odd test in the projection that drops the normal's largest axis.
+fn inside_polygon(points: &[DVec3], normal: DVec3, p: DVec3) -> bool {
+    let a = normal.abs();
+    let (u, v) = if a.x >= a.y && a.x >= a.z {
+        (1, 2)
+    } else if a.y >= a.z {
+        (2, 0)
+    } else {
+        (0, 1)
+    };
+    let g = |q: DVec3| (q.to_array()[u], q.to_array()[v]);
+    let (px, py) = g(p);
+    let mut odd = false;
+    for i in 0..points.len() {
+        let (ax, ay) = g(points[i]);
+        let (bx, by) = g(points[(i + 1) % points.len()]);
+        if (ay > py) != (by > py) && px < ax + (py - ay) * (bx - ax) / (by - ay) {
+            odd = !odd;
+        }
+    }
+    odd
+}
+
+/// At each pixel centre (rows from the top), what a ray shows when it is
+/// refracted by Snell's law at a transparent polygon (one level, as at
+/// depth 2): the polygon hit beyond it, or the transparent polygon itself
+/// when the refracted ray hits nothing. Between the near and far planes.
+fn snell_oracle(scene: &Scene, size: u32) -> Vec<Option<(u32, u32)>> {
+    let inv = support::invert(&scene.projection).unwrap();
+    let unproject = |x: f64, y: f64, z: f64| {
+        let p = inv.transform(glam::DVec4::new(x, y, z, 1.0));
+        p.truncate() / p.w
+    };
+    let mut out = Vec::new();
+    for row in 0..size {
+        for col in 0..size {
+            let x = (col as f64 + 0.5) / size as f64 * 2.0 - 1.0;
+            let y = 1.0 - (row as f64 + 0.5) / size as f64 * 2.0;
+            let o = unproject(x, y, -1.0);
+            let d = unproject(x, y, 1.0) - o;
+            let Some((t, oi, pi)) = nearest_hit(scene, o, d, 0.0, None) else {
+                out.push(None);
+                continue;
+            };
+            let object = &scene.objects[oi as usize];
+            if object.surface.transmittance <= 0.0 {
+                out.push(Some((oi, pi)));
+                continue;
+            }
+            let plane = object.polygons[pi as usize].plane;
+            let n = plane.truncate().normalize();
+            let dir = d.normalize();
+            let eta = 1.0 / object.surface.index;
+            let cos_i = -dir.dot(n);
+            let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+            assert!(k > 0.0, "no total reflection entering the water");
+            let refracted = eta * dir + (eta * cos_i - k.sqrt()) * n;
+            // The rest of the ray's length, as the far plane bounds it.
+            let hit = o + d * t;
+            let rest = refracted * (d.length() * (1.0 - t));
+            out.push(Some(
+                nearest_hit(scene, hit, rest, 1e-12, Some(plane))
+                    .map_or((oi, pi), |(_, o2, p2)| (o2, p2)),
+            ));
+        }
+    }
+    out
 }
 
 /// With `setmode s on`, specular polygons are written as Phong records

@@ -1,0 +1,477 @@
+//! The entry points of plytrace's fuzz targets, as ordinary functions: the
+//! cargo-fuzz targets in `fuzz_targets/` call them with libFuzzer's bytes,
+//! and `tests/fuzz_regressions.rs` (which includes this file by path) calls
+//! them with every file under `tests/data/fuzz-regressions/<target>/`, so a
+//! finding replays through exactly the code that found it.
+//!
+//! Each function must not panic on any input. Beyond that they check a few
+//! properties that hold for every input (round trips of what was parsed,
+//! image sizes), with `assert!`, so that a broken property is a finding too.
+//!
+//! Nothing here touches the file system outside one private temporary
+//! directory, which the scene language target also makes the working
+//! directory (relative paths in a scene are looked up there too), and whose
+//! inputs may not name a path with `..`, `\` or a `/` outside comments.
+#![allow(clippy::missing_panics_doc)]
+
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, OnceLock};
+
+use plytrace::render::{RenderOptions, render};
+use plytrace::scene::object_file::{self, ColorKind};
+use plytrace::scene::{Interpreter, NoHost, mesh_import};
+use plytrace::tree::RecordStream;
+
+/// The names the fuzz targets are known by, which are also the folders of
+/// `tests/data/fuzz-regressions/`.
+pub const TARGETS: [&str; 5] = [
+    "scene_language",
+    "object_files",
+    "meshes",
+    "tree_files",
+    "pipeline",
+];
+
+/// Runs the target called `name` on `data`.
+pub fn run_target(name: &str, data: &[u8]) {
+    match name {
+        "scene_language" => scene_language(data),
+        "object_files" => object_files(data),
+        "meshes" => meshes(data),
+        "tree_files" => tree_files(data),
+        "pipeline" => pipeline(data),
+        other => panic!("no fuzz target called `{other}`"),
+    }
+}
+
+const CUBE_DET: &str = include_str!("../../examples/det/cube.det");
+const SQUARE_DET: &str = "square\ndata\n4 1\n-1 -1 0\n-1 1 0\n1 1 0\n1 -1 0\n4 1 2 3 4\n";
+const SQUARE_PCL: &str = "square\ndata 1\n.9 .8 .2 .0 .0 .0\n";
+const SQUARE_VCL: &str =
+    "square\ndata 4\n.9 .8 .2 0 0 0\n.8 .9 .2 0 0 0\n.2 .8 .9 0 0 0\n.9 .2 .8 0 0 0\n";
+const SUB_DES: &str = "translate 0 0 -1\ngetobj cube\n";
+
+/// The private directory: `det/` with a cube and a square (with polygon
+/// and vertex colours), and `sub.des` for `call`. Made once per process.
+struct Sandbox {
+    dir: PathBuf,
+    /// Serializes the users of the files in `dir`.
+    lock: Mutex<()>,
+    _keep: tempfile::TempDir,
+}
+
+fn sandbox() -> &'static Sandbox {
+    static SANDBOX: OnceLock<Sandbox> = OnceLock::new();
+    SANDBOX.get_or_init(|| {
+        let keep = tempfile::tempdir().expect("a temporary directory");
+        let dir = keep.path().canonicalize().expect("canonical temp dir");
+        let det = dir.join("det");
+        std::fs::create_dir(&det).expect("det/");
+        for (name, text) in [
+            ("cube.det", CUBE_DET),
+            ("square.det", SQUARE_DET),
+            ("square.pcl", SQUARE_PCL),
+            ("square.vcl", SQUARE_VCL),
+        ] {
+            std::fs::write(det.join(name), text).expect("fixture");
+        }
+        std::fs::write(dir.join("sub.des"), SUB_DES).expect("sub.des");
+        std::fs::create_dir(dir.join("work")).expect("work/");
+        Sandbox {
+            dir,
+            lock: Mutex::new(()),
+            _keep: keep,
+        }
+    })
+}
+
+fn lock(sandbox: &Sandbox) -> std::sync::MutexGuard<'_, ()> {
+    // A panic in another replay poisons the lock; the files are still fine.
+    sandbox.lock.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Whether a scene may name a path outside the sandbox: `..`, `\\`, or a
+/// `/` that is not part of `/*` or `*/` (the lexer starts a comment at every
+/// `/*`, so no word can begin with `/` and be absolute).
+fn names_a_path(data: &[u8]) -> bool {
+    data.contains(&b'\\')
+        || data.windows(2).any(|w| w == b"..")
+        || (0..data.len()).any(|i| {
+            data[i] == b'/' && data.get(i + 1) != Some(&b'*') && (i == 0 || data[i - 1] != b'*')
+        })
+}
+
+/// Checks what every error of the interpreter promises: a message that
+/// starts with the file and, for a text input, `file:line:col:` or the
+/// file alone (I/O and whole-file errors).
+fn check_error(e: &plytrace::Error) {
+    let text = e.to_string();
+    assert!(!text.is_empty(), "an empty error message");
+}
+
+/// `scene_language`: the bytes as a scene file, read by the interpreter as
+/// `get file` does (`plytrace::scene::load`), in the sandbox.
+pub fn scene_language(data: &[u8]) {
+    if names_a_path(data) {
+        return;
+    }
+    let sandbox = sandbox();
+    let _guard = lock(sandbox);
+    // Relative names are also looked up in the working directory: make it
+    // the sandbox's empty `work/`.
+    std::env::set_current_dir(sandbox.dir.join("work")).expect("chdir to the sandbox");
+    let file = sandbox.dir.join("f.des");
+    std::fs::write(&file, data).expect("write the scene");
+    match plytrace::scene::load(&file) {
+        Ok((scene, _warnings)) => {
+            let _ = scene.polygon_count();
+            let _ = scene.size();
+        }
+        Err(e) => check_error(&e),
+    }
+}
+
+/// `object_files`: every det/pcl/vcl parser, ASCII and binary, on the
+/// bytes. What parses as binary writes back to the same mesh or colours.
+pub fn object_files(data: &[u8]) {
+    let file = Path::new("fuzz.det");
+    let text = String::from_utf8_lossy(data);
+    let _ = object_file::parse_det_ascii(&text, file);
+    let _ = object_file::parse_color_ascii(&text, file);
+    if let Ok(mesh) = object_file::parse_det_binary(data, file)
+        && let Ok(bytes) = object_file::write_det_binary(&mesh)
+    {
+        let again = object_file::parse_det_binary(&bytes, file).expect("written det reads back");
+        let bytes_again = object_file::write_det_binary(&again).expect("det writes again");
+        assert_eq!(bytes, bytes_again, "binary det round trip");
+    }
+    for kind in [ColorKind::Polygon, ColorKind::Vertex] {
+        if let Ok(entries) = object_file::parse_color_binary(data, file, kind)
+            && let Ok(bytes) = object_file::write_color_binary(&entries, kind)
+        {
+            let again = object_file::parse_color_binary(&bytes, file, kind)
+                .expect("written colours read back");
+            assert_eq!(
+                object_file::write_color_binary(&again, kind).expect("colours write again"),
+                bytes,
+                "binary colour round trip"
+            );
+        }
+    }
+}
+
+/// `meshes`: the bytes after the first as an OBJ (first byte `o`), PLY
+/// (`p`) or STL (`s`) file (other first bytes choose by their value), read
+/// by `mesh_import::read_mesh` from a file in the sandbox.
+pub fn meshes(data: &[u8]) {
+    let Some((&first, rest)) = data.split_first() else {
+        return;
+    };
+    let extension = match first {
+        b'o' => "obj",
+        b'p' => "ply",
+        b's' => "stl",
+        b => ["obj", "ply", "stl"][usize::from(b % 3)],
+    };
+    let sandbox = sandbox();
+    let _guard = lock(sandbox);
+    let file = sandbox.dir.join(format!("mesh.{extension}"));
+    std::fs::write(&file, rest).expect("write the mesh");
+    if let Ok(mesh) = mesh_import::read_mesh(&file) {
+        let n = mesh.vertices.len();
+        for polygon in &mesh.polygons {
+            assert!(
+                polygon.len() >= 3,
+                "a polygon of {} vertices",
+                polygon.len()
+            );
+            assert!(
+                polygon.iter().all(|&i| (i as usize) < n),
+                "an index out of range"
+            );
+        }
+    }
+}
+
+/// `tree_files`: the bytes as a binary tree file
+/// (`RecordStream::from_bytes`) and as a text one (`from_text`). What reads
+/// writes back, in both forms, to the same bits.
+pub fn tree_files(data: &[u8]) {
+    let file = Path::new("fuzz.out");
+    if let Ok(stream) = RecordStream::from_bytes(data, file) {
+        round_trip(&stream);
+    }
+    let text = String::from_utf8_lossy(data);
+    if let Ok(stream) = RecordStream::from_text(&text, Path::new("fuzz.txt")) {
+        round_trip(&stream);
+    }
+}
+
+fn round_trip(stream: &RecordStream) {
+    let bytes = stream.to_bytes();
+    let again = RecordStream::from_bytes(&bytes, Path::new("again.out"))
+        .unwrap_or_else(|e| panic!("a written tree does not read back: {e}"));
+    assert_eq!(again.to_bytes(), bytes, "binary tree round trip");
+    let text = stream.to_text();
+    let again = RecordStream::from_text(&text, Path::new("again.txt"))
+        .unwrap_or_else(|e| panic!("a written text tree does not read back: {e}"));
+    assert_eq!(again.to_bytes(), bytes, "text tree round trip");
+}
+
+/// The fixed scene of the `pipeline` target: a cube on a square floor, two
+/// lights, seen in perspective.
+const PIPELINE_SCENE: &str = "\
+perspective 45 1 0.1 100
+polarview 6 30 60 0
+light -4 -2 6 0.8 0.8 0.8 100 Point
+light 0 -10 10 0.5 0.5 0.5 50 Diffuse
+defobj square 1
+  color 1 1 1
+  reflectance 0.3
+  scale 3 3 1
+  translate 0 0 -1
+endobj
+defobj cube 2
+  color 0 1 0
+  transmittance 0.4
+  index 1.3
+  rotate 30 z
+endobj
+";
+
+/// Numbers the overrides draw from: edges first, then ordinary values.
+const NUMBERS: [&str; 32] = [
+    "0", "1", "-1", "0.5", "2", "3", "-3", "90", "45", "180", "-90", "0.1", "0.01", "10", "100",
+    "1e-9", "1e9", "1e308", "-1e308", "1e-320", "-0", "0.999", "1.5", "4", "6", "14", "15", "30",
+    "0.25", "0.75", "360", "7",
+];
+
+/// A reader of override bytes.
+struct Bytes<'a>(&'a [u8]);
+
+impl Bytes<'_> {
+    fn byte(&mut self) -> u8 {
+        match self.0.split_first() {
+            Some((&b, rest)) => {
+                self.0 = rest;
+                b
+            }
+            None => 0,
+        }
+    }
+
+    fn pick<'s>(&mut self, from: &[&'s str]) -> &'s str {
+        from[usize::from(self.byte()) % from.len()]
+    }
+
+    /// A number: one of [`NUMBERS`], or a small fraction.
+    fn number(&mut self) -> String {
+        let b = self.byte();
+        if b < 128 {
+            NUMBERS[usize::from(b) % NUMBERS.len()].to_string()
+        } else {
+            format!("{}", f64::from(b as i8) / 16.0)
+        }
+    }
+
+    fn numbers(&mut self, n: usize) -> String {
+        (0..n).map(|_| self.number()).collect::<Vec<_>>().join(" ")
+    }
+}
+
+/// The budgets of the pipeline target: statements, objects, lights,
+/// geodesic divisions and recursion depth.
+const MAX_STATEMENTS: usize = 24;
+const MAX_OBJECTS: usize = 6;
+const MAX_LIGHTS: usize = 4;
+const MAX_GEODESIC: u8 = 4;
+const MAX_DEPTH: u8 = 4;
+const MAX_POLYGONS: usize = 2_000;
+const SIZE: u32 = 32;
+
+/// The overrides one input makes: statements in the scene language, after
+/// the fixed scene.
+fn overrides(bytes: &mut Bytes) -> Vec<String> {
+    let mut out = Vec::new();
+    let (mut objects, mut lights, mut in_object) = (2, 2, false);
+    while !bytes.0.is_empty() && out.len() < MAX_STATEMENTS {
+        let s = match bytes.byte() % 24 {
+            0 => format!("rotate {} {}", bytes.number(), bytes.pick(&["x", "y", "z"])),
+            1 => format!("translate {}", bytes.numbers(3)),
+            2 => format!("scale {}", bytes.numbers(3)),
+            3 => format!("color {}", bytes.numbers(3)),
+            4 => format!("reflectance {}", bytes.number()),
+            5 => format!("transmittance {}", bytes.number()),
+            6 => format!("index {}", bytes.number()),
+            7 => format!("transparency {}", bytes.numbers(2)),
+            8 => format!(
+                "{} {}",
+                bytes.pick(&["specular", "shininess", "diffuse"]),
+                bytes.number()
+            ),
+            9 => format!("depth {}", 1 + bytes.byte() % MAX_DEPTH),
+            10 => format!("threshold {}", bytes.number()),
+            11 => {
+                let mode = bytes.pick(&["b", "h", "n", "s", "v", "x", "o", "p"]);
+                format!("setmode {mode} {}", bytes.pick(&["on", "off"]))
+            }
+            12 => format!("setmode l {}", 1 + bytes.byte() % MAX_DEPTH),
+            13 => format!("sort {}", bytes.pick(&["btf", "ftb"])),
+            14 => format!(
+                "type polygon {}",
+                bytes.pick(&[
+                    "",
+                    "open",
+                    "curved",
+                    "concave",
+                    "hidden",
+                    "ltsrc",
+                    "open curved"
+                ])
+            ),
+            15 if lights < MAX_LIGHTS => {
+                lights += 1;
+                format!(
+                    "light {} {} {}",
+                    bytes.numbers(6),
+                    bytes.number(),
+                    bytes.pick(&["Point", "Diffuse"])
+                )
+            }
+            16 if !in_object && objects < MAX_OBJECTS => {
+                objects += 1;
+                in_object = true;
+                let name = bytes.pick(&["cube", "square", "ball"]);
+                format!("defobj {name} {}", objects + 1)
+            }
+            17 if in_object => {
+                in_object = false;
+                "endobj".to_string()
+            }
+            18 if in_object => format!(
+                "geodesic {} {}",
+                1 + bytes.byte() % MAX_GEODESIC,
+                bytes.pick(&["equal", "angle"])
+            ),
+            19 if in_object => format!(
+                "radial {}",
+                bytes.pick(&["sphere", "ellipsoid 1 2 3", "bumps 0.2 3", "lobes 0.3 2"])
+            ),
+            20 => bytes
+                .pick(&["pushmatrix", "popmatrix", "ident"])
+                .to_string(),
+            21 => format!(
+                "{} {}",
+                bytes.pick(&["polarview", "lookat"]),
+                bytes.numbers(4)
+            ),
+            22 => format!(
+                "{} {}",
+                bytes.pick(&["ambient", "background"]),
+                bytes.numbers(3)
+            ),
+            23 if objects < MAX_OBJECTS => {
+                objects += 1;
+                format!(
+                    "{} {}",
+                    bytes.pick(&["callobj", "delobj"]),
+                    1 + bytes.byte() % 4
+                )
+            }
+            _ => continue,
+        };
+        out.push(s);
+    }
+    if in_object {
+        out.push("endobj".to_string());
+    }
+    out
+}
+
+/// `pipeline`: the fixed scene plus the overrides the bytes choose, then
+/// rendered at 32x32 with the options the first bytes choose (visible
+/// surface algorithm, scan conversion method, shadows, shading model,
+/// refraction), within the budgets above.
+pub fn pipeline(data: &[u8]) {
+    use plytrace::image_tree::Refraction;
+    use plytrace::raster::scan::Method;
+    use plytrace::shading::ShadingModel;
+    use plytrace::visibility::Algorithm;
+
+    let mut bytes = Bytes(data);
+    let visibility = match bytes.byte() % 8 {
+        0 => None,
+        k => Some(Algorithm::ALL[usize::from(k - 1)].0),
+    };
+    let aa = match bytes.byte() % 8 {
+        0 => None,
+        1 => Some(Method::Point),
+        2 => Some(Method::Area),
+        3 => Some(Method::Mask),
+        4 => Some(Method::Hybrid),
+        5 => Some(Method::Multilevel),
+        _ => Some(Method::Supersample(1 + u32::from(bytes.byte() % 4))),
+    };
+    let flags = bytes.byte();
+    let options = RenderOptions {
+        size: Some((SIZE, SIZE)),
+        shadows: flags & 1 != 0,
+        visibility,
+        profile: flags & 2 != 0,
+        refraction: [
+            Refraction::Linearized,
+            Refraction::Orthographic,
+            Refraction::Paraxial,
+        ][usize::from((flags >> 2) % 3)],
+        aa,
+        threads: 1,
+        shading: if flags & 16 != 0 {
+            ShadingModel::Donovan
+        } else {
+            ShadingModel::Garcia
+        },
+    };
+    let statements = overrides(&mut bytes);
+
+    let sandbox = sandbox();
+    let mut interp = Interpreter::new();
+    let file = sandbox.dir.join("pipeline.des");
+    // The fixed scene must load; each override may fail on its own.
+    interp
+        .execute_source(PIPELINE_SCENE, &file, &sandbox.dir, &mut NoHost)
+        .expect("the fixed scene loads");
+    for s in &statements {
+        if let Err(e) = interp.execute_source(s, &file, &sandbox.dir, &mut NoHost) {
+            check_error(&e);
+        }
+    }
+    let mut scene = interp.scene();
+    if scene.polygon_count() > MAX_POLYGONS || scene.lights.len() > MAX_LIGHTS {
+        return;
+    }
+    scene.viewport = plytrace::scene::model::Viewport::of_size(SIZE, SIZE);
+    match render(&scene, &options) {
+        Ok(r) => {
+            assert_eq!((r.frame.width, r.frame.height), (SIZE, SIZE), "image size");
+            for y in 0..SIZE {
+                for x in 0..SIZE {
+                    if let Some((o, p)) = r.polygon_at(x, y) {
+                        let object = &scene.objects[o as usize];
+                        // `setmode p` paints each object's bounding box:
+                        // ids name the box's six faces.
+                        let faces = if scene.modes.boxes_only {
+                            6
+                        } else {
+                            object.polygons.len()
+                        };
+                        assert!((p as usize) < faces, "painted id");
+                    }
+                }
+            }
+            if let Some(tree) = &r.tree {
+                round_trip(tree);
+            }
+        }
+        Err(e) => check_error(&e),
+    }
+}
