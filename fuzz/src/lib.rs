@@ -430,11 +430,20 @@ pub fn pipeline(data: &[u8]) {
         } else {
             ShadingModel::Garcia
         },
+        // Small budgets: the whole pipeline under its limits.
+        budgets: plytrace::budget::Budgets {
+            polygons: 20_000,
+            call_depth: 8,
+            tree_nodes: 20_000,
+            splits: 2_000,
+            pixels: 1 << 20,
+        },
     };
     let statements = overrides(&mut bytes);
 
     let sandbox = sandbox();
     let mut interp = Interpreter::new();
+    interp.set_budgets(options.budgets);
     let file = sandbox.dir.join("pipeline.des");
     // The fixed scene must load; each override may fail on its own.
     interp
