@@ -462,6 +462,8 @@ struct CliHost {
     aspect_warned: bool,
     /// Every file written by the runs so far, in order.
     written: Vec<PathBuf>,
+    /// `run`s rendered so far.
+    runs: usize,
 }
 
 /// The name and place of a scene-chosen output, `fname`, checked: no `..`
@@ -606,6 +608,7 @@ impl CliHost {
 
 impl Host for CliHost {
     fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
+        self.runs += 1;
         let start = Instant::now();
         // Everything that can be checked is checked before the render:
         // the size against the budget, the names, and every output (its
@@ -1051,6 +1054,7 @@ fn main() -> ExitCode {
         progress: !options.quiet && std::io::stderr().is_terminal(),
         aspect_warned: false,
         written: Vec::new(),
+        runs: 0,
     };
 
     if let Some(scene) = &options.scene {
@@ -1062,6 +1066,11 @@ fn main() -> ExitCode {
                 report_written(&host);
                 return ExitCode::FAILURE;
             }
+        }
+        // Immediate mode is `get` then `run y`; a scene that says `run`
+        // itself (an animation) is rendered as it says, each `run` once.
+        if options.immediate && host.runs > 0 {
+            return ExitCode::SUCCESS;
         }
         if options.immediate {
             let scene = interp.scene();

@@ -727,7 +727,9 @@ fn every_png_has_an_srgb_chunk() {
 
 #[test]
 fn runs_are_logged_in_plytrace_log() {
-    let scene = format!("{SCENE}fname one\nrun\n");
+    // An animation of two `run`s: each rendered once, and immediate mode
+    // adds no render of its own after them.
+    let scene = format!("{SCENE}fname one\nrun\nrun\n");
     let run = run_with(&scene, &["-i", "-f", "scene.des", "--size", "16x16"]);
     assert_eq!(run.code, Some(0), "{}", run.transcript());
     let log = std::fs::read_to_string(run.work().join("plytrace.log")).expect("plytrace.log");
@@ -966,4 +968,14 @@ fn budget_flags_are_parsed() {
         let run = run_with(SCENE, &["-i", "-f", "scene.des", flag]);
         assert_eq!(run.code, Some(2), "{}", run.transcript());
     }
+}
+
+/// Immediate mode is `get` + `run y` only for a scene that does not say
+/// `run` itself: a scene without `run` is rendered once, with shadows.
+#[test]
+fn a_scene_without_run_is_rendered_once_in_immediate_mode() {
+    let run = run_with(SCENE, &["-i", "-f", "scene.des", "--size", "16x16"]);
+    assert_eq!(run.code, Some(0), "{}", run.transcript());
+    let log = std::fs::read_to_string(run.work().join("plytrace.log")).expect("plytrace.log");
+    assert_eq!(log.lines().count(), 1, "{log}");
 }
