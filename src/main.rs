@@ -179,9 +179,7 @@ FILES:
 COMMANDS of the scene descriptor language (shortest unique prefix accepted):
 "
     );
-    for c in COMMANDS {
-        s.push_str(&format!("    {:<13} {:<38} {}\n", c.name, c.usage, c.help));
-    }
+    s.push_str(&command_help(None));
     s.push_str(
         "\nNot yet acted on (parsed, checked and kept): clear (every run starts from the\n\
          background).\n",
@@ -875,6 +873,40 @@ fn load_scene(interp: &mut Interpreter, host: &mut CliHost, path: &Path) -> Resu
     Ok(flow)
 }
 
+/// The command table's lines, all of them or those of the commands whose
+/// name starts with `topic` (the interpreter's shortest-prefix rule):
+/// `--help` and the REPL's `help [CMD]` print from the same table.
+fn command_help(topic: Option<&str>) -> String {
+    let topic = topic.map(str::to_ascii_lowercase);
+    let lines: Vec<String> = COMMANDS
+        .iter()
+        .filter(|c| {
+            topic
+                .as_ref()
+                .is_none_or(|t| c.name.starts_with(t.as_str()))
+        })
+        .map(|c| format!("    {:<13} {:<38} {}\n", c.name, c.usage, c.help))
+        .collect();
+    match (lines.is_empty(), topic) {
+        (true, Some(t)) => format!(
+            "no command `{}`; `help` lists them all\n",
+            plytrace::error::printable(&t, 40)
+        ),
+        _ => lines.concat(),
+    }
+}
+
+/// `help` or `help CMD` typed at the prompt, answered; `None` for any
+/// other line.
+fn help_request(line: &str) -> Option<String> {
+    let mut words = line.split_whitespace();
+    let first = words.next()?;
+    if !first.eq_ignore_ascii_case("help") {
+        return None;
+    }
+    Some(command_help(words.next()))
+}
+
 fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
     let on_terminal = std::io::stdin().is_terminal();
     let stdin_label = Path::new("<stdin>");
@@ -883,6 +915,10 @@ fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
     // Runs one line; errors are reported and remembered, the session goes on.
     let mut execute =
         |interp: &mut Interpreter, host: &mut CliHost, line: &str, line_no: usize| -> Flow {
+            if let Some(text) = help_request(line) {
+                host.say(text.trim_end());
+                return Flow::Continue;
+            }
             let result = interp.execute_source(line, stdin_label, Path::new("."), host);
             print_warnings(interp);
             match result {

@@ -1086,3 +1086,24 @@ fn interactive_get_missing_file_reports_stdin_location() {
     assert_eq!(run.code, Some(1), "{}", run.transcript());
     assert_stream_contains(&run, "stderr", "error: <stdin>:2:6: cannot open");
 }
+
+/// The REPL's `help` and `help CMD` print from the command table that
+/// `--help` prints (prefixes as the interpreter accepts them).
+#[test]
+fn repl_help_prints_the_command_table() {
+    let run = run_in(&[], &[], Some("help transl\nhelp zzz\nhelp\nquit\n"));
+    assert_eq!(run.code, Some(0), "{}", run.stderr);
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    assert!(
+        lines[0].trim_start().starts_with("translate"),
+        "{}",
+        run.stdout
+    );
+    assert!(lines[0].contains("tx ty tz"), "{}", run.stdout);
+    assert!(lines[1].contains("no command `zzz`"), "{}", run.stdout);
+    let help = run_in(&[], &["--help"], None);
+    for line in &lines[2..] {
+        assert!(help.stdout.contains(line), "`{line}` is not in --help");
+    }
+    assert!(lines.len() > 40, "{}", run.stdout);
+}
