@@ -1,5 +1,5 @@
 //! `cargo bench`: for the bundled example and every scene of
-//! `tests/data/scenes` (copies of `../shared/scenes`):
+//! `tests/data/scenes` (the benchmark scenes, copied into the repository):
 //!
 //! * `parse`: reading the .des and .det files;
 //! * `render/<algorithm>`: geometry, visibility, shading and painting at the

@@ -24,7 +24,7 @@ use plytrace::visibility::ray_cast::RayCaster;
 const SIZE: u32 = 96;
 
 fn flat(name: &str) -> Scene {
-    let path = support::shared_scene(name).expect("fixture");
+    let path = support::scene_fixture(name);
     let mut scene = plytrace::scene::load(&path).unwrap().0;
     scene.modes.max_level = 1;
     scene

@@ -1,7 +1,7 @@
 //! Hostile scene input (issue 9): every input ends with a clear error or a
 //! correct scene, never a panic, a hang, a stack overflow or an allocation
 //! past the budgets. Each test runs the library on files written into a
-//! temporary directory; none reads `../shared`.
+//! temporary directory; none reads outside the repository.
 
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;

@@ -53,9 +53,7 @@ fn assert_tree_agrees(name: &str, scene: &Scene, size: u32) {
 
 #[test]
 fn mirror_scene_reflections_agree_with_the_oracle() {
-    let Some(path) = support::shared_scene("mirror.des") else {
-        return;
-    };
+    let path = support::scene_fixture("mirror.des");
     let scene = plytrace::scene::load(&path).unwrap().0;
     assert_eq!(scene.modes.max_level, 2);
     assert_tree_agrees("mirror", &scene, 192);
@@ -63,9 +61,7 @@ fn mirror_scene_reflections_agree_with_the_oracle() {
 
 #[test]
 fn gallery_facing_mirrors_to_depth_14_agree_with_the_oracle() {
-    let Some(path) = support::shared_scene("gallery.des") else {
-        return;
-    };
+    let path = support::scene_fixture("gallery.des");
     let scene = plytrace::scene::load(&path).unwrap().0;
     assert_eq!(scene.modes.max_level, 14);
     assert_tree_agrees("gallery", &scene, 192);
@@ -82,9 +78,7 @@ fn gallery_facing_mirrors_to_depth_14_agree_with_the_oracle() {
 
 #[test]
 fn office1_reflections_agree_with_the_oracle() {
-    let Some(path) = support::shared_scene("office1.des") else {
-        return;
-    };
+    let path = support::scene_fixture("office1.des");
     let scene = plytrace::scene::load(&path).unwrap().0;
     assert_tree_agrees("office1", &scene, 192);
 }
@@ -359,9 +353,7 @@ fn tree_file_of_the_cube_on_a_mirror() {
 /// 004 sections 4.6 and 6.4.3 place it differently.
 #[test]
 fn refraction_models_map_the_pool_floor() {
-    let Some(path) = support::shared_scene("underwater.des") else {
-        return;
-    };
+    let path = support::scene_fixture("underwater.des");
     let scene = plytrace::scene::load(&path).unwrap().0;
     let view = View::new(&scene, 128, 128).unwrap();
     let centroid_of_refracted = |model: image_tree::Refraction| {
@@ -600,9 +592,7 @@ fn snell_oracle(scene: &Scene, size: u32) -> Vec<Option<(u32, u32)>> {
 /// (type 3) with one highlight vector per vertex and light.
 #[test]
 fn phong_tree_records() {
-    let Some(path) = support::shared_scene("mirror.des") else {
-        return;
-    };
+    let path = support::scene_fixture("mirror.des");
     let mut scene = plytrace::scene::load(&path).unwrap().0;
     scene.modes.phong = true;
     scene.modes.output_tree = true;

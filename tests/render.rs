@@ -107,10 +107,7 @@ fn ccube_agrees_with_ray_cast_oracle() {
 
 #[test]
 fn mirror_scene_agrees_with_ray_cast_oracle() {
-    let Some(path) = support::shared_scene("mirror.des") else {
-        eprintln!("../shared/scenes absent: skipped");
-        return;
-    };
+    let path = support::scene_fixture("mirror.des");
     // Level 1 only: reflections are checked in tests/reflection.rs.
     let mut scene = scene::load(&path).unwrap().0;
     scene.modes.max_level = 1;
@@ -276,9 +273,7 @@ fn parent_shade_interpolation_of_figure_4_16() {
 /// Gouraud shading inside the tree writes Gouraud records.
 #[test]
 fn gouraud_tree_records() {
-    let Some(path) = support::shared_scene("mirror.des") else {
-        return;
-    };
+    let path = support::scene_fixture("mirror.des");
     let mut scene = scene::load(&path).unwrap().0;
     scene.modes.vertex_shades = true;
     scene.modes.output_tree = true;
@@ -404,7 +399,7 @@ fn light_kinds_and_tree_output_do_not_change_the_picture() {
 /// scene whose tree it cannot render, naming what it cannot do.
 #[test]
 fn image_space_algorithms_refuse_the_tree_by_name() {
-    let path = support::shared_scene("mirror.des").expect("fixture");
+    let path = support::scene_fixture("mirror.des");
     let scene = plytrace::scene::load(&path).unwrap().0;
     for algorithm in [
         plytrace::visibility::Algorithm::ZBuffer,

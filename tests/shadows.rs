@@ -15,16 +15,16 @@ use plytrace::scene::Scene;
 use plytrace::scene::model::LightKind;
 use plytrace::visibility::ray_cast::RayCaster;
 
-fn level_one(name: &str) -> Option<Scene> {
+fn level_one(name: &str) -> Scene {
     let path = if name == "ccube.des" {
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ccube.des")
     } else {
-        support::shared_scene(name)?
+        support::scene_fixture(name)
     };
     let mut scene = plytrace::scene::load(&path).unwrap().0;
     scene.modes.max_level = 1;
     scene.modes.nns = true;
-    Some(scene)
+    scene
 }
 
 /// The polygon seen at each pixel, and (where comparable) whether it is in
@@ -124,16 +124,14 @@ fn assert_shadows_agree(name: &str, scene: &Scene, size: u32) {
 #[test]
 fn shadow_masks_agree_with_the_shadow_rays() {
     for name in ["ccube.des", "intersect.des", "cycles.des", "mirror.des"] {
-        let Some(scene) = level_one(name) else {
-            continue;
-        };
+        let scene = level_one(name);
         assert_shadows_agree(name, &scene, 160);
     }
 }
 
 #[test]
 fn shadow_polygons_lie_in_their_target() {
-    let scene = level_one("ccube.des").unwrap();
+    let scene = level_one("ccube.des");
     let view = View::new(&scene, 256, 256).unwrap();
     let tree = image_tree::build(
         &scene,

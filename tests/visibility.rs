@@ -1,7 +1,7 @@
 //! Every visible-surface algorithm against the ray-cast oracle: the painted
 //! id image must equal the oracle's at every pixel whose 3x3 neighbourhood
 //! holds a single polygon in the oracle (issue: part 2, "Done means").
-//! Scenes: all of `../shared/scenes` and generated ones (random
+//! Scenes: all of `tests/data/scenes` and generated ones (random
 //! interpenetrating triangle soups, random boxes).
 
 mod support;
@@ -43,15 +43,15 @@ fn assert_agrees(name: &str, scene: &Scene, algorithm: Algorithm, size: u32) {
 
 /// A shared scene at level 1 only (reflections are checked against the
 /// reflecting oracle in tests/reflection.rs).
-fn shared(name: &str) -> Option<Scene> {
-    let path = support::shared_scene(name)?;
+fn shared(name: &str) -> Scene {
+    let path = support::scene_fixture(name);
     let mut scene = plytrace::scene::load(&path).unwrap().0;
     scene.modes.max_level = 1;
     // Visibility only: the image-space algorithms refuse transparency.
     for o in &mut scene.objects {
         o.surface.transparency = (0.0, 0.0);
     }
-    Some(scene)
+    scene
 }
 
 const SCENES: [&str; 8] = [
@@ -72,7 +72,7 @@ fn library_ray_caster_equals_brute_force_oracle() {
     scenes.extend(
         ["intersect.des", "cycles.des", "mirror.des"]
             .iter()
-            .filter_map(|n| shared(n)),
+            .map(|n| shared(n)),
     );
     for scene in scenes {
         let size = 64;
@@ -91,7 +91,7 @@ fn library_ray_caster_equals_brute_force_oracle() {
 #[test]
 fn nns_agrees_with_the_oracle_on_every_shared_scene() {
     for name in SCENES {
-        let Some(scene) = shared(name) else { continue };
+        let scene = shared(name);
         assert_agrees(name, &scene, Algorithm::Nns, 160);
     }
 }
@@ -99,7 +99,7 @@ fn nns_agrees_with_the_oracle_on_every_shared_scene() {
 #[test]
 fn z_buffer_agrees_with_the_oracle_on_every_shared_scene() {
     for name in SCENES {
-        let Some(scene) = shared(name) else { continue };
+        let scene = shared(name);
         assert_agrees(name, &scene, Algorithm::ZBuffer, 160);
     }
 }
@@ -107,7 +107,7 @@ fn z_buffer_agrees_with_the_oracle_on_every_shared_scene() {
 #[test]
 fn scan_line_agrees_with_the_oracle_on_every_shared_scene() {
     for name in SCENES {
-        let Some(scene) = shared(name) else { continue };
+        let scene = shared(name);
         assert_agrees(name, &scene, Algorithm::ScanLine, 160);
     }
 }
@@ -115,7 +115,7 @@ fn scan_line_agrees_with_the_oracle_on_every_shared_scene() {
 #[test]
 fn warnock_agrees_with_the_oracle_on_every_shared_scene() {
     for name in SCENES {
-        let Some(scene) = shared(name) else { continue };
+        let scene = shared(name);
         assert_agrees(name, &scene, Algorithm::Warnock, 160);
     }
 }
@@ -123,9 +123,7 @@ fn warnock_agrees_with_the_oracle_on_every_shared_scene() {
 #[test]
 fn nns_front_to_back_agrees_too() {
     for name in ["intersect.des", "cycles.des", "office1.des"] {
-        let Some(mut scene) = shared(name) else {
-            continue;
-        };
+        let mut scene = shared(name);
         scene.sort_order = plytrace::scene::model::SortOrder::FrontToBack;
         assert_agrees(name, &scene, Algorithm::Nns, 128);
     }
@@ -135,7 +133,7 @@ fn nns_front_to_back_agrees_too() {
 fn simple_sort_fails_where_nns_is_needed() {
     // The reason for NNS: intersect.des and cycles.des defeat the simple sort.
     for name in ["intersect.des", "cycles.des"] {
-        let Some(scene) = shared(name) else { continue };
+        let scene = shared(name);
         let (_, bad, _) = compare(&scene, Algorithm::DepthSort, 160);
         assert!(
             bad > 0,
@@ -147,7 +145,7 @@ fn simple_sort_fails_where_nns_is_needed() {
 #[test]
 fn nns_splits_the_cycles_and_the_interpenetrations() {
     for name in ["intersect.des", "cycles.des"] {
-        let Some(scene) = shared(name) else { continue };
+        let scene = shared(name);
         let options = RenderOptions {
             size: Some((128, 128)),
             visibility: Some(Algorithm::Nns),

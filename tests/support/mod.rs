@@ -155,7 +155,7 @@ pub fn painted_ids(r: &plytrace::render::Rendered) -> Vec<Option<(u32, u32)>> {
 
 /// Path of a benchmark scene copied into `tests/data/scenes`; a missing
 /// fixture fails loudly (never skips).
-pub fn shared_scene(name: &str) -> Option<std::path::PathBuf> {
+pub fn scene_fixture(name: &str) -> std::path::PathBuf {
     let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/scenes")
         .join(name);
@@ -164,5 +164,5 @@ pub fn shared_scene(name: &str) -> Option<std::path::PathBuf> {
         "missing fixture {}: the benchmark scenes are copied into tests/data/scenes",
         p.display()
     );
-    Some(p)
+    p
 }
