@@ -511,35 +511,12 @@ fn nearest_hit(
                 .iter()
                 .map(|&i| obj.vertices[i as usize])
                 .collect();
-            if inside_polygon(&pts, n, o + d * t) {
+            if support::inside(&pts, n, o + d * t) {
                 best = Some((t, oi as u32, pi as u32));
             }
         }
     }
     best
-}
-
-/// Even-odd test in the projection that drops the normal's largest axis.
-fn inside_polygon(points: &[DVec3], normal: DVec3, p: DVec3) -> bool {
-    let a = normal.abs();
-    let (u, v) = if a.x >= a.y && a.x >= a.z {
-        (1, 2)
-    } else if a.y >= a.z {
-        (2, 0)
-    } else {
-        (0, 1)
-    };
-    let g = |q: DVec3| (q.to_array()[u], q.to_array()[v]);
-    let (px, py) = g(p);
-    let mut odd = false;
-    for i in 0..points.len() {
-        let (ax, ay) = g(points[i]);
-        let (bx, by) = g(points[(i + 1) % points.len()]);
-        if (ay > py) != (by > py) && px < ax + (py - ay) * (bx - ax) / (by - ay) {
-            odd = !odd;
-        }
-    }
-    odd
 }
 
 /// At each pixel centre (rows from the top), what a ray shows when it is
@@ -548,10 +525,7 @@ fn inside_polygon(points: &[DVec3], normal: DVec3, p: DVec3) -> bool {
 /// when the refracted ray hits nothing. Between the near and far planes.
 fn snell_oracle(scene: &Scene, size: u32) -> Vec<Option<(u32, u32)>> {
     let inv = support::invert(&scene.projection).unwrap();
-    let unproject = |x: f64, y: f64, z: f64| {
-        let p = inv.transform(glam::DVec4::new(x, y, z, 1.0));
-        p.truncate() / p.w
-    };
+    let unproject = |x: f64, y: f64, z: f64| support::unproject(&inv, x, y, z);
     let mut out = Vec::new();
     for row in 0..size {
         for col in 0..size {

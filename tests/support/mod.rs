@@ -38,14 +38,15 @@ pub fn invert(m: &Matrix4) -> Option<Matrix4> {
     Some(Matrix4::from_rows(inv))
 }
 
-fn unproject(inv: &Matrix4, x: f64, y: f64, z: f64) -> DVec3 {
+/// The world point of normalized device coordinates `(x, y, z)`.
+pub fn unproject(inv: &Matrix4, x: f64, y: f64, z: f64) -> DVec3 {
     let p = inv.transform(DVec4::new(x, y, z, 1.0));
     p.truncate() / p.w
 }
 
 /// Whether `p` (on the polygon's plane) is inside the polygon, by the
 /// even-odd rule in the projection that drops the normal's largest axis.
-fn inside(points: &[DVec3], normal: DVec3, p: DVec3) -> bool {
+pub fn inside(points: &[DVec3], normal: DVec3, p: DVec3) -> bool {
     let a = normal.abs();
     let (u, v) = if a.x >= a.y && a.x >= a.z {
         (1, 2)
