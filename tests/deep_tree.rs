@@ -10,6 +10,8 @@
 //! (levels 3 and deeper). The tree is checked directly, not through the
 //! renderer.
 
+mod support;
+
 use glam::DVec3;
 use plytrace::geometry::view::View;
 use plytrace::image_tree::{self, FragmentKind, TreeOptions, VirtualImageTree};
@@ -20,18 +22,7 @@ use plytrace::visibility::ray_cast::RayCaster;
 /// The scene of `des` (without its header), with `cube.det` and a unit
 /// `square.det` facing +z in a temporary `det` folder.
 fn load(depth: u32, body: &str) -> Scene {
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::create_dir(dir.path().join("det")).unwrap();
-    let cube = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/det/cube.det"),
-    )
-    .unwrap();
-    std::fs::write(dir.path().join("det/cube.det"), cube).unwrap();
-    std::fs::write(
-        dir.path().join("det/square.det"),
-        "title square facing +z\ndata\n4 1\n-1 -1 0\n-1 1 0\n1 1 0\n1 -1 0\n4 1 2 3 4\n",
-    )
-    .unwrap();
+    let dir = support::cube_and_square_dir();
     let path = dir.path().join("s.des");
     let des = format!(
         "resolution 96 96\nperspective 45 1 0.1 100\ndepth {depth}\npushmatrix\nident\n{body}popmatrix\n"

@@ -89,18 +89,7 @@ fn cube_on_mirror() -> Scene {
 
 /// The cube on a mirror of 004 figure 4.15, with `light` lines.
 fn cube_on_mirror_lit(light: &str) -> Scene {
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::create_dir(dir.path().join("det")).unwrap();
-    let cube = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/det/cube.det"),
-    )
-    .unwrap();
-    std::fs::write(dir.path().join("det/cube.det"), cube).unwrap();
-    std::fs::write(
-        dir.path().join("det/square.det"),
-        "title square facing +z\ndata\n4 1\n-1 -1 0\n-1 1 0\n1 1 0\n1 -1 0\n4 1 2 3 4\n",
-    )
-    .unwrap();
+    let dir = support::cube_and_square_dir();
     let path = dir.path().join("m.des");
     std::fs::write(
         &path,

@@ -167,3 +167,21 @@ pub fn scene_fixture(name: &str) -> std::path::PathBuf {
     );
     p
 }
+
+/// A temporary folder with `det/cube.det` (the example's cube) and a unit
+/// `det/square.det` facing +z, for scenes written by tests.
+pub fn cube_and_square_dir() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("det")).unwrap();
+    let cube = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/det/cube.det"),
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("det/cube.det"), cube).unwrap();
+    std::fs::write(
+        dir.path().join("det/square.det"),
+        "title square facing +z\ndata\n4 1\n-1 -1 0\n-1 1 0\n1 1 0\n1 -1 0\n4 1 2 3 4\n",
+    )
+    .unwrap();
+    dir
+}
