@@ -255,6 +255,9 @@ pub enum Error {
     /// A request that cannot be honoured (e.g. an image too large to allocate).
     #[error("{}", escape_controls(.0, true))]
     Invalid(String),
+    /// The user stopped the render (Ctrl-C); see [`crate::cancel`].
+    #[error("cancelled (Ctrl-C); nothing of this run was written")]
+    Cancelled,
 }
 
 impl Error {

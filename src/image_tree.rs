@@ -689,7 +689,7 @@ impl<'a> Builder<'a> {
                 shadowed_from: Vec::new(),
             });
             ids.push(id);
-            if self.options.shadows {
+            if self.options.shadows && !crate::cancel::requested() {
                 let index = match &self.casters {
                     Some(i) => i.clone(),
                     None => {
@@ -782,6 +782,9 @@ impl<'a> Builder<'a> {
         let mut branches: std::collections::HashMap<usize, (Vec<usize>, Vec<usize>)> =
             std::collections::HashMap::new();
         while let Some(p) = self.pending.pop() {
+            if crate::cancel::requested() {
+                continue;
+            }
             if self.tree.pruned > 0 {
                 self.tree.pruned += 1;
                 continue;

@@ -10,6 +10,7 @@
 #![warn(missing_docs)]
 
 pub mod budget;
+pub mod cancel;
 pub mod convert;
 pub mod emit;
 pub mod error;

@@ -25,6 +25,8 @@ use plytrace::scene::object_file::{self, ConvertKind};
 use plytrace::scene::{Flow, Host, Interpreter, Scene};
 use plytrace::visibility::Algorithm;
 
+mod repl;
+
 const VERSION: &str = env!("CARGO_PKG_VERSION");
 
 /// The longest line printed from input, in characters; the rest is cut
@@ -34,6 +36,18 @@ const MAX_LINE: usize = 1000;
 /// Set when stdout is a closed pipe: nothing more is printed there, and the
 /// program goes on (the image is still written) and ends with status 0.
 static STDOUT_GONE: AtomicBool = AtomicBool::new(false);
+
+/// Set while a run renders: Ctrl-C then cancels the render (the session
+/// goes on); at any other time, or pressed twice, it ends the program.
+static RENDERING: AtomicBool = AtomicBool::new(false);
+
+/// The SIGINT handler (it runs on its own thread, so it may print).
+fn on_interrupt() {
+    if !RENDERING.load(Ordering::SeqCst) || plytrace::cancel::request() {
+        std::process::exit(130);
+    }
+    err("^C: cancelling the render (press Ctrl-C again to quit)");
+}
 
 /// Writes `text` to stdout, each line escaped ([`printable`]), with a
 /// final newline when `newline`. A closed pipe (EPIPE) ends printing
@@ -534,6 +548,7 @@ impl<'a> ProgressSink<'a> {
 
 impl RowSink for ProgressSink<'_> {
     fn row(&mut self, row: &Row<'_>) -> Result<()> {
+        plytrace::cancel::check()?;
         self.inner.row(row)?;
         if let Some(bar) = &self.bar {
             bar.inc(1);
@@ -589,6 +604,14 @@ impl CliHost {
         Ok(self.scene_stem.clone().unwrap_or_else(|| "plytrace".into()))
     }
 
+    /// The image a run writes: `-o`, else the stem with `.png`.
+    fn image_path(&self, scene: &Scene) -> Result<PathBuf> {
+        match &self.output {
+            Some(p) => Ok(p.clone()),
+            None => Ok(PathBuf::from(format!("{}.png", self.stem(scene)?))),
+        }
+    }
+
     /// Warns once when `--size` stretches the scene's image.
     fn warn_aspect(&mut self, scene: &Scene) {
         let Some((w, h)) = self.size else { return };
@@ -604,9 +627,11 @@ impl CliHost {
     }
 }
 
-impl Host for CliHost {
-    fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
+impl CliHost {
+    /// One `run`: checks and creates the outputs, renders, commits them.
+    fn render(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
         self.runs += 1;
+
         let start = Instant::now();
         // Everything that can be checked is checked before the render:
         // the size against the budget, the names, and every output (its
@@ -624,10 +649,10 @@ impl Host for CliHost {
         } else {
             String::new()
         };
-        let path = self
-            .output
-            .clone()
-            .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
+        let path = match &self.output {
+            Some(p) => p.clone(),
+            None => PathBuf::from(format!("{stem}.png")),
+        };
         let mut image_file = if scene.display {
             Some(AtomicFile::create(&path)?)
         } else {
@@ -785,10 +810,7 @@ impl Host for CliHost {
             ));
         }
         if scene.modes.debug > 0 {
-            self.say(&format!(
-                "  geometry {:?}, sort {:?}, shading {:?}, paint {:?}; {:?}",
-                s.geometry_time, s.sort_time, s.shading_time, s.paint_time, s.geometry
-            ));
+            self.say(&debug_timings(s));
         }
         let elapsed = start.elapsed();
         self.say(&hms(elapsed));
@@ -810,7 +832,41 @@ impl Host for CliHost {
         ));
         Ok(())
     }
-    fn clear(&mut self, _scene: &Scene) {}
+}
+
+impl Host for CliHost {
+    fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
+        plytrace::cancel::reset();
+        RENDERING.store(true, Ordering::SeqCst);
+        let result = self.render(scene, shadows);
+        RENDERING.store(false, Ordering::SeqCst);
+        plytrace::cancel::reset();
+        result
+    }
+    /// The manual's `clear` empties the display to the background; here
+    /// the display is the image file, so it is written (atomically) in the
+    /// background colour, at the size the next `run` would write.
+    fn clear(&mut self, scene: &Scene) -> Result<()> {
+        if !scene.display {
+            return Ok(());
+        }
+        let path = self.image_path(scene)?;
+        let (w, h) = self
+            .size
+            .unwrap_or((scene.viewport.width(), scene.viewport.height()));
+        if u64::from(w) * u64::from(h) > self.budgets.pixels {
+            return Err(Error::Invalid(pixels_exceeded(w, h, self.budgets.pixels)));
+        }
+        let file = AtomicFile::create(&path)?;
+        let bg = scene.background;
+        let frame = FrameBuffer::new(w, h, [bg.x as f32, bg.y as f32, bg.z as f32]);
+        output::commit_all(vec![output::stage_image(file, &frame, scene.outmode)?])?;
+        self.say(&format!(
+            "Cleared {} to the background ({w} x {h})",
+            path.display()
+        ));
+        Ok(())
+    }
 
     fn scanning(&mut self, file: &Path) {
         self.say(&format!("Scanning descriptor file {}", file.display()));
@@ -854,6 +910,37 @@ fn report_written(host: &CliHost) {
             "note: the runs before the error wrote {} (complete); nothing else was written",
             names.join(", ")
         ));
+    }
+}
+
+/// The `setmode d` timing line. The tree path builds geometry, order and
+/// shadows in one pass (the virtual image tree), so it reports that pass,
+/// the records (shading) and the scan conversion; the image-space
+/// algorithms report their own stages.
+fn debug_timings(s: &render::RenderStats) -> String {
+    if s.method.is_some() {
+        format!(
+            "  virtual image tree {:?} (geometry, sort, shadows), records {:?} (shading), \
+             scan conversion {:?}; {:?}",
+            s.sort_time, s.shading_time, s.paint_time, s.geometry
+        )
+    } else {
+        format!(
+            "  geometry {:?}, sort {:?}, shading {:?}, paint {:?}; {:?}",
+            s.geometry_time, s.sort_time, s.shading_time, s.paint_time, s.geometry
+        )
+    }
+}
+
+/// Reports the error that ended a batch run; status 130 for Ctrl-C (as a
+/// shell reports SIGINT), 1 otherwise.
+fn failed(e: &Error, host: &CliHost) -> ExitCode {
+    report(e);
+    report_written(host);
+    if matches!(e, Error::Cancelled) {
+        ExitCode::from(130)
+    } else {
+        ExitCode::FAILURE
     }
 }
 
@@ -907,6 +994,26 @@ fn help_request(line: &str) -> Option<String> {
     Some(command_help(words.next()))
 }
 
+/// Keeps the session's lines in `path` (its directory is made if need be);
+/// a failure is a warning, never an error.
+fn save_history(
+    editor: &mut rustyline::Editor<repl::CommandCompleter, rustyline::history::FileHistory>,
+    path: &Path,
+) {
+    let saved = match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => std::fs::create_dir_all(dir)
+            .map_err(rustyline::error::ReadlineError::Io)
+            .and_then(|()| editor.save_history(path)),
+        _ => editor.save_history(path),
+    };
+    if let Err(e) = saved {
+        err(&format!(
+            "warning: the command history was not kept in {}: {e}",
+            path.display()
+        ));
+    }
+}
+
 fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
     let on_terminal = std::io::stdin().is_terminal();
     let stdin_label = Path::new("<stdin>");
@@ -942,22 +1049,42 @@ fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
         };
     if on_terminal {
         host.say(&format!("plytrace - version {VERSION}"));
-        let Ok(mut editor) = rustyline::DefaultEditor::new() else {
+        let Ok(mut editor) = rustyline::Editor::<repl::CommandCompleter, _>::with_history(
+            rustyline::Config::builder()
+                .max_history_size(repl::HISTORY_LINES)
+                .map_or_else(|_| rustyline::Config::default(), |b| b.build()),
+            rustyline::history::FileHistory::new(),
+        ) else {
             err("error: cannot open the terminal for line editing");
             return ExitCode::FAILURE;
         };
+        editor.set_helper(Some(repl::CommandCompleter::new()));
+        let history = repl::history_path();
+        if let Some(p) = &history {
+            // A first session has no history yet.
+            let _ = editor.load_history(p);
+        }
+        let mut interrupted = false;
         loop {
             match editor.readline("Command: ") {
                 Ok(line) => {
+                    interrupted = false;
                     line_no += 1;
                     let _ = editor.add_history_entry(line.as_str());
                     if execute(interp, host, &line, line_no) == Flow::Quit {
                         break;
                     }
                 }
-                Err(rustyline::error::ReadlineError::Interrupted) => continue,
+                // Ctrl-C at the prompt drops the line; twice in a row quits.
+                Err(rustyline::error::ReadlineError::Interrupted) if !interrupted => {
+                    interrupted = true;
+                    err("(press Ctrl-C again, or type quit, to leave)");
+                }
                 Err(_) => break,
             }
+        }
+        if let Some(p) = &history {
+            save_history(&mut editor, p);
         }
     } else {
         for line in std::io::stdin().lock().lines() {
@@ -1055,6 +1182,9 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     }
+    if let Err(e) = ctrlc::set_handler(on_interrupt) {
+        err(&format!("warning: Ctrl-C cannot cancel a render: {e}"));
+    }
     let mut interp = Interpreter::new();
     interp.set_budgets(options.budgets);
     for (letter, value) in &options.modes {
@@ -1098,9 +1228,7 @@ fn main() -> ExitCode {
             Ok(Flow::Quit) => return ExitCode::SUCCESS,
             Ok(Flow::Continue) => {}
             Err(e) => {
-                report(&e);
-                report_written(&host);
-                return ExitCode::FAILURE;
+                return failed(&e, &host);
             }
         }
         // Immediate mode is `get` then `run y`; a scene that says `run`
@@ -1112,11 +1240,7 @@ fn main() -> ExitCode {
             let scene = interp.scene();
             return match host.run(&scene, true) {
                 Ok(()) => ExitCode::SUCCESS,
-                Err(e) => {
-                    report(&e);
-                    report_written(&host);
-                    ExitCode::FAILURE
-                }
+                Err(e) => failed(&e, &host),
             };
         }
     }

@@ -188,6 +188,7 @@ pub fn plan(scene: &Scene, options: &RenderOptions) -> Result<Plan> {
     };
     if matches!(algorithm, Algorithm::DepthSort | Algorithm::Nns) {
         let prepared = prepare(scene, &view, algorithm, options, stats);
+        crate::cancel::check()?;
         return Ok(Plan::Tree(Box::new(prepared)));
     }
     refuse_tree_effects(scene, options, algorithm)?;

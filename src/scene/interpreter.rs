@@ -41,8 +41,10 @@ pub const MAX_IMAGE_PIXELS: u64 = 1 << 28;
 pub trait Host {
     /// `run [y]`: render `scene`.
     fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()>;
-    /// `clear`.
-    fn clear(&mut self, _scene: &Scene) {}
+    /// `clear`: show the background over the whole viewport.
+    fn clear(&mut self, _scene: &Scene) -> Result<()> {
+        Ok(())
+    }
     /// `wait`.
     fn wait(&mut self) {}
     /// A `get` is about to read `file`.
@@ -618,7 +620,7 @@ impl Interpreter {
             }
             "clear" => {
                 a.count(0, 0)?;
-                host.clear(&self.scene());
+                host.clear(&self.scene())?;
             }
             "color" => {
                 a.count(3, 3)?;
