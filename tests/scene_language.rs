@@ -295,8 +295,9 @@ impl Host for Recorder {
         self.runs.push((scene.objects.len(), shadows));
         Ok(())
     }
-    fn clear(&mut self, _: &Scene) {
+    fn clear(&mut self, _: &Scene) -> Result<()> {
         self.clears += 1;
+        Ok(())
     }
     fn wait(&mut self) {
         self.waits += 1;
