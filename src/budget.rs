@@ -16,6 +16,11 @@ pub struct Budgets {
     pub splits: usize,
     /// Pixels of one image (`--max-pixels`).
     pub pixels: u64,
+    /// Bytes of a whole frame held in memory (`--max-frame-memory`, in
+    /// MiB): the image-space algorithms and the outputs that need every
+    /// pixel at once (PPM, the id image, `clear`). The default picture
+    /// streams bands of rows and is bounded by `pixels` alone.
+    pub frame_memory: u64,
 }
 
 impl Default for Budgets {
@@ -26,11 +31,32 @@ impl Default for Budgets {
             tree_nodes: 500_000,
             splits: 200_000,
             pixels: 1 << 30,
+            frame_memory: 1 << 30,
         }
     }
 }
 
 impl Budgets {
+    /// Refuses a `width` x `height` frame of `bytes_per_pixel` that
+    /// passes [`Budgets::frame_memory`], before it is allocated.
+    pub fn check_frame(&self, width: u32, height: u32, bytes_per_pixel: u64) -> Result<(), String> {
+        let need = u64::from(width) * u64::from(height) * bytes_per_pixel;
+        if need <= self.frame_memory {
+            return Ok(());
+        }
+        Err(format!(
+            "{}; the streamed picture (depth-sort or nns, PNG output) has no such limit",
+            Budgets::exceeded(
+                &format!(
+                    "a whole {width} x {height} frame in memory ({} MiB)",
+                    need.div_ceil(1 << 20)
+                ),
+                format!("{} MiB", self.frame_memory >> 20),
+                "--max-frame-memory"
+            )
+        ))
+    }
+
     /// The message for a budget exceeded: what, the limit, and the flag.
     pub fn exceeded(what: &str, limit: impl std::fmt::Display, flag: &str) -> String {
         format!("{what} exceeds the budget of {limit}; `{flag} N` raises it")

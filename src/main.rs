@@ -178,6 +178,8 @@ BUDGETS (a run that would exceed one stops with a message naming its flag):
     --max-tree-nodes N fragments of the virtual image tree
     --max-splits N     face splits of one NNS sort
     --max-pixels N     pixels of one image (checked before rendering)
+    --max-frame-memory MiB  a whole frame held in memory (image-space
+                       algorithms, PPM, --id-image, clear; default 1024)
 
 OUTPUTS: every output of a `run` (image, --id-image, FNAME.out and FNAME.txt)
 is checked before the render (directory present; no link, FIFO or device) and
@@ -264,6 +266,9 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
             "--max-tree-nodes" => o.budgets.tree_nodes = to_usize(count(arg)?),
             "--max-splits" => o.budgets.splits = to_usize(count(arg)?),
             "--max-pixels" => o.budgets.pixels = count(arg)?,
+            "--max-frame-memory" => {
+                o.budgets.frame_memory = count(arg)?.saturating_mul(1 << 20);
+            }
             "--quiet" | "-q" => o.quiet = true,
             "--profile" => o.profile = true,
             "--aa" => {
@@ -691,6 +696,13 @@ impl CliHost {
             && path
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        if !streamed {
+            // The whole frame is kept; the image-space algorithms check
+            // their larger need themselves.
+            self.budgets
+                .check_frame(w, h, render::FRAME_BYTES_PER_PIXEL)
+                .map_err(Error::Invalid)?;
+        }
         let mut staged = Vec::new();
         let rendered = match render::plan(scene, &options)? {
             render::Plan::Tree(mut prepared) if streamed => {
@@ -857,6 +869,9 @@ impl Host for CliHost {
         if u64::from(w) * u64::from(h) > self.budgets.pixels {
             return Err(Error::Invalid(pixels_exceeded(w, h, self.budgets.pixels)));
         }
+        self.budgets
+            .check_frame(w, h, render::FRAME_BYTES_PER_PIXEL)
+            .map_err(Error::Invalid)?;
         let file = AtomicFile::create(&path)?;
         let bg = scene.background;
         let frame = FrameBuffer::new(w, h, [bg.x as f32, bg.y as f32, bg.z as f32]);

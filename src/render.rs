@@ -59,6 +59,14 @@ pub struct RenderOptions {
     pub budgets: crate::budget::Budgets,
 }
 
+/// Memory a whole-frame (image-space) render needs per pixel, at most:
+/// the frame buffer's colour and id, and the depth or hit each algorithm
+/// keeps beside it.
+pub const PAINTED_BYTES_PER_PIXEL: u64 = 40;
+
+/// Memory per pixel of a finished frame kept whole (colour and id).
+pub const FRAME_BYTES_PER_PIXEL: u64 = 16;
+
 /// Figures of one render.
 #[derive(Debug, Clone, Default)]
 pub struct RenderStats {
@@ -192,6 +200,10 @@ pub fn plan(scene: &Scene, options: &RenderOptions) -> Result<Plan> {
         return Ok(Plan::Tree(Box::new(prepared)));
     }
     refuse_tree_effects(scene, options, algorithm)?;
+    options
+        .budgets
+        .check_frame(width, height, PAINTED_BYTES_PER_PIXEL)
+        .map_err(Error::Invalid)?;
     let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
     if algorithm == Algorithm::RayCast {
         let polygons = ray_cast(scene, &view, &mut frame, &mut stats);

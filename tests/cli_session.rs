@@ -227,3 +227,48 @@ fn the_prompt_keeps_its_history_between_sessions() {
     let kept = std::fs::read_to_string(&history).expect("history written");
     assert!(kept.contains("ambient 0.25 0.5 1"), "{kept}");
 }
+
+/// A whole-frame render (ray casting, PPM) past `--max-frame-memory` is
+/// refused before anything is allocated; the streamed PNG is not limited.
+#[test]
+fn whole_frames_past_the_memory_budget_are_refused_at_once() {
+    let dir = support::cube_and_square_dir();
+    let scene = "resolution 64 64\npushmatrix\nident\ntranslate 0 0 -5\n\
+                 defobj cube\nendobj\npopmatrix\nperspective 45 1 0.1 100\n";
+    std::fs::write(dir.path().join("s.des"), scene).expect("write");
+    for extra in [
+        &["-o", "x.png", "--visibility", "ray-cast"][..],
+        &["-o", "x.ppm"],
+    ] {
+        let mut args = vec!["-i", "-f", "s.des", "--size", "16384x16384"];
+        args.extend_from_slice(extra);
+        let out = Command::new(BIN)
+            .args(&args)
+            .current_dir(dir.path())
+            .output()
+            .expect("run");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains("--max-frame-memory"), "{stderr}");
+        assert!(!dir.path().join(extra[1]).exists());
+    }
+    // Raised, a small whole frame is fine.
+    let out = Command::new(BIN)
+        .args([
+            "-i",
+            "-f",
+            "s.des",
+            "-o",
+            "y.ppm",
+            "--max-frame-memory",
+            "1",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

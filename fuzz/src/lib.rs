@@ -437,6 +437,7 @@ pub fn pipeline(data: &[u8]) {
             tree_nodes: 20_000,
             splits: 2_000,
             pixels: 1 << 20,
+            frame_memory: 1 << 26,
         },
     };
     let statements = overrides(&mut bytes);
