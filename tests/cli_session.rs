@@ -200,10 +200,10 @@ fn debug_timings_are_measured_on_the_tree_path() {
     assert!(!line.contains(" 0ns"), "a stage timed at zero: {line}");
 }
 
-/// script(1) gives the program a terminal, so the line editor runs and
-/// keeps its history in `PLYTRACE_HISTORY`.
+/// script(1) gives the program a terminal, so the line editor runs,
+/// completes with Tab and keeps its history in `PLYTRACE_HISTORY`.
 #[test]
-fn the_prompt_keeps_its_history_between_sessions() {
+fn the_prompt_completes_and_keeps_its_history_between_sessions() {
     let dir = tempfile::tempdir().expect("temp dir");
     let history = dir.path().join("data/plytrace/history");
     let command = format!("{BIN} -q");
@@ -221,11 +221,15 @@ fn the_prompt_keeps_its_history_between_sessions() {
     thread::sleep(Duration::from_millis(300));
     stdin.write_all(b"ambient 0.25 0.5 1\r").expect("type");
     thread::sleep(Duration::from_millis(300));
+    // Tab completes a command name (the history shows the whole name).
+    stdin.write_all(b"backg\t0.2 0.2 0.2\r").expect("type");
+    thread::sleep(Duration::from_millis(300));
     stdin.write_all(b"quit\r").expect("type");
     let (code, err) = finish(child);
     assert_eq!(code, Some(0), "{err}");
     let kept = std::fs::read_to_string(&history).expect("history written");
     assert!(kept.contains("ambient 0.25 0.5 1"), "{kept}");
+    assert!(kept.contains("background 0.2 0.2 0.2"), "{kept}");
 }
 
 /// A whole-frame render (ray casting, PPM) past `--max-frame-memory` is
