@@ -414,7 +414,8 @@ fn image_path(v: String) -> std::result::Result<PathBuf, String> {
     if plytrace::vector::Format::from_path(&p).is_some() {
         return Ok(p);
     }
-    output::check_image_extension(&p)?;
+    output::check_image_extension(&p)
+        .map_err(|e| format!("{e}, and the vector formats .svg, .pdf and .tex"))?;
     Ok(p)
 }
 
