@@ -98,7 +98,8 @@ pub struct VectorInput {
     pub direct: Vec<bool>,
     /// Per record and edge (`k` joins points `k` and `k + 1`): whether the
     /// edge lies on an edge of the original polygon (not made by NNS
-    /// splitting or by clipping to the viewport). Only for direct records.
+    /// splitting or by clipping to the viewport). Only for direct records,
+    /// and only when prepared for [`Style::HiddenLine`].
     pub original_edges: Vec<Vec<bool>>,
     /// Image width (user units).
     pub width: u32,
@@ -109,8 +110,16 @@ pub struct VectorInput {
 }
 
 /// Builds the tree of `scene` with NNS (always) and emits it back to
-/// front, pre-blended.
+/// front, pre-blended: [`prepare_for`] the shaded picture.
 pub fn prepare(scene: &Scene, options: &RenderOptions) -> Result<VectorInput> {
+    prepare_for(scene, options, Style::Shaded)
+}
+
+/// [`prepare`] for `style`. A hidden-line drawing needs level 1 only,
+/// no shadows, and the edge flags; the others need no edge flags.
+/// Shadows are cast only when a Point light can cast them.
+pub fn prepare_for(scene: &Scene, options: &RenderOptions, style: Style) -> Result<VectorInput> {
+    let lines = style == Style::HiddenLine;
     let (width, height) = options
         .size
         .unwrap_or((scene.viewport.width(), scene.viewport.height()));
@@ -123,10 +132,10 @@ pub fn prepare(scene: &Scene, options: &RenderOptions) -> Result<VectorInput> {
         scene,
         &view,
         TreeOptions {
-            max_level: scene.modes.max_level,
+            max_level: if lines { 1 } else { scene.modes.max_level },
             threshold: scene.threshold,
             nns: true,
-            shadows: options.shadows,
+            shadows: options.shadows && !lines && crate::render::has_point_light(scene),
             refraction: options.refraction,
             explicit_shadow_shades: scene.modes.shadow_shades,
             shading: options.shading,
@@ -152,7 +161,7 @@ pub fn prepare(scene: &Scene, options: &RenderOptions) -> Result<VectorInput> {
         .iter()
         .zip(&direct)
         .map(|(&n, &d)| {
-            if d {
+            if d && lines {
                 original_edge_flags(scene, &tree, n)
             } else {
                 Vec::new()
@@ -192,14 +201,14 @@ pub fn render_run(
     options: &RenderOptions,
     hidden_line: bool,
 ) -> Result<(Option<Staged>, crate::render::RenderStats)> {
-    let input = prepare(scene, options)?;
-    let Some(file) = file else {
-        return Ok((None, input.stats));
-    };
     let style = if hidden_line {
         Style::HiddenLine
     } else {
         Style::Shaded
+    };
+    let input = prepare_for(scene, options, style)?;
+    let Some(file) = file else {
+        return Ok((None, input.stats));
     };
     let staged = match Format::from_path(file.path()) {
         Some(format) => {
