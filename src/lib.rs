@@ -27,6 +27,7 @@ pub mod rftb;
 pub mod scene;
 pub mod shading;
 pub mod tree;
+pub mod vector;
 pub mod visibility;
 
 pub use error::{Error, Result};

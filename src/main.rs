@@ -112,6 +112,7 @@ struct Options {
     quiet: bool,
     allow_outside: bool,
     budgets: Budgets,
+    hidden_line: bool,
 }
 
 fn usage() -> String {
@@ -146,8 +147,12 @@ FLAGS (the setmode letters of the manual, each taking its value as the next word
 Flags override the same setmode in the scene file.
 
 MODERN CONVENIENCES:
-    -o FILE.png|.ppm   output image (any value of -o other than on/off); PNG and
-                       binary PPM are the formats written
+    -o FILE.png|.ppm|.svg|.pdf|.tex
+                       output image (any value of -o other than on/off): PNG, binary
+                       PPM, or vector graphics chosen by the extension (SVG, one-page
+                       PDF, TikZ), painted back to front from NNS with splitting
+    --hidden-line      Brown's hidden-line drawing: white faces, black visible edges
+                       (PNG lines 1 px; strokes in vector output)
     --output FILE      output image (default FNAME.png in the working directory)
     --size WxH         image size overriding the scene's resolution/viewport (a
                        different aspect ratio stretches the picture: warned)
@@ -261,6 +266,7 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
                 o.id_image = Some(v);
             }
             "--allow-outside" => o.allow_outside = true,
+            "--hidden-line" => o.hidden_line = true,
             "--max-polygons" => o.budgets.polygons = to_usize(count(arg)?),
             "--max-call-depth" => o.budgets.call_depth = to_usize(count(arg)?),
             "--max-tree-nodes" => o.budgets.tree_nodes = to_usize(count(arg)?),
@@ -372,6 +378,17 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
     {
         return Err(pixels_exceeded(w, h, o.budgets.pixels));
     }
+    let vector = o
+        .output
+        .as_deref()
+        .and_then(plytrace::vector::Format::from_path)
+        .is_some();
+    if o.id_image.is_some() && (vector || o.hidden_line) {
+        return Err(
+            "--id-image is made from the shaded PNG; it cannot go with vector output or --hidden-line"
+                .into(),
+        );
+    }
     if o.output.is_some() && o.output == o.id_image {
         return Err("the image and --id-image name the same file".into());
     }
@@ -413,7 +430,11 @@ fn parse_aa(v: &str) -> std::result::Result<plytrace::raster::scan::Method, Stri
 /// that is written.
 fn image_path(v: String) -> std::result::Result<PathBuf, String> {
     let p = PathBuf::from(v);
-    output::check_image_extension(&p)?;
+    if plytrace::vector::Format::from_path(&p).is_some() {
+        return Ok(p);
+    }
+    output::check_image_extension(&p)
+        .map_err(|e| format!("{e}, and the vector formats .svg, .pdf and .tex"))?;
     Ok(p)
 }
 
@@ -481,6 +502,8 @@ struct CliHost {
     written: Vec<PathBuf>,
     /// `run`s rendered so far.
     runs: usize,
+    /// `--hidden-line`.
+    hidden_line: bool,
 }
 
 /// The name and place of a scene-chosen output, `fname`, checked: no `..`
@@ -704,44 +727,61 @@ impl CliHost {
                 .map_err(Error::Invalid)?;
         }
         let mut staged = Vec::new();
-        let rendered = match render::plan(scene, &options)? {
-            render::Plan::Tree(mut prepared) if streamed => {
-                // The virtual frame buffer: bands of rows go to the PNG as
-                // they are finished; the whole image is never in memory.
-                prepared.scan.ids = false;
-                (w, h) = (prepared.scan.width, prepared.scan.height);
-                let file = image_file.take().expect("created for a displayed image");
-                let mut sink = output::PngSink::from_file(file, w, h, scene.outmode.into())?;
-                let mut progress = ProgressSink::new(&mut sink, h, self.progress);
-                let rendered = render::scan_into(*prepared, &mut progress);
-                progress.finish();
-                let rendered = rendered?;
-                let (file, note) = sink.finish()?;
-                if let Some(note) = note {
-                    err(&format!("warning: {note}"));
+        let vector = plytrace::vector::Format::from_path(&path).is_some();
+        let rendered = if vector || self.hidden_line {
+            {
+                let file = image_file.take();
+                let run = plytrace::vector::render_run(file, scene, &options, self.hidden_line)?;
+                staged.extend(run.0);
+                render::Rendered {
+                    frame: FrameBuffer::new(0, 0, [0.0; 3]),
+                    polygons: Vec::new(),
+                    shadows: Vec::new(),
+                    tree: None,
+                    profile: None,
+                    stats: run.1,
                 }
-                staged.push(file);
-                rendered
             }
-            plan => {
-                let rendered = match plan {
-                    render::Plan::Tree(prepared) => {
-                        let (w, h) = (prepared.scan.width, prepared.scan.height);
-                        let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
-                        let mut sink = render::FrameSink { frame: &mut frame };
-                        let mut progress = ProgressSink::new(&mut sink, h, self.progress);
-                        let rendered = render::scan_into(*prepared, &mut progress);
-                        progress.finish();
-                        let mut rendered = rendered?;
-                        rendered.frame = frame;
-                        rendered
+        } else {
+            match render::plan(scene, &options)? {
+                render::Plan::Tree(mut prepared) if streamed => {
+                    // The virtual frame buffer: bands of rows go to the PNG as
+                    // they are finished; the whole image is never in memory.
+                    prepared.scan.ids = false;
+                    (w, h) = (prepared.scan.width, prepared.scan.height);
+                    let file = image_file.take().expect("created for a displayed image");
+                    let mut sink = output::PngSink::from_file(file, w, h, scene.outmode.into())?;
+                    let mut progress = ProgressSink::new(&mut sink, h, self.progress);
+                    let rendered = render::scan_into(*prepared, &mut progress);
+                    progress.finish();
+                    let rendered = rendered?;
+                    let (file, note) = sink.finish()?;
+                    if let Some(note) = note {
+                        err(&format!("warning: {note}"));
                     }
-                    render::Plan::Painted(r) => *r,
-                };
-                if let Some(file) = image_file.take() {
-                    staged.push(output::stage_image(file, &rendered.frame, scene.outmode)?);
+                    staged.push(file);
+                    rendered
                 }
-                rendered
+                plan => {
+                    let rendered = match plan {
+                        render::Plan::Tree(prepared) => {
+                            let (w, h) = (prepared.scan.width, prepared.scan.height);
+                            let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
+                            let mut sink = render::FrameSink { frame: &mut frame };
+                            let mut progress = ProgressSink::new(&mut sink, h, self.progress);
+                            let rendered = render::scan_into(*prepared, &mut progress);
+                            progress.finish();
+                            let mut rendered = rendered?;
+                            rendered.frame = frame;
+                            rendered
+                        }
+                        render::Plan::Painted(r) => *r,
+                    };
+                    if let Some(file) = image_file.take() {
+                        staged.push(output::stage_image(file, &rendered.frame, scene.outmode)?);
+                    }
+                    rendered
+                }
             }
         };
         if rendered.frame.width > 0 {
@@ -1236,6 +1276,7 @@ fn main() -> ExitCode {
         aspect_warned: false,
         written: Vec::new(),
         runs: 0,
+        hidden_line: options.hidden_line,
     };
 
     if let Some(scene) = &options.scene {
