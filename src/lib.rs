@@ -25,6 +25,7 @@ pub mod render;
 pub mod rftb;
 pub mod scene;
 pub mod shading;
+pub mod shadow;
 pub mod tree;
 pub mod visibility;
 
