@@ -890,6 +890,7 @@ impl<'a> Builder<'a> {
             points: &c.points,
             plane,
             t,
+            convex: polygon::is_convex(&c.points),
         };
         let casting = crate::shadow::Casting {
             scene: self.scene,

@@ -67,6 +67,11 @@ struct LightTree {
     nodes: Vec<Node>,
 }
 
+/// How many tolerances the box of a shadow volume is widened by: the
+/// clipper keeps what lies within the tolerance of each plane, which near
+/// the apex of a thin volume reaches farther than the tolerance.
+const BOX_MARGIN: f64 = 1e4;
+
 /// Items per leaf.
 const LEAF: usize = 4;
 
@@ -233,7 +238,11 @@ fn box_outside(planes: &[DVec4], lo: DVec3, hi: DVec3) -> bool {
 impl LightTree {
     /// The casters whose boxes are not wholly outside one of `planes`, in
     /// increasing order, into `out`.
-    fn query(&self, planes: &[DVec4], out: &mut Vec<u32>) {
+    fn query(&self, planes: &[DVec4], bounds: (DVec3, DVec3), out: &mut Vec<u32>) {
+        let (blo, bhi) = bounds;
+        let outside = |lo: DVec3, hi: DVec3| {
+            lo.cmpgt(bhi).any() || hi.cmplt(blo).any() || box_outside(planes, lo, hi)
+        };
         out.clear();
         if self.nodes.is_empty() {
             return;
@@ -244,7 +253,7 @@ impl LightTree {
         while top > 0 {
             top -= 1;
             let node = self.nodes[stack[top] as usize];
-            if box_outside(planes, node.lo, node.hi) {
+            if outside(node.lo, node.hi) {
                 continue;
             }
             if node.count == 0 {
@@ -255,7 +264,7 @@ impl LightTree {
                 let leaf = &self.items[node.first as usize..(node.first + node.count) as usize];
                 out.extend(
                     leaf.iter()
-                        .filter(|it| !box_outside(planes, it.lo, it.hi))
+                        .filter(|it| !outside(it.lo, it.hi))
                         .map(|it| it.caster),
                 );
             }
@@ -289,6 +298,8 @@ pub struct Target<'a> {
     pub plane: DVec4,
     /// The level's mapping from world to virtual coordinates.
     pub t: &'a Matrix4,
+    /// Whether `points` make a convex polygon.
+    pub convex: bool,
 }
 
 /// What shadow casting reads: the scene, its casters, the profile and
@@ -337,9 +348,21 @@ impl Casting<'_> {
             s.world_volume
                 .extend(s.volume.iter().map(|pl| tt.transform(*pl)));
         }
+        // The volume lies in the pyramid from the light to the target: at
+        // level 1 (world coordinates) its box, widened well beyond the
+        // tolerance the clipper allows, culls the hierarchy before any plane.
+        let bounds = if identity && target.convex {
+            let (lo, hi) = bounds(target.points);
+            let margin = DVec3::splat(BOX_MARGIN * eps);
+            (lo.min(lv) - margin, hi.max(lv) + margin)
+        } else {
+            (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY))
+        };
         {
             let _t = profile.time(Category::ChkBbox);
-            index.tree(j, light).query(&s.world_volume, &mut s.found);
+            index
+                .tree(j, light)
+                .query(&s.world_volume, bounds, &mut s.found);
         }
         let own = &scene.objects[target.object as usize];
         let n = plane.truncate();
