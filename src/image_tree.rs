@@ -38,6 +38,7 @@ use glam::{DVec3, DVec4};
 
 use crate::budget::Budgets;
 use crate::geometry::face_splitter;
+use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
@@ -1072,17 +1073,31 @@ pub fn overlap_regions(
         .iter()
         .flat_map(|(j, pieces)| pieces.iter().map(move |p| (p.clone(), vec![*j])))
         .collect();
+    if per_light.len() < 2 {
+        return out;
+    }
+    // Every piece's box and clipping planes, once.
+    let prepared: Vec<Vec<InPlane>> = per_light
+        .iter()
+        .map(|(_, pieces)| pieces.iter().map(|p| InPlane::new(p, normal)).collect())
+        .collect();
+    let mut scratch = ClipScratch::default();
+    let mut many = Vec::new();
     let mut layer: Vec<(Vec<DVec3>, Vec<u32>, usize)> = Vec::new();
     for (k, (j, pieces)) in per_light.iter().enumerate() {
         layer.extend(pieces.iter().map(|p| (p.clone(), vec![*j], k)));
     }
     let mut made = 0;
+    let mut found = Vec::new();
     while !layer.is_empty() && made < cap {
         let mut next = Vec::new();
         'regions: for (points, lights, last) in &layer {
-            for (k, (j, pieces)) in per_light.iter().enumerate().skip(last + 1) {
-                for piece in pieces {
-                    for region in intersect_in_plane(points, piece, normal, eps) {
+            let bounds = polygon_bounds(points);
+            for (k, (j, _)) in per_light.iter().enumerate().skip(last + 1) {
+                for piece in &prepared[k] {
+                    found.clear();
+                    piece.clip(points, bounds, eps, &mut scratch, &mut many, &mut found);
+                    for region in found.drain(..) {
                         if made >= cap {
                             break 'regions;
                         }
@@ -1100,43 +1115,86 @@ pub fn overlap_regions(
     out
 }
 
+fn polygon_bounds(p: &[DVec3]) -> (DVec3, DVec3) {
+    p.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), q| (lo.min(*q), hi.max(*q)),
+    )
+}
+
+/// A polygon in a plane, ready to clip others to it: its box and, per
+/// convex part, the planes perpendicular to the plane through its edges.
+struct InPlane {
+    bounds: (DVec3, DVec3),
+    parts: Vec<Vec<DVec4>>,
+}
+
+impl InPlane {
+    fn new(b: &[DVec3], normal: DVec3) -> InPlane {
+        let parts = polygon::triangulate_if_needed(b)
+            .into_iter()
+            .map(|part| {
+                let centre = part.iter().copied().sum::<DVec3>() / part.len() as f64;
+                (0..part.len())
+                    .filter_map(|i| {
+                        let (p, q) = (part[i], part[(i + 1) % part.len()]);
+                        let n = (q - p).cross(normal).try_normalize()?;
+                        let pl = n.extend(-n.dot(p));
+                        Some(if pl.truncate().dot(centre) + pl.w < 0.0 {
+                            -pl
+                        } else {
+                            pl
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        InPlane {
+            bounds: polygon_bounds(b),
+            parts,
+        }
+    }
+
+    /// The pieces of `a` (box `a_bounds`) inside this polygon, into `out`;
+    /// pieces of no area are dropped.
+    fn clip(
+        &self,
+        a: &[DVec3],
+        a_bounds: (DVec3, DVec3),
+        eps: f64,
+        scratch: &mut ClipScratch,
+        many: &mut Vec<Vec<DVec3>>,
+        out: &mut Vec<Vec<DVec3>>,
+    ) {
+        let ((alo, ahi), (blo, bhi)) = (a_bounds, self.bounds);
+        if (alo - DVec3::splat(eps)).cmpgt(bhi).any() || (blo - DVec3::splat(eps)).cmpgt(ahi).any()
+        {
+            return;
+        }
+        let keep = |p: &[DVec3]| polygon::newell_vector(p.iter().copied()).length() > eps * eps;
+        for planes in &self.parts {
+            match plane_clip::clip_to_planes(a, planes, eps, scratch, many) {
+                Ok(Clipped::One) if keep(scratch.piece()) => out.push(scratch.piece().to_vec()),
+                Ok(Clipped::Many) => out.extend(many.drain(..).filter(|p| keep(p))),
+                _ => {}
+            }
+        }
+    }
+}
+
 /// The intersection of two polygons lying in one plane (unit normal
 /// `normal`): `a` clipped to the planes perpendicular to it through the
 /// edges of each convex part of `b`. Pieces of no area are dropped.
 pub fn intersect_in_plane(a: &[DVec3], b: &[DVec3], normal: DVec3, eps: f64) -> Vec<Vec<DVec3>> {
-    let bounds = |p: &[DVec3]| {
-        p.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), q| (lo.min(*q), hi.max(*q)),
-        )
-    };
-    let ((alo, ahi), (blo, bhi)) = (bounds(a), bounds(b));
-    if (alo - DVec3::splat(eps)).cmpgt(bhi).any() || (blo - DVec3::splat(eps)).cmpgt(ahi).any() {
-        return Vec::new();
-    }
     let mut out = Vec::new();
-    for part in polygon::triangulate_if_needed(b) {
-        let centre = part.iter().copied().sum::<DVec3>() / part.len() as f64;
-        let planes: Vec<DVec4> = (0..part.len())
-            .filter_map(|i| {
-                let (p, q) = (part[i], part[(i + 1) % part.len()]);
-                let n = (q - p).cross(normal).try_normalize()?;
-                let pl = n.extend(-n.dot(p));
-                Some(if pl.truncate().dot(centre) + pl.w < 0.0 {
-                    -pl
-                } else {
-                    pl
-                })
-            })
-            .collect();
-        if let Ok(pieces) = face_splitter::clip_to_planes(a, &planes, eps) {
-            out.extend(
-                pieces
-                    .into_iter()
-                    .filter(|p| polygon::newell_vector(p.iter().copied()).length() > eps * eps),
-            );
-        }
-    }
+    InPlane::new(b, normal).clip(
+        a,
+        polygon_bounds(a),
+        eps,
+        &mut ClipScratch::default(),
+        &mut Vec::new(),
+        &mut out,
+    );
     out
 }
 
