@@ -840,7 +840,7 @@ impl<'a> Builder<'a> {
         &mut self,
         sorted: &[Candidate],
         t: &Matrix4,
-    ) -> Vec<Vec<ShadowRegion>> {
+    ) -> Vec<Vec<(ShadowRegion, Vec<DVec3>)>> {
         if !self.options.shadows {
             return Vec::new();
         }
@@ -859,6 +859,12 @@ impl<'a> Builder<'a> {
             .par_iter()
             .map_init(crate::shadow::Scratch::default, |s, c| {
                 this.shadow_regions(&index, c, t, s)
+                    .into_iter()
+                    .map(|region| {
+                        let screen = region.0.iter().map(|p| this.view.project(*p)).collect();
+                        (region, screen)
+                    })
+                    .collect()
             })
             .collect();
         self.profile.add(Category::Shadows, start.elapsed());
@@ -932,7 +938,7 @@ impl<'a> Builder<'a> {
     #[allow(clippy::too_many_arguments)]
     fn shadows_on(
         &mut self,
-        regions: Vec<ShadowRegion>,
+        regions: Vec<(ShadowRegion, Vec<DVec3>)>,
         c: &Candidate,
         t: &Matrix4,
         terms: &FacetTerms,
@@ -956,9 +962,8 @@ impl<'a> Builder<'a> {
         // One pass over the lights for the target; each region then costs
         // only its own lights.
         let mut out = Vec::with_capacity(regions.len());
-        for (points, lights) in regions {
+        for ((points, lights), screen) in regions {
             let shade = self.shadow_shade(c, eye_real, &lights, &points, inverse, terms);
-            let screen = points.iter().map(|p| self.view.project(*p)).collect();
             out.push(self.push(Fragment {
                 level,
                 kind: FragmentKind::Shadow { light: lights[0] },
