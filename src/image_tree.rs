@@ -38,6 +38,7 @@ use glam::{DVec3, DVec4};
 
 use crate::budget::Budgets;
 use crate::geometry::face_splitter;
+use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
@@ -45,6 +46,7 @@ use crate::profile::{Category, Profile};
 use crate::scene::model::{Color, Scene, SortOrder};
 use crate::shading::{FacetTerms, ShadingModel, polygon_material};
 use crate::visibility::{depth_sort, nns};
+use rayon::prelude::*;
 
 /// What a fragment of the tree is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -280,7 +282,7 @@ struct Builder<'a> {
     profile: &'a Profile,
     /// Every polygon in world coordinates, for shadow casting at any level
     /// (built on the first shadow).
-    casters: Option<std::rc::Rc<CasterIndex>>,
+    casters: Option<std::sync::Arc<crate::shadow::CasterIndex>>,
     scene: &'a Scene,
     view: &'a View,
     options: TreeOptions,
@@ -637,8 +639,9 @@ impl<'a> Builder<'a> {
             .map(|inv| inv.transform(self.view.eye))
             .unwrap_or(self.view.eye);
         let mut ids = Vec::new();
-        // The casters of this level, built when the first shadow is cast.
-
+        // The shadow regions of every fragment of the level, found in
+        // parallel; the fragments are added below in order.
+        let mut shadow_regions = self.level_shadow_regions(&sorted, t).into_iter();
         let mut facets: std::collections::HashMap<(u32, u32, bool), FacetTerms<'a>> =
             std::collections::HashMap::new();
         for c in sorted {
@@ -689,20 +692,10 @@ impl<'a> Builder<'a> {
                 shadowed_from: Vec::new(),
             });
             ids.push(id);
-            if self.options.shadows && !crate::cancel::requested() {
-                let index = match &self.casters {
-                    Some(i) => i.clone(),
-                    None => {
-                        let _t = self.profile.time(Category::Transform);
-                        let i = std::rc::Rc::new(CasterIndex::new(self.scene));
-                        self.casters = Some(i.clone());
-                        i
-                    }
-                };
-                let index = &*index;
+            if let Some(regions) = shadow_regions.next() {
                 let start = std::time::Instant::now();
                 let shadows =
-                    self.shadows_on(index, &c, t, &terms, weight, parent_blend, id, level);
+                    self.shadows_on(regions, &c, t, &terms, weight, parent_blend, id, level);
                 self.profile.add(Category::Shadows, start.elapsed());
                 self.tree.nodes[id].children.extend(shadows);
             }
@@ -843,20 +836,115 @@ impl<'a> Builder<'a> {
         }
     }
 
-    /// The shadow polygons cast on fragment `c` (virtual coordinates under
-    /// `t`) by every Point light (004 section 4.7), as overlap regions (see
+    /// The shadow regions of every fragment of a level (`sorted`, virtual
+    /// coordinates under `t`), one list per fragment in their order,
+    /// computed in parallel; empty without `run y`.
+    fn level_shadow_regions(
+        &mut self,
+        sorted: &[Candidate],
+        t: &Matrix4,
+    ) -> Vec<Vec<(ShadowRegion, Vec<DVec3>)>> {
+        if !self.options.shadows {
+            return Vec::new();
+        }
+        let index = match &self.casters {
+            Some(i) => i.clone(),
+            None => {
+                let _t = self.profile.time(Category::Transform);
+                let i = std::sync::Arc::new(crate::shadow::CasterIndex::new(self.scene));
+                self.casters = Some(i.clone());
+                i
+            }
+        };
+        let start = std::time::Instant::now();
+        let this = &*self;
+        let regions = sorted
+            .par_iter()
+            .map_init(crate::shadow::Scratch::default, |s, c| {
+                if crate::cancel::requested() {
+                    return Vec::new();
+                }
+                this.shadow_regions(&index, c, t, s)
+                    .into_iter()
+                    .map(|region| {
+                        let screen = region.0.iter().map(|p| this.view.project(*p)).collect();
+                        (region, screen)
+                    })
+                    .collect()
+            })
+            .collect();
+        self.profile.add(Category::Shadows, start.elapsed());
+        regions
+    }
+
+    /// The shadow regions on fragment `c` (virtual coordinates under `t`)
+    /// from every Point light (004 section 4.7), as overlap regions (see
     /// [`overlap_regions`]): each region carries the lights it is shadowed
-    /// from and the target's shade without all of them, so that where the
-    /// shadows of several lights overlap the region is darker than either
-    /// (lifting the limit of 004 section 4.10 on "overlapped shadow regions
-    /// caused by multiple light sources"). Back to front, regions of fewer
-    /// lights come first. Only the first [`MAX_COMBINED_LIGHTS`] lights
-    /// that cast on the fragment are combined; the shadows of further
-    /// lights are emitted alone, shaded without their own light only.
+    /// from. Only the first [`MAX_COMBINED_LIGHTS`] lights that cast on
+    /// the fragment are combined; the shadows of further lights come
+    /// alone. Fragments of `type ltsrc` show their colour whatever the
+    /// lights and get none.
+    fn shadow_regions(
+        &self,
+        index: &crate::shadow::CasterIndex,
+        c: &Candidate,
+        t: &Matrix4,
+        scratch: &mut crate::shadow::Scratch,
+    ) -> Vec<ShadowRegion> {
+        if self.scene.objects[c.object as usize].surface_type.ltsrc {
+            return Vec::new();
+        }
+        let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
+            return Vec::new();
+        };
+        let target = crate::shadow::Target {
+            object: c.object,
+            polygon: c.polygon,
+            points: &c.points,
+            plane,
+            t,
+            convex: polygon::is_convex(&c.points),
+        };
+        let casting = crate::shadow::Casting {
+            scene: self.scene,
+            index,
+            profile: self.profile,
+            eps: self.eps,
+        };
+        let mut per_light = Vec::new();
+        for (j, light) in self.scene.lights.iter().enumerate() {
+            if light.kind != crate::scene::model::LightKind::Point {
+                continue;
+            }
+            let pieces = casting.pieces(&target, j, light.position, scratch);
+            if !pieces.is_empty() {
+                per_light.push((j as u32, pieces));
+            }
+        }
+        let split = per_light.len().min(MAX_COMBINED_LIGHTS);
+        let mut regions = overlap_regions(
+            &per_light[..split],
+            plane.truncate(),
+            self.eps,
+            MAX_OVERLAP_PIECES,
+        );
+        for (j, pieces) in &per_light[split..] {
+            regions.extend(pieces.iter().map(|p| (p.clone(), vec![*j])));
+        }
+        regions
+    }
+
+    /// Adds the shadow `regions` of fragment `c` (see
+    /// [`Self::shadow_regions`]) under fragment `parent`, each with the
+    /// target's shade without its lights, so that where the shadows of
+    /// several lights overlap the region is darker than either (lifting
+    /// the limit of 004 section 4.10 on "overlapped shadow regions caused
+    /// by multiple light sources"). Back to front, regions of fewer lights
+    /// come first.
     #[allow(clippy::too_many_arguments)]
     fn shadows_on(
         &mut self,
-        index: &CasterIndex,
+        regions: Vec<(ShadowRegion, Vec<DVec3>)>,
         c: &Candidate,
         t: &Matrix4,
         terms: &FacetTerms,
@@ -866,29 +954,6 @@ impl<'a> Builder<'a> {
         level: u32,
     ) -> Vec<usize> {
         let eye_real = &terms.eye();
-        let Some(target) = toward_eye_plane(&c.points, self.view.eye) else {
-            return Vec::new();
-        };
-        let mut per_light = Vec::new();
-        for (j, light) in self.scene.lights.iter().enumerate() {
-            if light.kind != crate::scene::model::LightKind::Point {
-                continue;
-            }
-            let pieces = self.shadow_pieces(index, c, t, light.position, target);
-            if !pieces.is_empty() {
-                per_light.push((j as u32, pieces));
-            }
-        }
-        let split = per_light.len().min(MAX_COMBINED_LIGHTS);
-        let mut regions = overlap_regions(
-            &per_light[..split],
-            target.truncate(),
-            self.eps,
-            MAX_OVERLAP_PIECES,
-        );
-        for (j, pieces) in &per_light[split..] {
-            regions.extend(pieces.iter().map(|p| (p.clone(), vec![*j])));
-        }
         // Below level 1 the shadows of a fragment fit in the node budget
         // whole, or are pruned like a branch.
         if level > 1
@@ -903,9 +968,8 @@ impl<'a> Builder<'a> {
         // One pass over the lights for the target; each region then costs
         // only its own lights.
         let mut out = Vec::with_capacity(regions.len());
-        for (points, lights) in regions {
+        for ((points, lights), screen) in regions {
             let shade = self.shadow_shade(c, eye_real, &lights, &points, inverse, terms);
-            let screen = points.iter().map(|p| self.view.project(*p)).collect();
             out.push(self.push(Fragment {
                 level,
                 kind: FragmentKind::Shadow { light: lights[0] },
@@ -958,152 +1022,6 @@ impl<'a> Builder<'a> {
         terms.without(lights)
     }
 
-    /// The shadow volume of fragment `points` for a light at `lv` (virtual
-    /// coordinates): the planes from the light through its edges, strictly
-    /// above the target plane, below the light (004 section 4.7).
-    fn shadow_volume(&self, points: &[DVec3], target: DVec4, lv: DVec3) -> Vec<DVec4> {
-        let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
-        let mut volume = Vec::with_capacity(points.len() + 2);
-        for i in 0..points.len() {
-            let (a, b) = (points[i], points[(i + 1) % points.len()]);
-            let Some(n) = (b - a).cross(lv - a).try_normalize() else {
-                continue;
-            };
-            let mut pl = n.extend(-n.dot(a));
-            if pl.truncate().dot(centre) + pl.w < 0.0 {
-                pl = -pl;
-            }
-            volume.push(pl);
-        }
-        volume.push(DVec4::new(
-            target.x,
-            target.y,
-            target.z,
-            target.w - self.eps,
-        ));
-        volume.push((-target.truncate()).extend(target.truncate().dot(lv)));
-        volume
-    }
-
-    /// The shadows cast on fragment `c` by the Point light at world
-    /// `light`, projected from the light onto the fragment's plane `target`
-    /// (virtual coordinates under `t`; 004 section 4.7): casters are culled
-    /// by their bounding boxes and planes against the shadow volume, clipped
-    /// to it and projected. Polygons back-facing to the light are skipped
-    /// (unless `type open`), and so is the fragment's own object unless it
-    /// is `type concave`.
-    fn shadow_pieces(
-        &self,
-        index: &CasterIndex,
-        c: &Candidate,
-        t: &Matrix4,
-        light: DVec3,
-        target: DVec4,
-    ) -> Vec<Vec<DVec3>> {
-        let scene = self.scene;
-        let lv = t.transform_point(light);
-        // The light must be on the viewer's side of the fragment.
-        if target.truncate().dot(lv) + target.w <= self.eps {
-            return Vec::new();
-        }
-        let volume = self.shadow_volume(&c.points, target, lv);
-        // The index is in world coordinates: map the volume's planes back
-        // (a plane L of the virtual space is t L in world space).
-        let identity = *t == Matrix4::IDENTITY;
-        let world_volume: Vec<DVec4> = if identity {
-            volume.clone()
-        } else {
-            let tt = t.transpose();
-            volume.iter().map(|pl| tt.transform(*pl)).collect()
-        };
-        let candidates = {
-            let _t = self.profile.time(Category::ChkBbox);
-            index.query(&world_volume)
-        };
-        let mut out = Vec::new();
-        for k in candidates {
-            let caster = &index.casters[k];
-            // A polygon casts no shadow on its own object unless that is
-            // `type concave`, and never on itself; a caster standing for
-            // several identical polygons casts if any of them may.
-            if let Some(o) = caster.single_object
-                && o == c.object
-                && (!scene.objects[o as usize].surface_type.concave
-                    || (caster.copies == 1 && caster.polygon == c.polygon))
-            {
-                continue;
-            }
-            // Facing the light: the same test in world coordinates.
-            let plane = caster.plane;
-            if plane.truncate().dot(light) + plane.w <= 0.0 && !caster.open {
-                continue;
-            }
-            let pts: Vec<DVec3> = if identity {
-                caster.points.clone()
-            } else {
-                caster
-                    .points
-                    .iter()
-                    .map(|p| t.transform_point(*p))
-                    .collect()
-            };
-            // A caster in the target's plane (a coincident copy, or a
-            // neighbour of a tessellated plane) shadows nothing on it.
-            let n = target.truncate();
-            if pts.iter().all(|p| (n.dot(*p) + target.w).abs() <= self.eps) {
-                continue;
-            }
-            out.extend(self.project_caster(&pts, &volume, target, lv));
-        }
-        out
-    }
-
-    /// One caster polygon (virtual coordinates) clipped to the shadow
-    /// `volume` and projected from the light `lv` onto the `target` plane.
-    fn project_caster(
-        &self,
-        pts: &[DVec3],
-        volume: &[DVec4],
-        target: DVec4,
-        lv: DVec3,
-    ) -> Vec<Vec<DVec3>> {
-        let outside = {
-            let _t = self.profile.time(Category::ChkPly);
-            volume
-                .iter()
-                .any(|pl| pts.iter().all(|p| pl.truncate().dot(*p) + pl.w < 0.0))
-        };
-        if outside {
-            return Vec::new();
-        }
-        let clipped = {
-            let _t = self.profile.time(Category::Clipping);
-            face_splitter::clip_to_planes(pts, volume, self.eps)
-        };
-        let Ok(pieces) = clipped else {
-            return Vec::new();
-        };
-        let n = target.truncate();
-        pieces
-            .into_iter()
-            .map(|piece| {
-                piece
-                    .iter()
-                    .map(|p| {
-                        let d = *p - lv;
-                        let s = -(n.dot(lv) + target.w) / n.dot(d);
-                        lv + d * s
-                    })
-                    .collect::<Vec<DVec3>>()
-            })
-            .filter(|projected| {
-                projected.iter().all(|p| p.is_finite())
-                    && polygon::newell_vector(projected.iter().copied()).length()
-                        > self.eps * self.eps
-            })
-            .collect()
-    }
-
     fn push(&mut self, f: Fragment) -> usize {
         self.tree.nodes.push(f);
         self.tree.nodes.len() - 1
@@ -1129,174 +1047,6 @@ impl<'a> Builder<'a> {
         }
         planes.extend(self.frustum.iter().copied());
         planes
-    }
-}
-
-/// A polygon that may cast a shadow, in world coordinates; identical
-/// polygons (the same vertices from the same start, the same `type open`)
-/// share one caster, since they cast the same shadow.
-struct Caster {
-    /// The first polygon it stands for.
-    polygon: u32,
-    /// The object of every polygon it stands for, or `None` when they come
-    /// from several objects.
-    single_object: Option<u32>,
-    /// How many identical polygons it stands for.
-    copies: u32,
-    points: Vec<DVec3>,
-    /// Outward plane (unit normal).
-    plane: DVec4,
-    open: bool,
-    lo: DVec3,
-    hi: DVec3,
-}
-
-/// A bounding volume hierarchy over the polygons of a level, queried with
-/// shadow volumes (004 section 6.4.1-6.4.2: a hierarchy of bounding volumes
-/// instead of testing every object against every shadow volume).
-struct CasterIndex {
-    casters: Vec<Caster>,
-    order: Vec<u32>,
-    /// (lo, hi, first, count): a leaf when count > 0, else children at
-    /// `first` and `first + 1`.
-    nodes: Vec<(DVec3, DVec3, u32, u32)>,
-}
-
-impl CasterIndex {
-    /// The index of every displayed polygon of `scene`, in world
-    /// coordinates (levels below 1 map their shadow volumes back to them).
-    fn new(scene: &Scene) -> CasterIndex {
-        let mut casters: Vec<Caster> = Vec::new();
-        // Identical polygons (65,535 copies of one triangle) would each
-        // be found by every query of the others: one caster for all.
-        let mut seen: std::collections::HashMap<(bool, Vec<[u64; 3]>), usize> =
-            std::collections::HashMap::new();
-        for (oi, object) in scene.objects.iter().enumerate() {
-            if object.surface_type.hidden {
-                continue;
-            }
-            for (pi, poly) in object.polygons.iter().enumerate() {
-                let points: Vec<DVec3> = poly
-                    .indices
-                    .iter()
-                    .map(|&i| object.vertices[i as usize])
-                    .collect();
-                let key = (
-                    object.surface_type.open,
-                    points
-                        .iter()
-                        .map(|p| p.to_array().map(f64::to_bits))
-                        .collect(),
-                );
-                if let Some(&k) = seen.get(&key) {
-                    let caster = &mut casters[k];
-                    caster.copies += 1;
-                    if caster.single_object != Some(oi as u32) {
-                        caster.single_object = None;
-                    }
-                    continue;
-                }
-                seen.insert(key, casters.len());
-                let plane = poly.plane;
-                let (lo, hi) = points.iter().fold(
-                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-                );
-                casters.push(Caster {
-                    polygon: pi as u32,
-                    single_object: Some(oi as u32),
-                    copies: 1,
-                    points,
-                    plane,
-                    open: object.surface_type.open,
-                    lo,
-                    hi,
-                });
-            }
-        }
-        let mut index = CasterIndex {
-            order: (0..casters.len() as u32).collect(),
-            casters,
-            nodes: Vec::new(),
-        };
-        if !index.casters.is_empty() {
-            index.nodes.push((DVec3::ZERO, DVec3::ZERO, 0, 0));
-            index.build(0, 0, index.order.len());
-        }
-        index
-    }
-
-    fn build(&mut self, node: usize, start: usize, end: usize) {
-        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-        for &k in &self.order[start..end] {
-            lo = lo.min(self.casters[k as usize].lo);
-            hi = hi.max(self.casters[k as usize].hi);
-        }
-        if end - start <= 4 {
-            self.nodes[node] = (lo, hi, start as u32, (end - start) as u32);
-            return;
-        }
-        let e = hi - lo;
-        let axis = if e.x >= e.y && e.x >= e.z {
-            0
-        } else if e.y >= e.z {
-            1
-        } else {
-            2
-        };
-        let mid = (start + end) / 2;
-        let casters = &self.casters;
-        self.order[start..end].select_nth_unstable_by(mid - start, |a, b| {
-            let ca = (casters[*a as usize].lo + casters[*a as usize].hi).to_array()[axis];
-            let cb = (casters[*b as usize].lo + casters[*b as usize].hi).to_array()[axis];
-            ca.total_cmp(&cb)
-        });
-        let left = self.nodes.len();
-        self.nodes.push((DVec3::ZERO, DVec3::ZERO, 0, 0));
-        self.nodes.push((DVec3::ZERO, DVec3::ZERO, 0, 0));
-        self.nodes[node] = (lo, hi, left as u32, 0);
-        self.build(left, start, mid);
-        self.build(left + 1, mid, end);
-    }
-
-    /// Casters whose boxes are not wholly outside one of `planes`, in a
-    /// deterministic order.
-    fn query(&self, planes: &[DVec4]) -> Vec<usize> {
-        let outside = |lo: DVec3, hi: DVec3| {
-            planes.iter().any(|pl| {
-                let n = pl.truncate();
-                // The box corner farthest along the normal.
-                let far = DVec3::new(
-                    if n.x >= 0.0 { hi.x } else { lo.x },
-                    if n.y >= 0.0 { hi.y } else { lo.y },
-                    if n.z >= 0.0 { hi.z } else { lo.z },
-                );
-                n.dot(far) + pl.w < 0.0
-            })
-        };
-        let mut out = Vec::new();
-        if self.nodes.is_empty() {
-            return out;
-        }
-        let mut stack = vec![0usize];
-        while let Some(n) = stack.pop() {
-            let (lo, hi, first, count) = self.nodes[n];
-            if outside(lo, hi) {
-                continue;
-            }
-            if count == 0 {
-                stack.push(first as usize);
-                stack.push(first as usize + 1);
-            } else {
-                out.extend(
-                    self.order[first as usize..(first + count) as usize]
-                        .iter()
-                        .map(|&k| k as usize),
-                );
-            }
-        }
-        out.sort_unstable();
-        out
     }
 }
 
@@ -1334,17 +1084,31 @@ pub fn overlap_regions(
         .iter()
         .flat_map(|(j, pieces)| pieces.iter().map(move |p| (p.clone(), vec![*j])))
         .collect();
+    if per_light.len() < 2 {
+        return out;
+    }
+    // Every piece's box and clipping planes, once.
+    let prepared: Vec<Vec<InPlane>> = per_light
+        .iter()
+        .map(|(_, pieces)| pieces.iter().map(|p| InPlane::new(p, normal)).collect())
+        .collect();
+    let mut scratch = ClipScratch::default();
+    let mut many = Vec::new();
     let mut layer: Vec<(Vec<DVec3>, Vec<u32>, usize)> = Vec::new();
     for (k, (j, pieces)) in per_light.iter().enumerate() {
         layer.extend(pieces.iter().map(|p| (p.clone(), vec![*j], k)));
     }
     let mut made = 0;
+    let mut found = Vec::new();
     while !layer.is_empty() && made < cap {
         let mut next = Vec::new();
         'regions: for (points, lights, last) in &layer {
-            for (k, (j, pieces)) in per_light.iter().enumerate().skip(last + 1) {
-                for piece in pieces {
-                    for region in intersect_in_plane(points, piece, normal, eps) {
+            let bounds = polygon_bounds(points);
+            for (k, (j, _)) in per_light.iter().enumerate().skip(last + 1) {
+                for piece in &prepared[k] {
+                    found.clear();
+                    piece.clip(points, bounds, eps, &mut scratch, &mut many, &mut found);
+                    for region in found.drain(..) {
                         if made >= cap {
                             break 'regions;
                         }
@@ -1362,43 +1126,86 @@ pub fn overlap_regions(
     out
 }
 
+fn polygon_bounds(p: &[DVec3]) -> (DVec3, DVec3) {
+    p.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), q| (lo.min(*q), hi.max(*q)),
+    )
+}
+
+/// A polygon in a plane, ready to clip others to it: its box and, per
+/// convex part, the planes perpendicular to the plane through its edges.
+struct InPlane {
+    bounds: (DVec3, DVec3),
+    parts: Vec<Vec<DVec4>>,
+}
+
+impl InPlane {
+    fn new(b: &[DVec3], normal: DVec3) -> InPlane {
+        let parts = polygon::triangulate_if_needed(b)
+            .into_iter()
+            .map(|part| {
+                let centre = part.iter().copied().sum::<DVec3>() / part.len() as f64;
+                (0..part.len())
+                    .filter_map(|i| {
+                        let (p, q) = (part[i], part[(i + 1) % part.len()]);
+                        let n = (q - p).cross(normal).try_normalize()?;
+                        let pl = n.extend(-n.dot(p));
+                        Some(if pl.truncate().dot(centre) + pl.w < 0.0 {
+                            -pl
+                        } else {
+                            pl
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        InPlane {
+            bounds: polygon_bounds(b),
+            parts,
+        }
+    }
+
+    /// The pieces of `a` (box `a_bounds`) inside this polygon, into `out`;
+    /// pieces of no area are dropped.
+    fn clip(
+        &self,
+        a: &[DVec3],
+        a_bounds: (DVec3, DVec3),
+        eps: f64,
+        scratch: &mut ClipScratch,
+        many: &mut Vec<Vec<DVec3>>,
+        out: &mut Vec<Vec<DVec3>>,
+    ) {
+        let ((alo, ahi), (blo, bhi)) = (a_bounds, self.bounds);
+        if (alo - DVec3::splat(eps)).cmpgt(bhi).any() || (blo - DVec3::splat(eps)).cmpgt(ahi).any()
+        {
+            return;
+        }
+        let keep = |p: &[DVec3]| polygon::newell_vector(p.iter().copied()).length() > eps * eps;
+        for planes in &self.parts {
+            match plane_clip::clip_to_planes(a, planes, eps, scratch, many) {
+                Ok(Clipped::One) if keep(scratch.piece()) => out.push(scratch.piece().to_vec()),
+                Ok(Clipped::Many) => out.extend(many.drain(..).filter(|p| keep(p))),
+                _ => {}
+            }
+        }
+    }
+}
+
 /// The intersection of two polygons lying in one plane (unit normal
 /// `normal`): `a` clipped to the planes perpendicular to it through the
 /// edges of each convex part of `b`. Pieces of no area are dropped.
 pub fn intersect_in_plane(a: &[DVec3], b: &[DVec3], normal: DVec3, eps: f64) -> Vec<Vec<DVec3>> {
-    let bounds = |p: &[DVec3]| {
-        p.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), q| (lo.min(*q), hi.max(*q)),
-        )
-    };
-    let ((alo, ahi), (blo, bhi)) = (bounds(a), bounds(b));
-    if (alo - DVec3::splat(eps)).cmpgt(bhi).any() || (blo - DVec3::splat(eps)).cmpgt(ahi).any() {
-        return Vec::new();
-    }
     let mut out = Vec::new();
-    for part in polygon::triangulate_if_needed(b) {
-        let centre = part.iter().copied().sum::<DVec3>() / part.len() as f64;
-        let planes: Vec<DVec4> = (0..part.len())
-            .filter_map(|i| {
-                let (p, q) = (part[i], part[(i + 1) % part.len()]);
-                let n = (q - p).cross(normal).try_normalize()?;
-                let pl = n.extend(-n.dot(p));
-                Some(if pl.truncate().dot(centre) + pl.w < 0.0 {
-                    -pl
-                } else {
-                    pl
-                })
-            })
-            .collect();
-        if let Ok(pieces) = face_splitter::clip_to_planes(a, &planes, eps) {
-            out.extend(
-                pieces
-                    .into_iter()
-                    .filter(|p| polygon::newell_vector(p.iter().copied()).length() > eps * eps),
-            );
-        }
-    }
+    InPlane::new(b, normal).clip(
+        a,
+        polygon_bounds(a),
+        eps,
+        &mut ClipScratch::default(),
+        &mut Vec::new(),
+        &mut out,
+    );
     out
 }
 

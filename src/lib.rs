@@ -26,6 +26,7 @@ pub mod render;
 pub mod rftb;
 pub mod scene;
 pub mod shading;
+pub mod shadow;
 pub mod tree;
 pub mod vector;
 pub mod visibility;

@@ -4,8 +4,8 @@
 //! (ChkBBOX, ChkPLY, Clipping, Transform). Enabled by `--profile`; when off,
 //! a timer costs one branch.
 
-use std::cell::Cell;
 use std::fmt;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// A category of table 6.2.
@@ -50,14 +50,16 @@ const ALL: [(Category, &str); 10] = [
 #[derive(Debug, Default)]
 pub struct Profile {
     enabled: bool,
-    times: [Cell<Duration>; 10],
+    /// Nanoseconds per category; atomic, so parallel work (the shadows of
+    /// a level) adds its threads' times.
+    times: [AtomicU64; 10],
 }
 
 impl Clone for Profile {
     fn clone(&self) -> Self {
         let p = Profile::new(self.enabled);
         for (a, b) in p.times.iter().zip(&self.times) {
-            a.set(b.get());
+            a.store(b.load(Ordering::Relaxed), Ordering::Relaxed);
         }
         p
     }
@@ -65,13 +67,13 @@ impl Clone for Profile {
 
 /// Adds the time from its creation to its drop to a category.
 pub struct Timer<'a> {
-    slot: Option<(&'a Cell<Duration>, Instant)>,
+    slot: Option<(&'a AtomicU64, Instant)>,
 }
 
 impl Drop for Timer<'_> {
     fn drop(&mut self) {
         if let Some((cell, start)) = self.slot {
-            cell.set(cell.get() + start.elapsed());
+            cell.fetch_add(nanos(start.elapsed()), Ordering::Relaxed);
         }
     }
 }
@@ -97,20 +99,23 @@ impl Profile {
     /// Adds `d` to `category`.
     pub fn add(&self, category: Category, d: Duration) {
         if self.enabled {
-            let c = &self.times[category as usize];
-            c.set(c.get() + d);
+            self.times[category as usize].fetch_add(nanos(d), Ordering::Relaxed);
         }
     }
 
     /// The time of `category`.
     pub fn get(&self, category: Category) -> Duration {
-        self.times[category as usize].get()
+        Duration::from_nanos(self.times[category as usize].load(Ordering::Relaxed))
     }
 
     /// Whether it records.
     pub fn enabled(&self) -> bool {
         self.enabled
     }
+}
+
+fn nanos(d: Duration) -> u64 {
+    u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)
 }
 
 impl fmt::Display for Profile {

@@ -408,21 +408,37 @@ pub fn prepare(
 ) -> Prepared {
     let t = Instant::now();
     let profile = crate::profile::Profile::new(options.profile);
-    let tree = crate::image_tree::build_profiled(
-        scene,
-        view,
-        crate::image_tree::TreeOptions {
-            max_level: scene.modes.max_level,
-            threshold: scene.threshold,
-            nns: algorithm == Algorithm::Nns,
-            shadows: options.shadows,
-            refraction: options.refraction,
-            explicit_shadow_shades: scene.modes.shadow_shades,
-            shading: options.shading,
-            budgets: options.budgets,
-        },
-        &profile,
-    );
+    // `--threads N` bounds the tree's parallel work too (shadows); the
+    // tree does not depend on it.
+    let pool = (options.threads > 0)
+        .then(|| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(options.threads)
+                .build()
+                .ok()
+        })
+        .flatten();
+    let build = || {
+        crate::image_tree::build_profiled(
+            scene,
+            view,
+            crate::image_tree::TreeOptions {
+                max_level: scene.modes.max_level,
+                threshold: scene.threshold,
+                nns: algorithm == Algorithm::Nns,
+                shadows: options.shadows,
+                refraction: options.refraction,
+                explicit_shadow_shades: scene.modes.shadow_shades,
+                shading: options.shading,
+                budgets: options.budgets,
+            },
+            &profile,
+        )
+    };
+    let tree = match &pool {
+        Some(pool) => pool.install(build),
+        None => build(),
+    };
     stats.sort_time = t.elapsed();
     stats.geometry = tree.geometry;
     stats.max_depth = tree.max_depth;

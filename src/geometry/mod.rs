@@ -4,5 +4,6 @@
 
 pub mod clip;
 pub mod face_splitter;
+pub mod plane_clip;
 pub mod polygon;
 pub mod view;

@@ -146,6 +146,9 @@ struct Sorter<'v> {
     stopped: bool,
 }
 
+/// The most cells of the screen grid along a side.
+const MAX_GRID: usize = 1024;
+
 struct Grid {
     cells: Vec<Vec<u32>>,
     n: usize,
@@ -155,7 +158,12 @@ struct Grid {
 
 impl Grid {
     fn new(faces: usize, width: f64, height: f64) -> Grid {
-        let n = ((faces as f64 / 2.0).sqrt() as usize).clamp(1, 128);
+        // About two faces per cell, so that the neighbours of a face stay
+        // few as the scene grows (the sort stays near n log n to 10^6
+        // faces); no finer than a pixel, where cells stop separating
+        // faces, and at most MAX_GRID^2 cells.
+        let finest = width.max(height).ceil().max(1.0) as usize;
+        let n = ((faces as f64 / 2.0).sqrt() as usize).clamp(1, MAX_GRID.min(finest));
         Grid {
             cells: vec![Vec::new(); n * n],
             n,

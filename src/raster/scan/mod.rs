@@ -165,12 +165,26 @@ pub fn scan_convert(
 ) -> Result<ScanStats> {
     let logic = choose(stream, options)?;
     let (w, h) = (options.width, options.height);
-    let records = stream
-        .records
-        .iter()
-        .enumerate()
-        .map(|(k, r)| shade::prepare(r, k, w, h))
-        .collect::<Result<Vec<_>>>()?;
+    // In parallel, in order (in a pool of `options.threads` when given).
+    let prepare = || {
+        use rayon::prelude::*;
+        stream
+            .records
+            .par_iter()
+            .enumerate()
+            .map(|(k, r)| shade::prepare(r, k, w, h))
+            .collect::<Vec<Result<_>>>()
+            .into_iter()
+            // The first bad record, whatever the threads.
+            .collect::<Result<Vec<_>>>()
+    };
+    let records = match options.threads {
+        0 => prepare(),
+        n => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
+            Ok(pool) => pool.install(prepare),
+            Err(_) => prepare(),
+        },
+    }?;
     if let Logic::Multi(_) = logic
         && let Some((k, r)) = records
             .iter()
