@@ -462,6 +462,8 @@ struct CliHost {
     written: Vec<PathBuf>,
     /// `run`s rendered so far.
     runs: usize,
+    /// Brown's priority orders of the previous frame (003 sections 2-3).
+    orders: plytrace::visibility::brown::PriorityCache,
 }
 
 /// The name and place of a scene-chosen output, `fname`, checked: no `..`
@@ -667,7 +669,7 @@ impl Host for CliHost {
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("png"));
         let mut staged = Vec::new();
-        let rendered = match render::plan(scene, &options)? {
+        let rendered = match render::plan_with(scene, &options, &self.orders)? {
             render::Plan::Tree(mut prepared) if streamed => {
                 // The virtual frame buffer: bands of rows go to the PNG as
                 // they are finished; the whole image is never in memory.
@@ -783,6 +785,9 @@ impl Host for CliHost {
                     String::new()
                 }
             ));
+        }
+        if let Some(b) = &s.brown {
+            self.say(&format!("Brown: {b}"));
         }
         if scene.modes.debug > 0 {
             self.say(&format!(
@@ -1091,6 +1096,7 @@ fn main() -> ExitCode {
         aspect_warned: false,
         written: Vec::new(),
         runs: 0,
+        orders: Default::default(),
     };
 
     if let Some(scene) = &options.scene {
