@@ -504,6 +504,8 @@ struct CliHost {
     runs: usize,
     /// `--hidden-line`.
     hidden_line: bool,
+    /// Brown's priority orders of the previous frame (003 sections 2-3).
+    orders: plytrace::visibility::brown::PriorityCache,
 }
 
 /// The name and place of a scene-chosen output, `fname`, checked: no `..`
@@ -743,7 +745,7 @@ impl CliHost {
                 }
             }
         } else {
-            match render::plan(scene, &options)? {
+            match render::plan_with(scene, &options, &self.orders)? {
                 render::Plan::Tree(mut prepared) if streamed => {
                     // The virtual frame buffer: bands of rows go to the PNG as
                     // they are finished; the whole image is never in memory.
@@ -860,6 +862,9 @@ impl CliHost {
                     String::new()
                 }
             ));
+        }
+        if let Some(b) = &s.brown {
+            self.say(&format!("Brown: {b}"));
         }
         if scene.modes.debug > 0 {
             self.say(&debug_timings(s));
@@ -1277,6 +1282,7 @@ fn main() -> ExitCode {
         written: Vec::new(),
         runs: 0,
         hidden_line: options.hidden_line,
+        orders: Default::default(),
     };
 
     if let Some(scene) = &options.scene {

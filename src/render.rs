@@ -98,6 +98,8 @@ pub struct RenderStats {
     pub pruned: usize,
     /// What the tree builder had to give up (budgets), for the user.
     pub warnings: Vec<String>,
+    /// Brown's order: objects sorted and reused (`--visibility brown`).
+    pub brown: Option<brown::BrownStats>,
 }
 
 /// A rendered image and what is painted where.
@@ -167,6 +169,17 @@ pub enum Plan {
 /// replaced by its bounding box and nothing is reflected or refracted
 /// (004 appendix, SETMODE COMMANDS).
 pub fn plan(scene: &Scene, options: &RenderOptions) -> Result<Plan> {
+    plan_with(scene, options, &brown::PriorityCache::new())
+}
+
+/// [`plan`], with Brown's priority orders of the previous frame in
+/// `orders`: an animation's later frames reuse them with no re-sort when
+/// only the radii changed (003 sections 2-3).
+pub fn plan_with(
+    scene: &Scene,
+    options: &RenderOptions,
+    orders: &brown::PriorityCache,
+) -> Result<Plan> {
     if scene.modes.boxes_only {
         let boxes = bounding_box_scene(scene);
         let mut plain = *options;
@@ -178,7 +191,7 @@ pub fn plan(scene: &Scene, options: &RenderOptions) -> Result<Plan> {
         let mut boxes = boxes;
         boxes.modes.boxes_only = false;
         boxes.modes.max_level = 1;
-        return plan(&boxes, &plain);
+        return plan_with(&boxes, &plain, orders);
     }
     let (width, height) = options
         .size
@@ -245,10 +258,12 @@ pub fn plan(scene: &Scene, options: &RenderOptions) -> Result<Plan> {
     // The painting list: screen points and source polygon.
     let sorted: Vec<(Vec<DVec3>, (u32, u32), bool)> = match algorithm {
         Algorithm::Brown => {
+            let mut counts = brown::BrownStats::default();
             let lists = lists
                 .into_iter()
-                .map(|l| brown_sorted(scene, &view, l))
+                .map(|l| brown_sorted(scene, &view, l, orders, &mut counts))
                 .collect();
+            stats.brown = Some(counts);
             simple_sorted_lists(lists, order)
         }
         Algorithm::ZBuffer | Algorithm::ScanLine => lists
@@ -582,8 +597,15 @@ impl Rendered {
 type Listed = (Vec<DVec3>, (u32, u32), bool);
 
 /// One object's polygons in Brown's priority order (back to front), for
-/// the object's centre (its origin) and the axis towards the eye.
-fn brown_sorted(scene: &Scene, view: &View, list: Vec<ScreenPolygon>) -> Vec<ScreenPolygon> {
+/// the object's centre (its origin) and the axis towards the eye; the
+/// order of the previous frame when it still holds.
+fn brown_sorted(
+    scene: &Scene,
+    view: &View,
+    list: Vec<ScreenPolygon>,
+    orders: &brown::PriorityCache,
+    counts: &mut brown::BrownStats,
+) -> Vec<ScreenPolygon> {
     let Some(first) = list.first() else {
         return list;
     };
@@ -591,13 +613,19 @@ fn brown_sorted(scene: &Scene, view: &View, list: Vec<ScreenPolygon>) -> Vec<Scr
     let centre = object.transform.transform_point(DVec3::ZERO);
     let axis = crate::geometry::view::towards_eye(view.eye, centre);
     let faces: Vec<Vec<u32>> = object.polygons.iter().map(|p| p.indices.clone()).collect();
-    let order = brown::priority_order(
+    let (order, reused) = orders.order(
+        object.number,
         &object.vertices,
         &faces,
         centre,
         axis,
         object.surface_type.open,
     );
+    if reused {
+        counts.reused += 1;
+    } else {
+        counts.sorted += 1;
+    }
     let mut rank = vec![0usize; faces.len()];
     for (r, &f) in order.iter().enumerate() {
         rank[f] = r;

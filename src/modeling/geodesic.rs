@@ -17,10 +17,17 @@
 //! direction"): the priority order of Brown's algorithms depends on those
 //! directions only. Faces are listed clockwise seen from outside, as in a
 //! `.det` file.
+//!
+//! Brown's approximate rotation (003 section 2): the painted surface is a
+//! "rubber" approximation of an object that turns *inside* it while the
+//! vertex directions stay fixed. [`TurnedRadial`] is a radial function
+//! turned by a rotation `R`, `r'(d) = r(R^-1 d)`, and [`reshape`] moves
+//! the vertices of an existing surface along their fixed directions to it:
+//! linear time, and the priority order stays valid (003 section 3).
 
 use std::collections::HashMap;
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use crate::scene::object_file::Mesh;
 
@@ -61,6 +68,81 @@ impl Radial {
             Radial::Lobes(amp, k) => 1.0 + amp * (k * lon).cos() * colat.sin(),
         }
     }
+}
+
+/// A radial function turned inside the fixed vertex directions (Brown's
+/// approximate rotation, 003 section 2): `r'(d) = r(R^-1 d)`, so what the
+/// function had in direction `u` it now has in direction `R u`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TurnedRadial {
+    /// The function before turning.
+    pub radial: Radial,
+    /// The rotation `R` (orthonormal).
+    pub rotation: DMat3,
+}
+
+impl TurnedRadial {
+    /// `radial`, not turned.
+    pub fn new(radial: Radial) -> TurnedRadial {
+        TurnedRadial {
+            radial,
+            rotation: DMat3::IDENTITY,
+        }
+    }
+
+    /// This function turned further by `angle` degrees about the
+    /// coordinate axis `axis` (0, 1, 2 for x, y, z), the sense of IRIS GL's
+    /// `rotate`: about z, x turns towards y.
+    pub fn turned(self, angle: f64, axis: usize) -> TurnedRadial {
+        let a = angle.to_radians();
+        let r = match axis {
+            0 => DMat3::from_rotation_x(a),
+            1 => DMat3::from_rotation_y(a),
+            _ => DMat3::from_rotation_z(a),
+        };
+        TurnedRadial {
+            radial: self.radial,
+            rotation: r * self.rotation,
+        }
+    }
+
+    /// The radius in unit direction `d`.
+    pub fn radius(&self, d: DVec3) -> f64 {
+        self.radial.radius(self.rotation.transpose() * d)
+    }
+}
+
+/// The points `d r(d)` for unit directions `dirs`; fails if the function
+/// is not positive and finite in one of them.
+fn place(dirs: &[DVec3], f: &TurnedRadial) -> Result<Vec<DVec3>, String> {
+    dirs.iter()
+        .map(|&d| {
+            let r = f.radius(d);
+            if r.is_finite() && r > 0.0 {
+                Ok(d * r)
+            } else {
+                Err(format!(
+                    "the radial function is {r} in direction ({:.3}, {:.3}, {:.3}); it must be positive",
+                    d.x, d.y, d.z
+                ))
+            }
+        })
+        .collect()
+}
+
+/// `mesh` (a surface about the origin) with every vertex moved along its
+/// own direction to the radius of `f`: the faces and the vertex directions
+/// are unchanged (003 section 2), in time linear in the vertices.
+pub fn reshape(mesh: &Mesh, f: &TurnedRadial) -> Result<Mesh, String> {
+    let dirs: Vec<DVec3> = mesh
+        .vertices
+        .iter()
+        .map(|v| v.try_normalize().ok_or("a vertex lies at the centre"))
+        .collect::<Result<_, _>>()?;
+    Ok(Mesh {
+        vertices: place(&dirs, f)?,
+        polygons: mesh.polygons.clone(),
+    })
 }
 
 /// The 12 vertices of the icosahedron on the unit sphere (003 section 4).
@@ -169,6 +251,11 @@ pub fn face_count(n: usize) -> Option<usize> {
 /// by `radial`. Fails if the radial function is not positive and finite at
 /// every vertex.
 pub fn geodesic(n: usize, division: Division, radial: Radial) -> Result<Mesh, String> {
+    geodesic_turned(n, division, &TurnedRadial::new(radial))
+}
+
+/// [`geodesic`] with a turned radial function.
+pub fn geodesic_turned(n: usize, division: Division, f: &TurnedRadial) -> Result<Mesh, String> {
     if n == 0 {
         return Err("a geodesic needs at least 1 division per edge".into());
     }
@@ -206,17 +293,7 @@ pub fn geodesic(n: usize, division: Division, radial: Radial) -> Result<Mesh, St
             }
         }
     }
-    let mut vertices = Vec::with_capacity(dirs.len());
-    for d in &dirs {
-        let r = radial.radius(*d);
-        if !(r.is_finite() && r > 0.0) {
-            return Err(format!(
-                "the radial function is {r} in direction ({:.3}, {:.3}, {:.3}); it must be positive",
-                d.x, d.y, d.z
-            ));
-        }
-        vertices.push(*d * r);
-    }
+    let vertices = place(&dirs, f)?;
     Ok(Mesh { vertices, polygons })
 }
 
@@ -443,6 +520,31 @@ mod tests {
         let r = check_tessellation(&Mesh { vertices, polygons }, DVec3::ZERO).unwrap();
         assert!(!r.angle_condition, "{r:?}");
         assert_eq!(r.max_degree, 12);
+    }
+
+    #[test]
+    fn turning_moves_vertices_along_fixed_directions() {
+        // Lobes along x; turned 90 degrees about z they lie along y.
+        let f = TurnedRadial::new(Radial::Lobes(0.4, 2.0));
+        let g = f.turned(90.0, 2);
+        assert!((f.radius(DVec3::X) - 1.4).abs() < 1e-12);
+        assert!((g.radius(DVec3::Y) - 1.4).abs() < 1e-12);
+        assert!((g.radius(DVec3::X) - 0.6).abs() < 1e-12);
+        // Four quarter turns are the identity.
+        let h = (0..4).fold(f, |h, _| h.turned(90.0, 0));
+        assert!(h.rotation.abs_diff_eq(DMat3::IDENTITY, 1e-12));
+        let m = geodesic(3, Division::EqualAngle, Radial::Lobes(0.4, 2.0)).unwrap();
+        let turned = reshape(&m, &g).unwrap();
+        assert_eq!(turned.polygons, m.polygons);
+        for (a, b) in m.vertices.iter().zip(&turned.vertices) {
+            assert!(a.normalize().distance(b.normalize()) < 1e-12);
+            assert!((b.length() - g.radius(a.normalize())).abs() < 1e-12);
+        }
+        // Made turned directly, the same surface.
+        let direct = geodesic_turned(3, Division::EqualAngle, &g).unwrap();
+        for (a, b) in direct.vertices.iter().zip(&turned.vertices) {
+            assert!(a.distance(*b) < 1e-12);
+        }
     }
 
     #[test]

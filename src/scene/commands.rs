@@ -56,7 +56,7 @@ commands! {
     "popmatrix", "", "pop the CTM from the matrix stack";
     "pushmatrix", "", "push a copy of the CTM on the matrix stack";
     "quit", "", "end the program";
-    "radial", "sphere|ellipsoid a b c|bumps amp freq|lobes amp k", "in defobj: move a geodesic's vertices radially";
+    "radial", "sphere|ellipsoid a b c|bumps amp freq|lobes amp k | rotate angle x|y|z", "in defobj: move a geodesic's vertices radially; `rotate` turns the function inside the fixed vertex directions (outside defobj: every geodesic's), Brown's approximate rotation";
     "reflectance", "k", "reflection coefficient (default 0)";
     "resolution", "hres vres", "image size; loads perspective 45 hres/vres 0.01 10000";
     "rotate", "angle x|y|z", "rotation (pre-multiplies the CTM)";

@@ -25,7 +25,7 @@ use crate::error::{
 };
 use crate::geometry::polygon::{self, PolygonDefect};
 use crate::math::{self, Axis, Matrix4};
-use crate::modeling::geodesic::{self, Division, Radial};
+use crate::modeling::geodesic::{self, Division, Radial, TurnedRadial};
 
 /// Depth of the matrix stack (004 section 4.3: "a 16-level deep
 /// transformation matrix stack"). `defobj` uses one level.
@@ -86,6 +86,8 @@ struct ActiveObject {
     copy_of: Option<(u32, Location)>,
     geodesic: Option<(usize, Division, Location)>,
     radial: Option<(Radial, Location)>,
+    /// `radial rotate`: the turn of the radial function (003 section 2).
+    turn: Option<(glam::DMat3, Location)>,
     pcolors: Option<(String, Location)>,
     vcolors: Option<(String, Location)>,
     stack_depth: usize,
@@ -185,6 +187,9 @@ pub struct Interpreter {
     overrides: Vec<(char, String)>,
     warnings: Warnings,
     budgets: Budgets,
+    /// Geodesic objects by number: the mesh generated and its turned
+    /// radial function, for `radial rotate` outside a definition.
+    geodesics: std::collections::HashMap<u32, (Arc<Mesh>, TurnedRadial)>,
 }
 
 impl Default for Interpreter {
@@ -215,6 +220,7 @@ impl Interpreter {
             overrides: Vec::new(),
             warnings: Warnings::default(),
             budgets: Budgets::default(),
+            geodesics: std::collections::HashMap::new(),
         }
     }
 
@@ -697,12 +703,25 @@ impl Interpreter {
                 active.geodesic = Some((n, division, loc));
             }
             "radial" => {
-                let radial = radial(&a)?;
                 let loc = ctx.location(cmd);
-                let Some(active) = &mut self.active else {
-                    return Err(ctx.error(cmd, "`radial` outside an object definition"));
-                };
-                active.radial = Some((radial, loc));
+                match (radial(&a)?, &mut self.active) {
+                    (RadialCommand::Function(f), Some(active)) => active.radial = Some((f, loc)),
+                    (RadialCommand::Function(_), None) => {
+                        return Err(ctx.error(cmd, "`radial` outside an object definition"));
+                    }
+                    (RadialCommand::Rotate(angle, axis), Some(active)) => {
+                        let before = active.turn.as_ref().map_or(glam::DMat3::IDENTITY, |t| t.0);
+                        let turned = TurnedRadial {
+                            radial: Radial::Sphere,
+                            rotation: before,
+                        }
+                        .turned(angle, axis);
+                        active.turn = Some((turned.rotation, loc));
+                    }
+                    (RadialCommand::Rotate(angle, axis), None) => {
+                        self.turn_geodesics(ctx, cmd, angle, axis)?;
+                    }
+                }
             }
             "getobj" => {
                 a.count(1, 1)?;
@@ -1052,6 +1071,7 @@ impl Interpreter {
             copy_of: None,
             geodesic: None,
             radial: None,
+            turn: None,
             pcolors: None,
             vcolors: None,
             stack_depth: self.stack.len(),
@@ -1081,14 +1101,19 @@ impl Interpreter {
                 // Refused before anything is allocated.
                 let faces = geodesic::face_count(*n).unwrap_or(usize::MAX);
                 self.check_polygons(faces, loc, &format!("`geodesic {n}` ({faces} faces)"))?;
-                let radial = active.radial.as_ref().map_or(Radial::Sphere, |r| r.0);
-                Some(Arc::new(
-                    geodesic::geodesic(*n, *division, radial)
+                let radial = TurnedRadial {
+                    radial: active.radial.as_ref().map_or(Radial::Sphere, |r| r.0),
+                    rotation: active.turn.as_ref().map_or(glam::DMat3::IDENTITY, |t| t.0),
+                };
+                let mesh = Arc::new(
+                    geodesic::geodesic_turned(*n, *division, &radial)
                         .map_err(|e| Error::at(loc.clone(), e))?,
-                ))
+                );
+                Some((mesh, radial))
             }
             None => {
-                if let Some((_, loc)) = &active.radial {
+                let stray = active.radial.as_ref().map(|r| &r.1);
+                if let Some(loc) = stray.or(active.turn.as_ref().map(|t| &t.1)) {
                     return Err(Error::at(
                         loc.clone(),
                         "`radial` deforms a `geodesic`; this object has none",
@@ -1097,7 +1122,8 @@ impl Interpreter {
                 None
             }
         };
-        let (mesh, mut pcl, mut vcl) = match (generated, &active.copy_of) {
+        let turned = generated.as_ref().map(|(mesh, f)| (Arc::clone(mesh), *f));
+        let (mesh, mut pcl, mut vcl) = match (generated.map(|g| g.0), &active.copy_of) {
             (Some(mesh), _) => (mesh, None, None),
             (None, Some((n, loc))) => {
                 // `callobj` checked the number, but a `delobj` may have
@@ -1221,7 +1247,62 @@ impl Interpreter {
             "the triangles of split non-planar polygons",
         )?;
         self.polygons += object.polygons.len();
+        match turned {
+            Some(g) => self.geodesics.insert(object.number, g),
+            None => self.geodesics.remove(&object.number),
+        };
         self.scene.objects.push(object);
+        Ok(())
+    }
+
+    /// `radial rotate ANGLE AXIS` outside a definition: turns the radial
+    /// function of every geodesic object inside its fixed vertex
+    /// directions (Brown's approximate rotation, 003 section 2) and moves
+    /// its vertices along them; the faces and their priority order stay.
+    fn turn_geodesics(
+        &mut self,
+        ctx: &Context,
+        cmd: &Token,
+        angle: f64,
+        axis: usize,
+    ) -> Result<()> {
+        let mut turned = 0;
+        for i in 0..self.scene.objects.len() {
+            let number = self.scene.objects[i].number;
+            let Some((mesh, f)) = self.geodesics.get(&number) else {
+                continue;
+            };
+            // Still the object `geodesic` made (not deleted and replaced).
+            if !Arc::ptr_eq(mesh, &self.scene.objects[i].mesh) {
+                continue;
+            }
+            let f = f.turned(angle, axis);
+            let mesh = Arc::new(geodesic::reshape(mesh, &f).map_err(|e| ctx.error(cmd, e))?);
+            let o = &self.scene.objects[i];
+            let object = build_object(
+                ObjectParts {
+                    number,
+                    name: o.name.clone(),
+                    mesh: Arc::clone(&mesh),
+                    polygon_colors: o.polygon_colors.clone(),
+                    vertex_colors: o.vertex_colors.clone(),
+                    transform: o.transform,
+                    surface: o.surface,
+                    surface_type: o.surface_type,
+                },
+                &mut |_| {},
+            )
+            .map_err(|msg| ctx.error(cmd, msg))?;
+            self.scene.objects[i] = object;
+            self.geodesics.insert(number, (mesh, f));
+            turned += 1;
+        }
+        if turned == 0 {
+            return Err(ctx.error(
+                cmd,
+                "`radial rotate` outside a definition turns the geodesic objects; there are none",
+            ));
+        }
         Ok(())
     }
 
@@ -1753,11 +1834,30 @@ fn division(a: &Args) -> Result<Division> {
     }
 }
 
-/// `radial sphere|ellipsoid a b c|bumps amp freq|lobes amp k`.
-fn radial(a: &Args) -> Result<Radial> {
+/// What a `radial` statement says.
+enum RadialCommand {
+    /// The function.
+    Function(Radial),
+    /// `radial rotate ANGLE x|y|z`: turn it (degrees, axis 0-2).
+    Rotate(f64, usize),
+}
+
+/// `radial sphere|ellipsoid a b c|bumps amp freq|lobes amp k` or
+/// `radial rotate angle x|y|z`.
+fn radial(a: &Args) -> Result<RadialCommand> {
     let (ctx, args) = (a.ctx, a.args);
     a.count(1, 4)?;
     let kind = args[0].text.to_ascii_lowercase();
+    if kind == "rotate" {
+        a.count(3, 3)?;
+        let angle = a.number(1)?;
+        let axis = match axis(a, 2)? {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        };
+        return Ok(RadialCommand::Rotate(angle, axis));
+    }
     let (radial, want) = match kind.as_str() {
         "sphere" => (Radial::Sphere, 1),
         "ellipsoid" => {
@@ -1780,12 +1880,12 @@ fn radial(a: &Args) -> Result<Radial> {
         _ => {
             return Err(ctx.error(
                 &args[0],
-                "expected a radial function: sphere, ellipsoid, bumps or lobes",
+                "expected a radial function: sphere, ellipsoid, bumps or lobes, or `rotate`",
             ));
         }
     };
     a.count(want, want)?;
-    Ok(radial)
+    Ok(RadialCommand::Function(radial))
 }
 
 /// The optional `Point|Diffuse` of `light` (any prefix).

@@ -19,14 +19,139 @@
 //! no eye distance). Back faces of an opaque polyhedron are removed per
 //! view by the geometry stage.
 //!
+//! Animation frames ([`PriorityCache`]): an object whose vertex
+//! directions, faces, centre and viewing axis are those of the previous
+//! frame keeps its order, with no re-sort. That is the case of Brown's
+//! approximate rotation (003 section 2; `radial rotate`) and of a
+//! perspective change along the axis (Theorem IV): only the radii change.
+//!
 //! Preconditions: the faces are triangles of a well-tesselated surface
 //! about `centre` (Angle Condition met, see
 //! [`crate::modeling::geodesic::check_tessellation`]); the viewpoint lies on
 //! the axis through `centre`.
 
 use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 use glam::DVec3;
+
+/// Largest angle (radians, as a chord of the unit sphere) by which a
+/// vertex direction may differ from the stored frame's and still count as
+/// the same direction: rounding in `d r / |d r|`, not a real change.
+pub const SAME_DIRECTION: f64 = 1e-9;
+
+/// How many priority orders a render sorted and how many it reused.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct BrownStats {
+    /// Objects whose faces were sorted.
+    pub sorted: usize,
+    /// Objects whose order of the previous frame was reused, with no
+    /// re-sort.
+    pub reused: usize,
+}
+
+impl std::fmt::Display for BrownStats {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match (self.sorted, self.reused) {
+            (0, r) => write!(f, "priority order reused (no re-sort) for {r} object(s)"),
+            (s, 0) => write!(f, "priority order sorted for {s} object(s)"),
+            (s, r) => write!(
+                f,
+                "priority order sorted for {s} object(s), reused (no re-sort) for {r}"
+            ),
+        }
+    }
+}
+
+/// One object's order and what it was computed from.
+#[derive(Debug)]
+struct Stored {
+    dirs: Vec<DVec3>,
+    faces: Vec<Vec<u32>>,
+    centre: DVec3,
+    axis: DVec3,
+    general: bool,
+    order: Arc<Vec<usize>>,
+}
+
+impl Stored {
+    /// Whether the order stored holds for this frame: same faces, centre,
+    /// axis, and vertex directions.
+    fn holds(
+        &self,
+        dirs: &[DVec3],
+        faces: &[Vec<u32>],
+        centre: DVec3,
+        axis: DVec3,
+        general: bool,
+    ) -> bool {
+        let scale = 1.0 + centre.abs().max_element();
+        self.general == general
+            && self.centre.distance(centre) <= SAME_DIRECTION * scale
+            && self.axis.distance(axis) <= SAME_DIRECTION
+            && self.faces == faces
+            && self.dirs.len() == dirs.len()
+            && self
+                .dirs
+                .iter()
+                .zip(dirs)
+                .all(|(a, b)| a.distance(*b) <= SAME_DIRECTION)
+    }
+}
+
+/// The priority orders of the previous frame, per object number, for
+/// animations: [`PriorityCache::order`] reuses an order whose vertex
+/// directions, faces, centre and axis are unchanged. Shared by reference
+/// between threads (`Send + Sync`).
+#[derive(Debug, Default)]
+pub struct PriorityCache {
+    slots: Mutex<HashMap<u32, Stored>>,
+}
+
+impl PriorityCache {
+    /// An empty cache: every object will be sorted.
+    pub fn new() -> PriorityCache {
+        PriorityCache::default()
+    }
+
+    /// Brown's order of object `key`'s faces ([`priority_order`]), reused
+    /// from the previous call for `key` when it still holds; the flag says
+    /// whether it was reused.
+    pub fn order(
+        &self,
+        key: u32,
+        vertices: &[DVec3],
+        faces: &[Vec<u32>],
+        centre: DVec3,
+        axis: DVec3,
+        general: bool,
+    ) -> (Arc<Vec<usize>>, bool) {
+        let axis = axis.normalize_or_zero();
+        let dirs: Vec<DVec3> = vertices
+            .iter()
+            .map(|v| (*v - centre).normalize_or_zero())
+            .collect();
+        let mut slots = self.slots.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(s) = slots.get(&key)
+            && s.holds(&dirs, faces, centre, axis, general)
+        {
+            return (Arc::clone(&s.order), true);
+        }
+        let order = Arc::new(priority_order(vertices, faces, centre, axis, general));
+        slots.insert(
+            key,
+            Stored {
+                dirs,
+                faces: faces.to_vec(),
+                centre,
+                axis,
+                general,
+                order: Arc::clone(&order),
+            },
+        );
+        (order, false)
+    }
+}
 
 /// Faces (as vertex index lists into `vertices`) in Brown's painting order:
 /// indices into `faces`. `axis` points from `centre` towards the viewpoint.
@@ -172,6 +297,38 @@ fn paint_a_phi(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_cache_reuses_an_order_only_for_the_same_directions() {
+        let v = vec![DVec3::X, DVec3::Y, DVec3::Z, -DVec3::Z];
+        let faces = vec![vec![0, 1, 2], vec![0, 3, 1]];
+        let cache = PriorityCache::new();
+        let first = cache.order(7, &v, &faces, DVec3::ZERO, DVec3::Z, false);
+        assert!(!first.1);
+        // Radii changed, directions kept: reused.
+        let scaled: Vec<DVec3> = v
+            .iter()
+            .zip([2.0, 0.5, 3.0, 1.5])
+            .map(|(p, r)| *p * r)
+            .collect();
+        let again = cache.order(7, &scaled, &faces, DVec3::ZERO, DVec3::Z * 4.0, false);
+        assert!(again.1);
+        assert_eq!(again.0, first.0);
+        // Another object number, another direction or axis: sorted.
+        assert!(!cache.order(8, &v, &faces, DVec3::ZERO, DVec3::Z, false).1);
+        let mut moved = v.clone();
+        moved[2] = DVec3::new(0.1, 0.0, 1.0);
+        assert!(
+            !cache
+                .order(7, &moved, &faces, DVec3::ZERO, DVec3::Z, false)
+                .1
+        );
+        assert!(
+            !cache
+                .order(7, &moved, &faces, DVec3::ZERO, DVec3::Y, false)
+                .1
+        );
+    }
 
     #[test]
     fn far_side_first() {
