@@ -98,6 +98,8 @@ struct Options {
     quiet: bool,
     allow_outside: bool,
     budgets: Budgets,
+    /// `--raytrace`: render with the Whitted ray tracer.
+    raytrace: bool,
 }
 
 fn usage() -> String {
@@ -145,12 +147,17 @@ MODERN CONVENIENCES:
                        (well-tesselated surfaces), ray-cast (the oracle)
     --quiet            print only errors and warnings
     --profile          print the run-time profile in the categories of 004 table 6.2
-    --refraction M     refraction matrix: linearized (default; exact for the ray through
-                       the polygon's centre), orthographic (M_to), paraxial (M_tp)
+    --refraction M     refraction matrix: linearized (exact for the ray through the
+                       polygon's centre), orthographic (M_to), paraxial (M_tp), or exact
+                       (the refracted branch ray traced per pixel); default: linearized,
+                       or exact when a linear map is off by more than a pixel
     --aa METHOD        scan conversion (004 chapter 5): none (point sampled preview),
                        area (1), mask (2), hybrid (3), multilevel (4); default: the
                        best for the scene (multilevel: every tree level blended)
-    --supersample N    Donovan's N x N samples per pixel instead (N from 1 to 16)
+    --supersample N    Donovan's N x N samples per pixel instead (N from 1 to 16); with
+                       --raytrace, N x N rays per pixel
+    --raytrace         render with the Whitted ray tracer (same scene and illumination
+                       model; exact reflection and refraction, shadow rays with `run y`)
     --shading MODEL    illumination: garcia (004 section 4.8, default) or donovan (000
                        section 6: I0 cos^a, I1 cos^b(theta - theta1), transparency rule 3)
     --threads N        worker threads (default: all cores); the image does not depend on it
@@ -252,6 +259,7 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
             "--max-pixels" => o.budgets.pixels = count(arg)?,
             "--quiet" | "-q" => o.quiet = true,
             "--profile" => o.profile = true,
+            "--raytrace" => o.raytrace = true,
             "--aa" => {
                 let v = value("none, area, mask, hybrid or multilevel (or 1 to 4)")?;
                 o.aa = Some(parse_aa(&v)?);
@@ -286,7 +294,7 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
                 };
             }
             "--refraction" => {
-                let v = value("linearized, orthographic or paraxial")?;
+                let v = value("linearized, orthographic, paraxial or exact")?;
                 o.refraction = v.parse().map_err(|e| format!("--refraction: {e}"))?;
             }
             "--visibility" => {
@@ -462,6 +470,8 @@ struct CliHost {
     written: Vec<PathBuf>,
     /// `run`s rendered so far.
     runs: usize,
+    /// `--raytrace`.
+    raytrace: bool,
 }
 
 /// The name and place of a scene-chosen output, `fname`, checked: no `..`
@@ -604,6 +614,37 @@ impl CliHost {
     }
 }
 
+impl CliHost {
+    /// The `--raytrace` render: N x N rays per pixel with `--supersample N`.
+    fn ray_traced(&self, scene: &Scene, shadows: bool) -> Result<render::Rendered> {
+        let samples = match self.aa {
+            Some(plytrace::raster::scan::Method::Supersample(n)) => n,
+            _ => 1,
+        };
+        let options = plytrace::raytrace::RayTraceOptions {
+            size: self.size,
+            samples,
+            shadows,
+            shading: self.shading,
+            threads: self.threads,
+        };
+        let (frame, rays) = plytrace::raytrace::render(scene, &options)?;
+        Ok(render::Rendered {
+            frame,
+            polygons: Vec::new(),
+            shadows: Vec::new(),
+            tree: None,
+            profile: None,
+            stats: render::RenderStats {
+                max_depth: scene.modes.max_level,
+                paint_time: rays.trace_time,
+                raytrace: Some(rays),
+                ..render::RenderStats::default()
+            },
+        })
+    }
+}
+
 impl Host for CliHost {
     fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
         self.runs += 1;
@@ -667,7 +708,12 @@ impl Host for CliHost {
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("png"));
         let mut staged = Vec::new();
-        let rendered = match render::plan(scene, &options)? {
+        let plan = if self.raytrace {
+            render::Plan::Painted(Box::new(self.ray_traced(scene, shadows)?))
+        } else {
+            render::plan(scene, &options)?
+        };
+        let rendered = match plan {
             render::Plan::Tree(mut prepared) if streamed => {
                 // The virtual frame buffer: bands of rows go to the PNG as
                 // they are finished; the whole image is never in memory.
@@ -750,6 +796,21 @@ impl Host for CliHost {
         ));
         for w in &s.warnings {
             err(&format!("warning: {w}"));
+        }
+        if let Some(r) = &s.raytrace {
+            self.say(&format!(
+                "Ray tracing: {} primary rays, {} rays in all, {} shadow rays, {:.0} rays per second \
+                 (hierarchy {:.3} s, tracing {:.3} s)",
+                r.primary,
+                r.rays,
+                r.shadow_rays,
+                r.rays_per_second(),
+                r.build_time.as_secs_f64(),
+                r.trace_time.as_secs_f64()
+            ));
+        }
+        if let Some(m) = &s.refraction {
+            self.say(&format!("Refraction: {m}"));
         }
         if let Some(m) = s.method {
             let fragments = if s.scan.total_fragments > 0 {
@@ -1091,6 +1152,7 @@ fn main() -> ExitCode {
         aspect_warned: false,
         written: Vec::new(),
         runs: 0,
+        raytrace: options.raytrace,
     };
 
     if let Some(scene) = &options.scene {

@@ -90,6 +90,10 @@ pub struct RenderStats {
     pub pruned: usize,
     /// What the tree builder had to give up (budgets), for the user.
     pub warnings: Vec<String>,
+    /// Ray tracer figures (`--raytrace`, or `--refraction exact`).
+    pub raytrace: Option<crate::raytrace::RayStats>,
+    /// Which refraction model was used, in words, when the scene refracts.
+    pub refraction: Option<String>,
 }
 
 /// A rendered image and what is painted where.
