@@ -36,6 +36,8 @@ struct Node {
 /// A bounding volume hierarchy over axis-aligned boxes.
 #[derive(Debug, Clone, Default)]
 pub struct Bvh {
+    /// The items' boxes, for the volume query's tests at the leaves.
+    boxes: Vec<(DVec3, DVec3)>,
     order: Vec<u32>,
     nodes: Vec<Node>,
 }
@@ -45,6 +47,7 @@ impl Bvh {
     /// `boxes[k]`.
     pub fn new(boxes: &[(DVec3, DVec3)]) -> Bvh {
         let mut bvh = Bvh {
+            boxes: boxes.to_vec(),
             order: (0..boxes.len() as u32).collect(),
             nodes: Vec::new(),
         };
@@ -180,7 +183,10 @@ impl Bvh {
                 stack.push(node.first as usize + 1);
             } else {
                 let items = &self.order[node.first as usize..(node.first + node.count) as usize];
-                out.extend(items.iter().map(|&k| k as usize));
+                out.extend(items.iter().map(|&k| k as usize).filter(|&k| {
+                    let (lo, hi) = self.boxes[k];
+                    !outside(lo, hi)
+                }));
             }
         }
         out.sort_unstable();
