@@ -22,6 +22,7 @@ pub mod output;
 pub mod precision;
 pub mod profile;
 pub mod raster;
+pub mod raytrace;
 pub mod render;
 pub mod rftb;
 pub mod scene;

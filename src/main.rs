@@ -113,6 +113,8 @@ struct Options {
     allow_outside: bool,
     budgets: Budgets,
     hidden_line: bool,
+    /// `--raytrace`: render with the Whitted ray tracer.
+    raytrace: bool,
 }
 
 fn usage() -> String {
@@ -164,12 +166,17 @@ MODERN CONVENIENCES:
                        (well-tesselated surfaces), ray-cast (the oracle)
     --quiet            print only errors and warnings
     --profile          print the run-time profile in the categories of 004 table 6.2
-    --refraction M     refraction matrix: linearized (default; exact for the ray through
-                       the polygon's centre), orthographic (M_to), paraxial (M_tp)
+    --refraction M     refraction matrix: linearized (exact for the ray through the
+                       polygon's centre), orthographic (M_to), paraxial (M_tp), or exact
+                       (the refracted branch ray traced per pixel); default: linearized,
+                       or exact when a linear map is off by more than a pixel
     --aa METHOD        scan conversion (004 chapter 5): none (point sampled preview),
                        area (1), mask (2), hybrid (3), multilevel (4); default: the
                        best for the scene (multilevel: every tree level blended)
-    --supersample N    Donovan's N x N samples per pixel instead (N from 1 to 16)
+    --supersample N    Donovan's N x N samples per pixel instead (N from 1 to 16); with
+                       --raytrace, N x N rays per pixel
+    --raytrace         render with the Whitted ray tracer (same scene and illumination
+                       model; exact reflection and refraction, shadow rays with `run y`)
     --shading MODEL    illumination: garcia (004 section 4.8, default) or donovan (000
                        section 6: I0 cos^a, I1 cos^b(theta - theta1), transparency rule 3)
     --threads N        worker threads (default: all cores); the image does not depend on it
@@ -277,6 +284,7 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
             }
             "--quiet" | "-q" => o.quiet = true,
             "--profile" => o.profile = true,
+            "--raytrace" => o.raytrace = true,
             "--aa" => {
                 let v = value("none, area, mask, hybrid or multilevel (or 1 to 4)")?;
                 o.aa = Some(parse_aa(&v)?);
@@ -311,7 +319,7 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
                 };
             }
             "--refraction" => {
-                let v = value("linearized, orthographic or paraxial")?;
+                let v = value("linearized, orthographic, paraxial or exact")?;
                 o.refraction = v.parse().map_err(|e| format!("--refraction: {e}"))?;
             }
             "--visibility" => {
@@ -506,6 +514,8 @@ struct CliHost {
     hidden_line: bool,
     /// Brown's priority orders of the previous frame (003 sections 2-3).
     orders: plytrace::visibility::brown::PriorityCache,
+    /// `--raytrace`.
+    raytrace: bool,
 }
 
 /// The name and place of a scene-chosen output, `fname`, checked: no `..`
@@ -658,6 +668,35 @@ impl CliHost {
 }
 
 impl CliHost {
+    /// The `--raytrace` render: N x N rays per pixel with `--supersample N`.
+    fn ray_traced(&self, scene: &Scene, shadows: bool) -> Result<render::Rendered> {
+        let samples = match self.aa {
+            Some(plytrace::raster::scan::Method::Supersample(n)) => n,
+            _ => 1,
+        };
+        let options = plytrace::raytrace::RayTraceOptions {
+            size: self.size,
+            samples,
+            shadows,
+            shading: self.shading,
+            threads: self.threads,
+        };
+        let (frame, rays) = plytrace::raytrace::render(scene, &options)?;
+        Ok(render::Rendered {
+            frame,
+            polygons: Vec::new(),
+            shadows: Vec::new(),
+            tree: None,
+            profile: None,
+            stats: render::RenderStats {
+                max_depth: scene.modes.max_level,
+                paint_time: rays.trace_time,
+                raytrace: Some(rays),
+                ..render::RenderStats::default()
+            },
+        })
+    }
+
     /// One `run`: checks and creates the outputs, renders, commits them.
     fn render(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
         self.runs += 1;
@@ -745,7 +784,12 @@ impl CliHost {
                 }
             }
         } else {
-            match render::plan_with(scene, &options, &self.orders)? {
+            let plan = if self.raytrace {
+                render::Plan::Painted(Box::new(self.ray_traced(scene, shadows)?))
+            } else {
+                render::plan_with(scene, &options, &self.orders)?
+            };
+            match plan {
                 render::Plan::Tree(mut prepared) if streamed => {
                     // The virtual frame buffer: bands of rows go to the PNG as
                     // they are finished; the whole image is never in memory.
@@ -829,6 +873,21 @@ impl CliHost {
         ));
         for w in &s.warnings {
             err(&format!("warning: {w}"));
+        }
+        if let Some(r) = &s.raytrace {
+            self.say(&format!(
+                "Ray tracing: {} primary rays, {} rays in all, {} shadow rays, {:.0} rays per second \
+                 (hierarchy {:.3} s, tracing {:.3} s)",
+                r.primary,
+                r.rays,
+                r.shadow_rays,
+                r.rays_per_second(),
+                r.build_time.as_secs_f64(),
+                r.trace_time.as_secs_f64()
+            ));
+        }
+        if let Some(m) = &s.refraction {
+            self.say(&format!("Refraction: {m}"));
         }
         if let Some(m) = s.method {
             let fragments = if s.scan.total_fragments > 0 {
@@ -1283,6 +1342,7 @@ fn main() -> ExitCode {
         runs: 0,
         hidden_line: options.hidden_line,
         orders: Default::default(),
+        raytrace: options.raytrace,
     };
 
     if let Some(scene) = &options.scene {

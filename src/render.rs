@@ -100,6 +100,10 @@ pub struct RenderStats {
     pub warnings: Vec<String>,
     /// Brown's order: objects sorted and reused (`--visibility brown`).
     pub brown: Option<brown::BrownStats>,
+    /// Ray tracer figures (`--raytrace`, or `--refraction exact`).
+    pub raytrace: Option<crate::raytrace::RayStats>,
+    /// Which refraction model was used, in words, when the scene refracts.
+    pub refraction: Option<String>,
 }
 
 /// A rendered image and what is painted where.
