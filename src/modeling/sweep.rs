@@ -6,7 +6,8 @@
 //!   an end off the axis is capped with a flat disc. The surface between
 //!   two profile points is a conical band of planar quads (triangles at
 //!   the axis); vertex normals are the profile's normals (the mean of its
-//!   two segments' at inner points) turned about z.
+//!   two segments' at inner points) turned about z. A profile whose
+//!   last point repeats its first, off the axis, spins into a ring.
 //! * `extrude`: a simple closed outline in the x-y plane swept from
 //!   `z = 0` to `z = depth`, capped at both ends; flat faces only.
 
@@ -94,14 +95,21 @@ pub fn extrude_outline(mut points: Vec<DVec2>) -> Result<Vec<DVec2>, String> {
         .iter()
         .fold(0.0f64, |m, p| m.max(p.length()))
         .max(f64::MIN_POSITIVE);
-    let area = twice_area(&points);
-    if area.abs() <= 1e-12 * scale * scale {
-        return Err("the extrude outline has zero area".into());
+    let (a, b) = (points[0], points[1]);
+    let collinear = points
+        .iter()
+        .all(|&p| orient(a, b, p).abs() <= 1e-12 * scale * scale);
+    if collinear {
+        return Err("the extrude outline has zero area (its points are collinear)".into());
     }
     if let Some((i, j)) = self_intersection(&points) {
         return Err(format!(
             "the extrude outline intersects itself: edges {i} and {j} cross (an outline must be simple)"
         ));
+    }
+    let area = twice_area(&points);
+    if area.abs() <= 1e-12 * scale * scale {
+        return Err("the extrude outline has zero area".into());
     }
     if area < 0.0 {
         points.reverse();
@@ -145,6 +153,8 @@ pub fn extrude(outline: &[DVec2], depth: f64) -> Generated {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Profile {
     points: Vec<DVec2>,
+    /// A closed loop off the axis (first point = last): a ring, no caps.
+    ring: bool,
 }
 
 impl Profile {
@@ -155,6 +165,9 @@ impl Profile {
         points.dedup();
         if points.len() < 2 {
             return Err("a lathe profile needs at least 2 distinct points".into());
+        }
+        if points.len() >= 4 && points.first() == points.last() {
+            return Profile::ring(points);
         }
         if let Some(i) = points.iter().position(|p| p.x < 0.0) {
             return Err(format!(
@@ -187,7 +200,36 @@ impl Profile {
         if area < 0.0 {
             points.reverse();
         }
-        Ok(Profile { points })
+        Ok(Profile {
+            points,
+            ring: false,
+        })
+    }
+
+    /// A closed profile (its last point repeating the first) off the axis:
+    /// spun, it makes a ring with no caps.
+    fn ring(mut points: Vec<DVec2>) -> Result<Profile, String> {
+        points.pop();
+        if let Some(i) = points.iter().position(|p| p.x <= 0.0) {
+            return Err(format!(
+                "lathe profile point {}: a closed profile must stay off the axis (r > 0)",
+                i + 1
+            ));
+        }
+        let scale = points.iter().fold(0.0f64, |m, p| m.max(p.length()));
+        if let Some((i, j)) = self_intersection(&points) {
+            return Err(format!(
+                "the closed lathe profile intersects itself (its edges {i} and {j} cross)"
+            ));
+        }
+        let area = twice_area(&points);
+        if area.abs() <= 1e-12 * scale * scale {
+            return Err("the closed lathe profile encloses no area".into());
+        }
+        if area < 0.0 {
+            points.reverse();
+        }
+        Ok(Profile { points, ring: true })
     }
 
     /// The points, counter-clockwise with the axis.
@@ -197,16 +239,23 @@ impl Profile {
 
     /// The cap discs' count: ends off the axis.
     fn caps(&self) -> usize {
+        if self.ring {
+            return 0;
+        }
         [self.points[0], self.points[self.points.len() - 1]]
             .iter()
             .filter(|p| p.x > 0.0)
             .count()
     }
 
+    /// Segments of the profile (a ring's closing one included).
+    fn segments(&self) -> usize {
+        self.points.len() - usize::from(!self.ring)
+    }
+
     /// Polygons of a lathe of `n` steps: `n` per segment and one per cap.
     pub fn face_count(&self, n: usize) -> Option<usize> {
-        n.checked_mul(self.points.len() - 1)?
-            .checked_add(self.caps())
+        n.checked_mul(self.segments())?.checked_add(self.caps())
     }
 }
 
@@ -234,8 +283,9 @@ pub fn lathe(profile: &Profile, n: usize) -> Generated {
     let k = p.len();
     // Counter-clockwise in (r, z): the outward normal of a segment with
     // direction d is (d.y, -d.x).
+    let ring = profile.ring;
     let seg_normal = |i: usize| {
-        let d = p[i + 1] - p[i];
+        let d = p[(i + 1) % k] - p[i];
         DVec2::new(d.y, -d.x).normalize()
     };
     let profile_normal = |i: usize| -> DVec2 {
@@ -251,10 +301,10 @@ pub fn lathe(profile: &Profile, n: usize) -> Generated {
                 * DVec2::Y;
         }
         let mut sum = DVec2::ZERO;
-        if i > 0 {
-            sum += seg_normal(i - 1);
+        if i > 0 || ring {
+            sum += seg_normal((i + k - 1) % k);
         }
-        if i + 1 < k {
+        if i + 1 < k || ring {
             sum += seg_normal(i);
         }
         sum.normalize_or(DVec2::X)
@@ -282,9 +332,10 @@ pub fn lathe(profile: &Profile, n: usize) -> Generated {
         }
     };
     let mut polygons = Vec::new();
-    for i in 0..k - 1 {
+    for i in 0..profile.segments() {
+        let i1 = (i + 1) % k;
         for j in 0..n {
-            let cell = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+            let cell = [at(i, j), at(i1, j), at(i1, j + 1), at(i, j + 1)];
             let mut poly: Vec<u32> = cell.to_vec();
             poly.dedup();
             if poly.first() == poly.last() {
@@ -296,7 +347,7 @@ pub fn lathe(profile: &Profile, n: usize) -> Generated {
     // The outline runs counter-clockwise, so the disc at the first point
     // faces -z and the one at the last point +z.
     for (i, up) in [(0, -1.0), (k - 1, 1.0)] {
-        if p[i].x > 0.0 {
+        if p[i].x > 0.0 && !ring {
             let base = vertices.len() as u32;
             for j in 0..n {
                 vertices.push(DVec3::new(
