@@ -11,11 +11,14 @@
 //! in B removed by clipping B's inverse), as in figure 8.15's ordered
 //! binary tree of operations.
 //!
-//! Coplanar faces: where A and B have a face in the same plane and facing
-//! the same way, a union or an intersection keeps one copy (A's); faces
-//! in the same plane facing opposite ways (solids that touch) are both
-//! dropped by a union when they overlap... see `tests/modeling_csg.rs`,
-//! which documents and tests these cases.
+//! Coplanar faces (tested in `tests/modeling_csg.rs`): where A and B have
+//! faces in one plane facing the same way, the result keeps one copy
+//! (A's), so overlapping boxes sharing face planes combine exactly.
+//! Solids that touch along a face (coplanar faces facing opposite ways):
+//! the union drops both faces (one closed solid, the two touching faces
+//! gone), the intersection is empty (an object with no polygons), the
+//! difference is A unchanged. Identical operands: union and intersection
+//! are A, the difference is empty.
 //!
 //! The fragments are then joined into a closed mesh: points closer than
 //! the tolerance become one, and a point lying on another fragment's edge
