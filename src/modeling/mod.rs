@@ -1,5 +1,113 @@
 //! Modeling primitives that generate object geometry in the scene language
 //! instead of reading it from a file: the geodesic constructions of Brown
-//! 1978 (003 section 4) with a radial spherical function to deform them.
+//! 1978 (003 section 4) with a radial spherical function to deform them,
+//! and the primitives of Firebaugh's chapter 8 (001): parametric sphere and
+//! cylinder and superquadrics ([`parametric`], eqs. 8.2-8.3, 8.19-8.23),
+//! bicubic Bezier and Hermite patches ([`patch`], eqs. 8.6, 8.16-8.18),
+//! lathing and extrusion ([`sweep`]) and constructive solid geometry
+//! ([`csg`], figs. 8.12-8.15). [`solid`] holds the properties of closed
+//! meshes (volume, closedness, orientation) they share.
 
+pub mod csg;
 pub mod geodesic;
+pub mod parametric;
+pub mod patch;
+pub mod solid;
+pub mod sweep;
+
+use glam::DVec3;
+
+use crate::scene::object_file::Mesh;
+
+/// What a generator makes: polygons clockwise from outside, and for curved
+/// surfaces the exact unit normal at every vertex (vertices on a crease
+/// are repeated, one copy per side).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Generated {
+    /// Vertices and polygons in object coordinates.
+    pub mesh: Mesh,
+    /// Exact outward unit normals, one per vertex (curved surfaces).
+    pub normals: Option<Vec<DVec3>>,
+    /// The surface does not close: both sides are seen (`type open`).
+    pub open: bool,
+}
+
+impl Generated {
+    /// Whether the object is `curved` (it carries vertex normals).
+    pub fn curved(&self) -> bool {
+        self.normals.is_some()
+    }
+}
+
+use glam::DVec2;
+
+use parametric::Superquadric;
+use sweep::Profile;
+
+/// A generator command of the scene language with checked parameters
+/// (the patch generators, which read a file, are handled apart).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Primitive {
+    /// `sphere NU NV`.
+    Sphere {
+        /// Steps of longitude.
+        nu: usize,
+        /// Steps of latitude.
+        nv: usize,
+    },
+    /// `cylinder NU [capped|open]`.
+    Cylinder {
+        /// Steps about z.
+        nu: usize,
+        /// With end discs.
+        capped: bool,
+    },
+    /// `superquadric E1 E2 NU NV [AX AY AZ]`.
+    Superquadric {
+        /// Exponents and scale factors.
+        q: Superquadric,
+        /// Steps of longitude.
+        nu: usize,
+        /// Steps of latitude.
+        nv: usize,
+    },
+    /// `lathe N r1 z1 ...`.
+    Lathe {
+        /// The profile.
+        profile: Profile,
+        /// Steps about z.
+        n: usize,
+    },
+    /// `extrude DEPTH x1 y1 ...`.
+    Extrude {
+        /// The outline, counter-clockwise.
+        outline: Vec<DVec2>,
+        /// Depth along z.
+        depth: f64,
+    },
+}
+
+impl Primitive {
+    /// The number of polygons it will make, computed before anything is
+    /// built (`None` on overflow), so that a budget can refuse it.
+    pub fn face_count(&self) -> Option<usize> {
+        match self {
+            Primitive::Sphere { nu, nv } => parametric::grid_face_count(*nu, *nv, true),
+            Primitive::Cylinder { nu, capped } => parametric::cylinder_face_count(*nu, *capped),
+            Primitive::Superquadric { nu, nv, .. } => parametric::superquadric_face_count(*nu, *nv),
+            Primitive::Lathe { profile, n } => profile.face_count(*n),
+            Primitive::Extrude { outline, .. } => sweep::extrude_face_count(outline.len()),
+        }
+    }
+
+    /// Generates the polygons.
+    pub fn build(&self) -> Generated {
+        match self {
+            Primitive::Sphere { nu, nv } => parametric::sphere(*nu, *nv),
+            Primitive::Cylinder { nu, capped } => parametric::cylinder(*nu, *capped),
+            Primitive::Superquadric { q, nu, nv } => parametric::superquadric(q, *nu, *nv),
+            Primitive::Lathe { profile, n } => sweep::lathe(profile, *n),
+            Primitive::Extrude { outline, depth } => sweep::extrude(outline, *depth),
+        }
+    }
+}

@@ -27,6 +27,9 @@ use crate::geometry::polygon::{self, PolygonDefect};
 use crate::math::{self, Axis, Matrix4};
 use crate::modeling::geodesic::{self, Division, Radial, TurnedRadial};
 
+#[path = "generators.rs"]
+mod generators;
+
 /// Depth of the matrix stack (004 section 4.3: "a 16-level deep
 /// transformation matrix stack"). `defobj` uses one level.
 pub const MATRIX_STACK_DEPTH: usize = 16;
@@ -88,6 +91,10 @@ struct ActiveObject {
     radial: Option<(Radial, Location)>,
     /// `radial rotate`: the turn of the radial function (003 section 2).
     turn: Option<(glam::DMat3, Location)>,
+    /// A Firebaugh generator (`sphere`, ..., `union`) and where it is.
+    generator: Option<(generators::Pending, Location)>,
+    /// The first surface command of the block (an error in a CSG block).
+    surface_cmd: Option<Location>,
     pcolors: Option<(String, Location)>,
     vcolors: Option<(String, Location)>,
     stack_depth: usize,
@@ -592,7 +599,13 @@ impl Interpreter {
             spec,
         };
         validate(&a)?;
+        if let Some(active) = &mut self.active
+            && generators::SURFACE_COMMANDS.contains(&spec.name)
+        {
+            active.surface_cmd.get_or_insert_with(|| ctx.location(cmd));
+        }
         match spec.name {
+            name if generators::GENERATORS.contains(&name) => self.add_generator(&a)?,
             "ambient" => {
                 a.count(3, 3)?;
                 self.scene.ambient = a.color(0)?;
@@ -1072,6 +1085,8 @@ impl Interpreter {
             geodesic: None,
             radial: None,
             turn: None,
+            generator: None,
+            surface_cmd: None,
             pcolors: None,
             vcolors: None,
             stack_depth: self.stack.len(),
@@ -1095,6 +1110,15 @@ impl Interpreter {
             ));
         };
         self.ctm = saved;
+        if let Some((pending, loc)) = active.generator.clone() {
+            let end = generators::Ending {
+                ctx,
+                cmd,
+                transform,
+                saved,
+            };
+            return self.end_generated(active, pending, loc, end);
+        }
 
         let generated = match &active.geodesic {
             Some((n, division, loc)) => {
@@ -1700,6 +1724,9 @@ fn included_from(e: Error, loc: Location, token: &Token, ctx: &Context) -> Error
 fn validate(a: &Args) -> Result<()> {
     let n = a.args.len();
     match a.spec.name {
+        name if generators::GENERATORS.contains(&name) => {
+            generators::parse(a)?;
+        }
         "ambient" | "background" | "color" => {
             a.count(3, 3)?;
             a.color(0)?;
