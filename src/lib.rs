@@ -11,6 +11,7 @@
 
 pub mod budget;
 pub mod convert;
+pub mod display;
 pub mod emit;
 pub mod error;
 pub mod geometry;
