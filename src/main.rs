@@ -464,6 +464,8 @@ struct CliHost {
     runs: usize,
     /// Brown's priority orders of the previous frame (003 sections 2-3).
     orders: plytrace::visibility::brown::PriorityCache,
+    /// The live display (`disp on`).
+    live: plytrace::display::LiveDisplay,
 }
 
 /// The name and place of a scene-chosen output, `fname`, checked: no `..`
@@ -620,7 +622,7 @@ impl Host for CliHost {
             return Err(Error::Invalid(pixels_exceeded(w, h, self.budgets.pixels)));
         }
         // `fname` is checked only where it names a file.
-        let named = (scene.display && self.output.is_none()) || scene.modes.output_tree;
+        let named = self.output.is_none() || scene.modes.output_tree;
         let stem = if named {
             self.stem(scene)?
         } else {
@@ -630,11 +632,9 @@ impl Host for CliHost {
             .output
             .clone()
             .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
-        let mut image_file = if scene.display {
-            Some(AtomicFile::create(&path)?)
-        } else {
-            None
-        };
+        // `disp` is the live display (the manual's "attached device"):
+        // the image file is written either way.
+        let mut image_file = Some(AtomicFile::create(&path)?);
         let id_file = match &self.id_image {
             Some(p) => Some(AtomicFile::create(p)?),
             None => None,
@@ -663,7 +663,7 @@ impl Host for CliHost {
             shading: self.shading,
             budgets: self.budgets,
         };
-        let streamed = scene.display
+        let streamed = !self.live.wanted()
             && self.id_image.is_none()
             && path
                 .extension()
@@ -689,8 +689,22 @@ impl Host for CliHost {
                 rendered
             }
             plan => {
-                let rendered = match plan {
-                    render::Plan::Tree(prepared) => {
+                let live = match self.live.observer(w, h) {
+                    Ok(o) => o,
+                    Err(message) => {
+                        err(&format!("warning: {message}"));
+                        None
+                    }
+                };
+                let rendered = match (plan, live) {
+                    (render::Plan::Tree(prepared), Some(window)) => {
+                        plytrace::display::scan_levels(*prepared, window)?
+                    }
+                    (render::Plan::Painted(r), Some(window)) => {
+                        plytrace::display::show_painted(&r, window);
+                        *r
+                    }
+                    (render::Plan::Tree(prepared), None) => {
                         let (w, h) = (prepared.scan.width, prepared.scan.height);
                         let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
                         let mut sink = render::FrameSink { frame: &mut frame };
@@ -701,7 +715,7 @@ impl Host for CliHost {
                         rendered.frame = frame;
                         rendered
                     }
-                    render::Plan::Painted(r) => *r,
+                    (render::Plan::Painted(r), None) => *r,
                 };
                 if let Some(file) = image_file.take() {
                     staged.push(output::stage_image(file, &rendered.frame, scene.outmode)?);
@@ -736,9 +750,7 @@ impl Host for CliHost {
         let paths: Vec<PathBuf> = staged.iter().map(|s| s.path().to_path_buf()).collect();
         output::commit_all(staged)?;
         self.written.extend(paths.iter().cloned());
-        if scene.display {
-            self.say(&format!("Wrote {} ({w} x {h})", path.display()));
-        }
+        self.say(&format!("Wrote {} ({w} x {h})", path.display()));
         if let Some(m) = tree_message {
             self.say(&m);
         }
@@ -804,11 +816,7 @@ impl Host for CliHost {
             self.scene_file
                 .as_deref()
                 .map_or_else(|| "<stdin>".into(), field),
-            if scene.display {
-                field(&path)
-            } else {
-                "-".into()
-            },
+            field(&path),
             s.polygons_tiled,
             s.max_depth,
             elapsed.as_secs_f64()
@@ -833,7 +841,16 @@ impl Host for CliHost {
         self.say(&hms(elapsed));
     }
 
+    fn display(&mut self, on: bool) {
+        if let Some(message) = self.live.request(on) {
+            err(&format!("warning: {message}"));
+        }
+    }
+
     fn wait(&mut self) {
+        if self.live.wait() {
+            return;
+        }
         if self.interactive && std::io::stdin().is_terminal() {
             out_text("Press return to continue.", false);
             let mut line = String::new();
@@ -1097,6 +1114,7 @@ fn main() -> ExitCode {
         written: Vec::new(),
         runs: 0,
         orders: Default::default(),
+        live: Default::default(),
     };
 
     if let Some(scene) = &options.scene {

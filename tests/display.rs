@@ -108,3 +108,35 @@ fn a_closure_observes_a_painted_image_once() {
     render_observed(&s, &o, &PriorityCache::new(), &mut observer).unwrap();
     assert_eq!(seen, vec![(1, 1, true)]);
 }
+
+/// The command line: `disp on` without a window says so once, on stderr,
+/// and every `run` still writes its file; `disp off` does not stop the
+/// file either (it dismisses the display, as the manual says).
+#[test]
+fn without_a_display_disp_on_says_so_once_and_files_are_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let des = dir.path().join("d.des");
+    std::fs::write(
+        &des,
+        "resolution 48 48\nperspective 40 1 0.1 100\npushmatrix\nident\npolarview 5 25 65 0\n\
+         defobj geo\n geodesic 2\nendobj\npopmatrix\n\
+         disp on\nfname a\nrun\nwait\ndisp\nfname b\nrun\ndisp off\nfname c\nrun\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_plytrace"))
+        .args(["-q", "-i", "-f", "d.des"])
+        .current_dir(dir.path())
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert_eq!(stderr.matches("disp on:").count(), 1, "{stderr}");
+    assert!(stderr.contains("written to files only"), "{stderr}");
+    for name in ["a.png", "b.png", "c.png"] {
+        let len = std::fs::metadata(dir.path().join(name)).map_or(0, |m| m.len());
+        assert!(len > 0, "{name} was not written");
+    }
+}

@@ -130,7 +130,7 @@ const NO_FEATURE: &str = "disp on: this plytrace was built without the live disp
 pub struct LiveDisplay {
     /// `disp on` was given (and not `disp off` since).
     requested: bool,
-    /// The user was told there is no display.
+    /// The user was told there is no display: not tried again.
     told: bool,
     #[cfg(feature = "display")]
     window: Option<window::Window>,
@@ -159,7 +159,7 @@ impl LiveDisplay {
 
     /// Whether a `run` should show its image (`disp on` was given).
     pub fn wanted(&self) -> bool {
-        self.requested && cfg!(feature = "display")
+        self.requested && !self.told && cfg!(feature = "display")
     }
 
     /// The window for an image of `width` x `height`, opened (or resized)
@@ -182,8 +182,8 @@ impl LiveDisplay {
             match window::Window::open(width, height) {
                 Ok(w) => self.window = Some(w),
                 Err(e) => {
-                    // Not again this session.
-                    self.requested = false;
+                    // Said once; not tried again this session.
+                    self.told = true;
                     return Err(format!(
                         "disp on: cannot open a window ({e}); the images are written to files only"
                     ));

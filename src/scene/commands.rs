@@ -35,7 +35,7 @@ commands! {
     "depth", "1-14", "maximum reflection/refraction recursion depth (default 1)";
     "det_dir", "path", "detail directory for .det/.pcl/.vcl files (default det/)";
     "diffuse", "k", "diffuse coefficient (default 0.6)";
-    "disp", "[on|off]", "display (write) the image when rendering (default on)";
+    "disp", "[on|off]", "show the virtual image tree level by level in a window (build feature `display`); files are written either way";
     "endobj", "", "end the object: read its files and transform it by the CTM";
     "fname", "name", "output file name (name.png, name.out)";
     "geodesic", "n [equal|angle]", "in defobj: a geodesic icosahedron, n divisions per edge (Brown 1978)";
@@ -73,7 +73,7 @@ commands! {
     "type", "polygon [open curved concave hidden ltsrc]", "surface type attributes";
     "vcolors", "file", "vertex colours of the active object (file.vcl)";
     "viewport", "left right bottom top", "image region in pixels";
-    "wait", "", "wait for return (terminal only)";
+    "wait", "", "wait for a key in the display window, else for return (terminal only)";
     "window", "left right bottom top near far", "load a perspective frustum";
 }
 

@@ -45,6 +45,8 @@ pub trait Host {
     fn clear(&mut self, _scene: &Scene) {}
     /// `wait`.
     fn wait(&mut self) {}
+    /// `disp on|off`: the live display is asked for or dismissed.
+    fn display(&mut self, _on: bool) {}
     /// A `get` is about to read `file`.
     fn scanning(&mut self, _file: &Path) {}
     /// A `get` of `file` finished; `scene` is the result.
@@ -681,6 +683,7 @@ impl Interpreter {
             "disp" => {
                 a.count(0, 1)?;
                 self.scene.display = if args.is_empty() { true } else { a.on_off(0)? };
+                host.display(self.scene.display);
             }
             "endobj" => {
                 a.count(0, 0)?;
