@@ -140,3 +140,51 @@ fn without_a_display_disp_on_says_so_once_and_files_are_written() {
         assert!(len > 0, "{name} was not written");
     }
 }
+
+/// The feature build under a virtual X server (`Xvfb`, installed by
+/// `.ci/run`): `disp on` opens the window, each level is shown in it, and
+/// nothing is said about a missing display.
+#[cfg(feature = "display")]
+#[test]
+fn under_xvfb_disp_on_opens_the_window() {
+    use std::io::{BufRead, BufReader};
+    let mut xvfb = std::process::Command::new("Xvfb")
+        .args([
+            "-displayfd",
+            "1",
+            "-screen",
+            "0",
+            "320x240x24",
+            "-nolisten",
+            "tcp",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("Xvfb is needed for the display feature's test (apt-get install xvfb)");
+    let mut number = String::new();
+    BufReader::new(xvfb.stdout.take().unwrap())
+        .read_line(&mut number)
+        .unwrap();
+    let display = format!(":{}", number.trim());
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("d.des"),
+        "resolution 48 48\nperspective 40 1 0.1 100\npushmatrix\nident\npolarview 5 25 65 0\n\
+         defobj geo\n geodesic 2\nendobj\npopmatrix\ndisp on\nrun\nrun\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_plytrace"))
+        .args(["-q", "-i", "-f", "d.des"])
+        .current_dir(dir.path())
+        .env("DISPLAY", &display)
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    let _ = xvfb.kill();
+    let _ = xvfb.wait();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("disp on:"), "{display}: {stderr}");
+    assert!(dir.path().join("d.png").exists());
+}
