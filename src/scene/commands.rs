@@ -35,7 +35,7 @@ commands! {
     "depth", "1-14", "maximum reflection/refraction recursion depth (default 1)";
     "det_dir", "path", "detail directory for .det/.pcl/.vcl files (default det/)";
     "diffuse", "k", "diffuse coefficient (default 0.6)";
-    "disp", "[on|off]", "show the virtual image tree level by level in a window (build feature `display`); files are written either way";
+    "disp", "[on|off]", "show the tree level by level in a window (build feature `display`); files are written either way";
     "endobj", "", "end the object: read its files and transform it by the CTM";
     "fname", "name", "output file name (name.png, name.out)";
     "geodesic", "n [equal|angle]", "in defobj: a geodesic icosahedron, n divisions per edge (Brown 1978)";
@@ -56,7 +56,7 @@ commands! {
     "popmatrix", "", "pop the CTM from the matrix stack";
     "pushmatrix", "", "push a copy of the CTM on the matrix stack";
     "quit", "", "end the program";
-    "radial", "sphere|ellipsoid a b c|bumps amp freq|lobes amp k | rotate angle x|y|z", "in defobj: move a geodesic's vertices radially; `rotate` turns the function inside the fixed vertex directions (outside defobj: every geodesic's), Brown's approximate rotation";
+    "radial", "sphere|ellipsoid a b c|bumps amp freq|lobes amp k|rotate angle x|y|z", "a geodesic's radial function (in defobj); `rotate` turns it inside the fixed vertex directions (outside defobj: every geodesic's)";
     "reflectance", "k", "reflection coefficient (default 0)";
     "resolution", "hres vres", "image size; loads perspective 45 hres/vres 0.01 10000";
     "rotate", "angle x|y|z", "rotation (pre-multiplies the CTM)";

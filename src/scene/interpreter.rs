@@ -1304,6 +1304,7 @@ impl Interpreter {
                 "`radial rotate` outside a definition turns the geodesic objects; there are none",
             ));
         }
+        self.polygons = self.scene.polygon_count();
         Ok(())
     }
 
