@@ -12,6 +12,7 @@
 pub mod budget;
 pub mod cancel;
 pub mod convert;
+pub mod display;
 pub mod emit;
 pub mod error;
 pub mod geometry;

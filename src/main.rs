@@ -516,6 +516,8 @@ struct CliHost {
     orders: plytrace::visibility::brown::PriorityCache,
     /// `--raytrace`.
     raytrace: bool,
+    /// The live display (`disp on`).
+    live: plytrace::display::LiveDisplay,
 }
 
 /// The name and place of a scene-chosen output, `fname`, checked: no `..`
@@ -697,22 +699,12 @@ impl CliHost {
         })
     }
 
-    /// One `run`: checks and creates the outputs, renders, commits them.
-    fn render(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
-        self.runs += 1;
-
-        let start = Instant::now();
-        // Everything that can be checked is checked before the render:
-        // the size against the budget, the names, and every output (its
-        // temporary file is created now, beside it).
-        let (mut w, mut h) = self
-            .size
-            .unwrap_or((scene.viewport.width(), scene.viewport.height()));
-        if u64::from(w) * u64::from(h) > self.budgets.pixels {
-            return Err(Error::Invalid(pixels_exceeded(w, h, self.budgets.pixels)));
-        }
-        // `fname` is checked only where it names a file.
-        let named = (scene.display && self.output.is_none()) || scene.modes.output_tree;
+    /// Creates every output of a run (each a temporary file beside its
+    /// place) before anything is rendered; `fname` is checked only where
+    /// it names a file. `disp` is the live display (the manual's
+    /// "attached device"): the image file is written either way.
+    fn create_outputs(&self, scene: &Scene) -> Result<RunOutputs> {
+        let named = self.output.is_none() || scene.modes.output_tree;
         let stem = if named {
             self.stem(scene)?
         } else {
@@ -722,16 +714,12 @@ impl CliHost {
             Some(p) => p.clone(),
             None => PathBuf::from(format!("{stem}.png")),
         };
-        let mut image_file = if scene.display {
-            Some(AtomicFile::create(&path)?)
-        } else {
-            None
-        };
-        let id_file = match &self.id_image {
+        let image = Some(AtomicFile::create(&path)?);
+        let id = match &self.id_image {
             Some(p) => Some(AtomicFile::create(p)?),
             None => None,
         };
-        let tree_files = if scene.modes.output_tree {
+        let tree = if scene.modes.output_tree {
             Some((
                 AtomicFile::create(Path::new(&format!("{stem}.out")))?,
                 AtomicFile::create(Path::new(&format!("{stem}.txt")))?,
@@ -739,12 +727,16 @@ impl CliHost {
         } else {
             None
         };
-        self.warn_aspect(scene);
-        self.say("Building image.");
-        if scene.objects.is_empty() {
-            err("warning: the scene has no objects; the image is the background only");
-        }
-        let options = RenderOptions {
+        Ok(RunOutputs {
+            path,
+            image,
+            id,
+            tree,
+        })
+    }
+
+    fn render_options(&self, shadows: bool) -> RenderOptions {
+        RenderOptions {
             size: self.size,
             shadows,
             visibility: self.visibility,
@@ -754,10 +746,33 @@ impl CliHost {
             threads: self.threads,
             shading: self.shading,
             budgets: self.budgets,
-        };
-        let streamed = scene.display
+        }
+    }
+
+    /// Renders the picture into the run's image file (staged, not yet
+    /// committed): vector output, PNG bands streamed as they are finished,
+    /// or a whole frame. Returns the render and the image's size.
+    fn picture(
+        &mut self,
+        scene: &Scene,
+        shadows: bool,
+        out: &mut RunOutputs,
+        staged: &mut Vec<output::Staged>,
+    ) -> Result<(render::Rendered, (u32, u32))> {
+        let options = self.render_options(shadows);
+        let (w, h) = self
+            .size
+            .unwrap_or((scene.viewport.width(), scene.viewport.height()));
+        if plytrace::vector::Format::from_path(&out.path).is_some() || self.hidden_line {
+            let run =
+                plytrace::vector::render_run(out.image.take(), scene, &options, self.hidden_line)?;
+            staged.extend(run.0);
+            return Ok((render::Rendered::empty(run.1), (w, h)));
+        }
+        let streamed = !self.live.wanted()
             && self.id_image.is_none()
-            && path
+            && out
+                .path
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("png"));
         if !streamed {
@@ -767,105 +782,166 @@ impl CliHost {
                 .check_frame(w, h, render::FRAME_BYTES_PER_PIXEL)
                 .map_err(Error::Invalid)?;
         }
-        let mut staged = Vec::new();
-        let vector = plytrace::vector::Format::from_path(&path).is_some();
-        let rendered = if vector || self.hidden_line {
-            {
-                let file = image_file.take();
-                let run = plytrace::vector::render_run(file, scene, &options, self.hidden_line)?;
-                staged.extend(run.0);
-                render::Rendered {
-                    frame: FrameBuffer::new(0, 0, [0.0; 3]),
-                    polygons: Vec::new(),
-                    shadows: Vec::new(),
-                    tree: None,
-                    profile: None,
-                    stats: run.1,
-                }
-            }
+        let plan = if self.raytrace {
+            render::Plan::Painted(Box::new(self.ray_traced(scene, shadows)?))
         } else {
-            let plan = if self.raytrace {
-                render::Plan::Painted(Box::new(self.ray_traced(scene, shadows)?))
-            } else {
-                render::plan_with(scene, &options, &self.orders)?
-            };
-            match plan {
-                render::Plan::Tree(mut prepared) if streamed => {
-                    // The virtual frame buffer: bands of rows go to the PNG as
-                    // they are finished; the whole image is never in memory.
-                    prepared.scan.ids = false;
-                    (w, h) = (prepared.scan.width, prepared.scan.height);
-                    let file = image_file.take().expect("created for a displayed image");
-                    let mut sink = output::PngSink::from_file(file, w, h, scene.outmode.into())?;
-                    let mut progress = ProgressSink::new(&mut sink, h, self.progress);
-                    let rendered = render::scan_into(*prepared, &mut progress);
-                    progress.finish();
-                    let rendered = rendered?;
-                    let (file, note) = sink.finish()?;
-                    if let Some(note) = note {
-                        err(&format!("warning: {note}"));
-                    }
-                    staged.push(file);
-                    rendered
-                }
-                plan => {
-                    let rendered = match plan {
-                        render::Plan::Tree(prepared) => {
-                            let (w, h) = (prepared.scan.width, prepared.scan.height);
-                            let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
-                            let mut sink = render::FrameSink { frame: &mut frame };
-                            let mut progress = ProgressSink::new(&mut sink, h, self.progress);
-                            let rendered = render::scan_into(*prepared, &mut progress);
-                            progress.finish();
-                            let mut rendered = rendered?;
-                            rendered.frame = frame;
-                            rendered
-                        }
-                        render::Plan::Painted(r) => *r,
-                    };
-                    if let Some(file) = image_file.take() {
-                        staged.push(output::stage_image(file, &rendered.frame, scene.outmode)?);
-                    }
-                    rendered
-                }
+            render::plan_with(scene, &options, &self.orders)?
+        };
+        let file = out.image.take().expect("created before the render");
+        match plan {
+            render::Plan::Tree(prepared) if streamed => {
+                let (w, h) = (prepared.scan.width, prepared.scan.height);
+                let rendered = self.streamed(*prepared, file, scene, staged)?;
+                Ok((rendered, (w, h)))
+            }
+            plan => {
+                let rendered = self.whole_frame(plan, w, h)?;
+                staged.push(output::stage_image(file, &rendered.frame, scene.outmode)?);
+                let size = (rendered.frame.width, rendered.frame.height);
+                Ok((rendered, size))
+            }
+        }
+    }
+
+    /// The virtual frame buffer: bands of rows go to the PNG as they are
+    /// finished; the whole image is never in memory.
+    fn streamed(
+        &self,
+        mut prepared: render::Prepared,
+        file: AtomicFile,
+        scene: &Scene,
+        staged: &mut Vec<output::Staged>,
+    ) -> Result<render::Rendered> {
+        prepared.scan.ids = false;
+        let (w, h) = (prepared.scan.width, prepared.scan.height);
+        let mut sink = output::PngSink::from_file(file, w, h, scene.outmode.into())?;
+        let mut progress = ProgressSink::new(&mut sink, h, self.progress);
+        let rendered = render::scan_into(prepared, &mut progress);
+        progress.finish();
+        let rendered = rendered?;
+        let (file, note) = sink.finish()?;
+        if let Some(note) = note {
+            err(&format!("warning: {note}"));
+        }
+        staged.push(file);
+        Ok(rendered)
+    }
+
+    /// A render kept whole in memory, shown level by level in the live
+    /// display when `disp on` opened one.
+    fn whole_frame(&mut self, plan: render::Plan, w: u32, h: u32) -> Result<render::Rendered> {
+        let progress = self.progress;
+        let live = match self.live.observer(w, h) {
+            Ok(o) => o,
+            Err(message) => {
+                err(&format!("warning: {message}"));
+                None
             }
         };
-        if rendered.frame.width > 0 {
-            (w, h) = (rendered.frame.width, rendered.frame.height);
+        Ok(match (plan, live) {
+            (render::Plan::Tree(prepared), Some(window)) => {
+                plytrace::display::scan_levels(*prepared, window)?
+            }
+            (render::Plan::Painted(r), Some(window)) => {
+                plytrace::display::show_painted(&r, window);
+                *r
+            }
+            (render::Plan::Tree(prepared), None) => {
+                let (w, h) = (prepared.scan.width, prepared.scan.height);
+                let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
+                let mut sink = render::FrameSink { frame: &mut frame };
+                let mut bar = ProgressSink::new(&mut sink, h, progress);
+                let rendered = render::scan_into(*prepared, &mut bar);
+                bar.finish();
+                let mut rendered = rendered?;
+                rendered.frame = frame;
+                rendered
+            }
+            (render::Plan::Painted(r), None) => *r,
+        })
+    }
+
+    /// Stages the tree files (`setmode o`); the message to print once
+    /// they are committed.
+    fn stage_tree(
+        tree: Option<&plytrace::tree::RecordStream>,
+        files: Option<(AtomicFile, AtomicFile)>,
+        staged: &mut Vec<output::Staged>,
+    ) -> Result<Option<String>> {
+        let (Some(tree), Some((mut bin, mut txt))) = (tree, files) else {
+            return Ok(None);
+        };
+        bin.write_all(&tree.to_bytes())?;
+        txt.write_all(tree.to_text().as_bytes())?;
+        let message = format!(
+            "Wrote the virtual image tree ({} polygons) to {} and {}",
+            tree.records.len(),
+            bin.path().display(),
+            txt.path().display()
+        );
+        staged.push(bin.finish()?);
+        staged.push(txt.finish()?);
+        Ok(Some(message))
+    }
+
+    /// One `run`: checks and creates the outputs, renders, commits them
+    /// all together (or none), then reports.
+    fn render(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
+        self.runs += 1;
+        let start = Instant::now();
+        let (w, h) = self
+            .size
+            .unwrap_or((scene.viewport.width(), scene.viewport.height()));
+        if u64::from(w) * u64::from(h) > self.budgets.pixels {
+            return Err(Error::Invalid(pixels_exceeded(w, h, self.budgets.pixels)));
         }
-        let mut tree_message = None;
-        if let (Some(tree), Some((mut bin, mut txt))) = (&rendered.tree, tree_files) {
-            bin.write_all(&tree.to_bytes())?;
-            txt.write_all(tree.to_text().as_bytes())?;
-            tree_message = Some(format!(
-                "Wrote the virtual image tree ({} polygons) to {} and {}",
-                tree.records.len(),
-                bin.path().display(),
-                txt.path().display()
-            ));
-            staged.push(bin.finish()?);
-            staged.push(txt.finish()?);
+        let mut out = self.create_outputs(scene)?;
+        self.warn_aspect(scene);
+        self.say("Building image.");
+        if scene.objects.is_empty() {
+            err("warning: the scene has no objects; the image is the background only");
         }
-        if let Some(file) = id_file {
+        let mut staged = Vec::new();
+        let (rendered, (w, h)) = self.picture(scene, shadows, &mut out, &mut staged)?;
+        let tree_message = Self::stage_tree(rendered.tree.as_ref(), out.tree, &mut staged)?;
+        if let Some(file) = out.id {
             staged.push(output::stage_id_png(
                 file,
                 &rendered.frame,
                 &rendered.polygons,
             )?);
         }
-        // All the outputs of the run appear together, or none of them.
         let paths: Vec<PathBuf> = staged.iter().map(|s| s.path().to_path_buf()).collect();
         output::commit_all(staged)?;
-        self.written.extend(paths.iter().cloned());
-        if scene.display {
-            self.say(&format!("Wrote {} ({w} x {h})", path.display()));
-        }
+        self.written.extend(paths);
+        self.say(&format!("Wrote {} ({w} x {h})", out.path.display()));
         if let Some(m) = tree_message {
             self.say(&m);
         }
         if let Some(p) = &self.id_image {
             self.say(&format!("Wrote the id image {}", p.display()));
         }
+        self.report_stats(scene, &rendered);
+        let elapsed = start.elapsed();
+        self.say(&hms(elapsed));
+        let field = |p: &Path| printable(&p.display().to_string(), 300).replace(' ', "\\x20");
+        let s = &rendered.stats;
+        append_log(&format!(
+            "{} scene={} image={} size={w}x{h} polygons_tiled={} max_depth={} seconds={:.3}",
+            utc_now(),
+            self.scene_file
+                .as_deref()
+                .map_or_else(|| "<stdin>".into(), field),
+            field(&out.path),
+            s.polygons_tiled,
+            s.max_depth,
+            elapsed.as_secs_f64()
+        ));
+        Ok(())
+    }
+
+    /// The manual's statistics of a run, and this program's own figures.
+    fn report_stats(&self, scene: &Scene, rendered: &render::Rendered) {
         let s = &rendered.stats;
         self.say(&format!(
             "{} Polygons tiled, Max depth = {}",
@@ -908,19 +984,7 @@ impl CliHost {
             );
         }
         if let Some(n) = &s.nns {
-            self.say(&format!(
-                "NNS: {} faces in, {} out, {} splits ({} cycles of two, {} longer){}",
-                n.faces_in,
-                n.faces_out,
-                n.splits,
-                n.cycles_of_two,
-                n.longer_cycles,
-                if n.unresolved > 0 {
-                    format!(", {} unresolved", n.unresolved)
-                } else {
-                    String::new()
-                }
-            ));
+            self.say(&nns_line(n));
         }
         if let Some(b) = &s.brown {
             self.say(&format!("Brown: {b}"));
@@ -928,26 +992,36 @@ impl CliHost {
         if scene.modes.debug > 0 {
             self.say(&debug_timings(s));
         }
-        let elapsed = start.elapsed();
-        self.say(&hms(elapsed));
-        let field = |p: &Path| printable(&p.display().to_string(), 300).replace(' ', "\\x20");
-        append_log(&format!(
-            "{} scene={} image={} size={w}x{h} polygons_tiled={} max_depth={} seconds={:.3}",
-            utc_now(),
-            self.scene_file
-                .as_deref()
-                .map_or_else(|| "<stdin>".into(), field),
-            if scene.display {
-                field(&path)
-            } else {
-                "-".into()
-            },
-            s.polygons_tiled,
-            s.max_depth,
-            elapsed.as_secs_f64()
-        ));
-        Ok(())
     }
+}
+
+/// The NNS statistics line.
+fn nns_line(n: &plytrace::visibility::nns::NnsStats) -> String {
+    format!(
+        "NNS: {} faces in, {} out, {} splits ({} cycles of two, {} longer){}",
+        n.faces_in,
+        n.faces_out,
+        n.splits,
+        n.cycles_of_two,
+        n.longer_cycles,
+        if n.unresolved > 0 {
+            format!(", {} unresolved", n.unresolved)
+        } else {
+            String::new()
+        }
+    )
+}
+
+/// The files of one run, created before it renders.
+struct RunOutputs {
+    /// The image's name.
+    path: PathBuf,
+    /// The image, until the picture takes it.
+    image: Option<AtomicFile>,
+    /// `--id-image`.
+    id: Option<AtomicFile>,
+    /// `setmode o`: FNAME.out and FNAME.txt.
+    tree: Option<(AtomicFile, AtomicFile)>,
 }
 
 impl Host for CliHost {
@@ -963,9 +1037,6 @@ impl Host for CliHost {
     /// the display is the image file, so it is written (atomically) in the
     /// background colour, at the size the next `run` would write.
     fn clear(&mut self, scene: &Scene) -> Result<()> {
-        if !scene.display {
-            return Ok(());
-        }
         let path = self.image_path(scene)?;
         let (w, h) = self
             .size
@@ -980,6 +1051,13 @@ impl Host for CliHost {
         let bg = scene.background;
         let frame = FrameBuffer::new(w, h, [bg.x as f32, bg.y as f32, bg.z as f32]);
         output::commit_all(vec![output::stage_image(file, &frame, scene.outmode)?])?;
+        if let Ok(Some(window)) = self.live.observer(w, h) {
+            let cleared = render::Rendered {
+                frame,
+                ..render::Rendered::empty(render::RenderStats::default())
+            };
+            plytrace::display::show_painted(&cleared, window);
+        }
         self.say(&format!(
             "Cleared {} to the background ({w} x {h})",
             path.display()
@@ -1003,7 +1081,16 @@ impl Host for CliHost {
         self.say(&hms(elapsed));
     }
 
+    fn display(&mut self, on: bool) {
+        if let Some(message) = self.live.request(on) {
+            err(&format!("warning: {message}"));
+        }
+    }
+
     fn wait(&mut self) {
+        if self.live.wait() {
+            return;
+        }
         if self.interactive && std::io::stdin().is_terminal() {
             out_text("Press return to continue.", false);
             let mut line = String::new();
@@ -1343,6 +1430,7 @@ fn main() -> ExitCode {
         hidden_line: options.hidden_line,
         orders: Default::default(),
         raytrace: options.raytrace,
+        live: Default::default(),
     };
 
     if let Some(scene) = &options.scene {

@@ -126,6 +126,19 @@ pub struct Rendered {
 }
 
 impl Rendered {
+    /// A render whose picture went elsewhere (a vector file): no frame,
+    /// only its figures.
+    pub fn empty(stats: RenderStats) -> Rendered {
+        Rendered {
+            frame: FrameBuffer::new(0, 0, [0.0; 3]),
+            polygons: Vec::new(),
+            shadows: Vec::new(),
+            tree: None,
+            profile: None,
+            stats,
+        }
+    }
+
     /// The (object index, polygon index) painted at pixel `x`, row `y` from
     /// the top, or `None` for background.
     pub fn polygon_at(&self, x: u32, y: u32) -> Option<(u32, u32)> {

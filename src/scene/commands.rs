@@ -38,7 +38,7 @@ commands! {
     "det_dir", "path", "detail directory for .det/.pcl/.vcl files (default det/)";
     "difference", "A B", "in defobj: CSG A - B of two closed objects (consumed), e.g. difference plate hole";
     "diffuse", "k", "diffuse coefficient (default 0.6)";
-    "disp", "[on|off]", "display (write) the image when rendering (default on)";
+    "disp", "[on|off]", "show the tree level by level in a window (build feature `display`); files are written either way";
     "endobj", "", "end the object: read its files and transform it by the CTM";
     "extrude", "DEPTH x1 y1 ... xk yk", "in defobj: a simple outline swept z 0..DEPTH, capped, e.g. extrude 0.5 0 0 1 0 1 1";
     "fname", "name", "output file name (name.png, name.out)";
@@ -63,7 +63,7 @@ commands! {
     "popmatrix", "", "pop the CTM from the matrix stack";
     "pushmatrix", "", "push a copy of the CTM on the matrix stack";
     "quit", "", "end the program";
-    "radial", "sphere|ellipsoid a b c|bumps amp freq|lobes amp k | rotate angle x|y|z", "in defobj: move a geodesic's vertices radially; `rotate` turns the function inside the fixed vertex directions (outside defobj: every geodesic's), Brown's approximate rotation";
+    "radial", "sphere|ellipsoid a b c|bumps amp freq|lobes amp k|rotate angle x|y|z", "a geodesic's radial function (in defobj); `rotate` turns it inside the fixed vertex directions (outside defobj: every geodesic's)";
     "reflectance", "k", "reflection coefficient (default 0)";
     "resolution", "hres vres", "image size; loads perspective 45 hres/vres 0.01 10000";
     "rotate", "angle x|y|z", "rotation (pre-multiplies the CTM)";
@@ -83,7 +83,7 @@ commands! {
     "union", "A B", "in defobj: CSG A or B of two closed objects (consumed), e.g. union head shaft";
     "vcolors", "file", "vertex colours of the active object (file.vcl)";
     "viewport", "left right bottom top", "image region in pixels";
-    "wait", "", "wait for return (terminal only)";
+    "wait", "", "wait for a key in the display window, else for return (terminal only)";
     "window", "left right bottom top near far", "load a perspective frustum";
 }
 

@@ -50,6 +50,8 @@ pub trait Host {
     }
     /// `wait`.
     fn wait(&mut self) {}
+    /// `disp on|off`: the live display is asked for or dismissed.
+    fn display(&mut self, _on: bool) {}
     /// A `get` is about to read `file`.
     fn scanning(&mut self, _file: &Path) {}
     /// A `get` of `file` finished; `scene` is the result.
@@ -696,6 +698,7 @@ impl Interpreter {
             "disp" => {
                 a.count(0, 1)?;
                 self.scene.display = if args.is_empty() { true } else { a.on_off(0)? };
+                host.display(self.scene.display);
             }
             "endobj" => {
                 a.count(0, 0)?;
@@ -1327,6 +1330,7 @@ impl Interpreter {
                 "`radial rotate` outside a definition turns the geodesic objects; there are none",
             ));
         }
+        self.polygons = self.scene.polygon_count();
         Ok(())
     }
 
