@@ -59,7 +59,7 @@ fn median(mut v: Vec<Duration>) -> Duration {
 }
 
 fn secs(d: Duration) -> String {
-    format!("{:.3}s", d.as_secs_f64())
+    format!("{:.1}ms", d.as_secs_f64() * 1000.0)
 }
 
 fn main() {
@@ -73,7 +73,7 @@ fn main() {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
     println!(
-        "{:<16} {:>8} {:>9} {:>9} {:>9} {:>9} {:>7} {:>7} {:>9} {:>9}",
+        "{:<16} {:>8} {:>10} {:>10} {:>10} {:>10} {:>7} {:>7} {:>9} {:>9}",
         "Scene", "Tiled", "G-Time", "R-Time", "RT 1", "RT 4x4", "RI 1", "RI 16", "diff", ">8/255"
     );
     for (name, path) in scenes() {
@@ -139,7 +139,7 @@ fn main() {
             }
             let n = traced.color.len().max(1) as f64;
             println!(
-                "{:<16} {:>8} {:>9} {:>9} {:>9} {:>9} {:>7.1} {:>7.1} {:>9.2} {:>8.1}%",
+                "{:<16} {:>8} {:>10} {:>10} {:>10} {:>10} {:>7.1} {:>7.1} {:>9.2} {:>8.1}%",
                 format!("{name}({label})"),
                 tree.stats.polygons_tiled,
                 secs(g),
