@@ -149,9 +149,14 @@ fn clear_pool() -> Scene {
 /// Coloured letters (bars) on a floor under a thick glass slab, seen
 /// obliquely from above.
 fn slab_over_letters() -> Scene {
-    let mut text = String::from(
-        "resolution 96 96\nperspective 45 1 0.1 100\ndepth 2\npushmatrix\nident\n\
-         polarview 9 20 40 0\nlight 2 -3 8 1 1 1 100 Diffuse\n\
+    slab_over_letters_with("", 2)
+}
+
+/// The same with more objects and another depth.
+fn slab_over_letters_with(more: &str, depth: u32) -> Scene {
+    let mut text = format!(
+        "resolution 96 96\nperspective 45 1 0.1 100\ndepth {depth}\npushmatrix\nident\n\
+         polarview 9 20 40 0\nlight 2 -3 8 1 1 1 100 Diffuse\n{more}\
          defobj square\n color 0.9 0.9 0.9\n diffuse 0.8\n scale 5 5 1\nendobj\n",
     );
     let colours = ["1 0 0", "0 1 0", "0 0 1", "1 1 0", "0 1 1", "1 0 1"];
@@ -235,4 +240,22 @@ fn auto_picks_exact_when_the_linear_map_is_off_and_says_so() {
     .unwrap();
     let said = r.stats.refraction.expect("the scene refracts");
     assert!(said.starts_with("linearized"), "{said}");
+}
+
+/// The slab seen in a mirror standing behind it: the refracted branch
+/// of a fragment at level 2, mapped back to world space by the mirror.
+#[test]
+fn exact_refraction_of_a_slab_seen_in_a_mirror() {
+    let scene = slab_over_letters_with(
+        "defobj square\n color 0.2 0.2 0.2\n diffuse 0.1\n reflectance 0.8\n \
+         translate 0 4 1.5\n rotate 90 x\n scale 5 1.5 1\nendobj\n",
+        3,
+    );
+    let (share, checked) = agreement(&scene, 96, Refraction::Exact, Method::Point);
+    assert!(checked > 3000, "{checked}");
+    assert!(
+        share >= 0.99,
+        "slab in a mirror, exact: {:.2}% agree",
+        share * 100.0
+    );
 }
