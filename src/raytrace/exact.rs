@@ -105,6 +105,12 @@ pub fn layer(
                 && tree.nodes[n].parent.is_some_and(|p| sites[p]))
     };
     let on: Vec<bool> = (0..tree.nodes.len()).map(shows_site).collect();
+    // Pre-blended, a fragment carries its parent's shade: below a site
+    // (its reflection) the mask stays 1. Parents come before children.
+    let mut under = vec![false; tree.nodes.len()];
+    for n in 0..tree.nodes.len() {
+        under[n] = on[n] || tree.nodes[n].parent.is_some_and(|p| under[p]);
+    }
     for (n, f) in white.nodes.iter_mut().enumerate() {
         let on = on[n];
         f.shade = if on && f.weight > 0.0 {
@@ -112,7 +118,7 @@ pub fn layer(
         } else {
             Color::ZERO
         };
-        f.blended = if on { Color::ONE } else { Color::ZERO };
+        f.blended = if under[n] { Color::ONE } else { Color::ZERO };
     }
     let blended = matches!(picture.method, Method::Area | Method::Mask | Method::Hybrid);
     let (mask_stream, _) = emit::records(&flat, &white, how(blended), view.eye);
