@@ -210,10 +210,19 @@ impl VirtualImageTree {
 /// The refraction matrix used for refractive polygons.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Refraction {
-    /// `M_t` linearized exactly about the ray through the polygon's centre
-    /// (the improvement of 004 section 6.4.3; the default).
+    /// The renderer's choice (`render::prepare`): exact when the
+    /// linearized matrix is off by more than a pixel at a transmitting
+    /// polygon's corner, else linearized. The tree builder itself treats
+    /// it as linearized.
     #[default]
+    Auto,
+    /// `M_t` linearized exactly about the ray through the polygon's centre
+    /// (the improvement of 004 section 6.4.3).
     Linearized,
+    /// No refracted branches in the tree: they are ray traced per pixel
+    /// and composited after scan conversion (`raytrace::exact`, the hybrid
+    /// of 004 section 6.4).
+    Exact,
     /// `M_to`, exact for rays parallel to the line of sight (004 section
     /// 4.6; exact under an orthographic projection).
     Orthographic,
@@ -228,8 +237,11 @@ impl std::str::FromStr for Refraction {
             "linearized" | "linearised" => Ok(Refraction::Linearized),
             "orthographic" => Ok(Refraction::Orthographic),
             "paraxial" => Ok(Refraction::Paraxial),
+            "exact" => Ok(Refraction::Exact),
+            "auto" => Ok(Refraction::Auto),
             _ => Err(format!(
-                "unknown refraction model `{s}`; expected linearized, orthographic or paraxial"
+                "unknown refraction model `{s}`; expected linearized, orthographic, paraxial, \
+                 exact or auto"
             )),
         }
     }
@@ -727,9 +739,11 @@ impl<'a> Builder<'a> {
                 let eta = 1.0 / object.surface.index;
                 let centre = c.points.iter().copied().sum::<DVec3>() / c.points.len() as f64;
                 let matrix = match self.options.refraction {
-                    Refraction::Linearized => {
+                    Refraction::Linearized | Refraction::Auto => {
                         math::refraction(plane, -self.view.to_eye(centre), eta)
                     }
+                    // Ray traced after the tree (`raytrace::exact`).
+                    Refraction::Exact => None,
                     Refraction::Orthographic => {
                         // All rays parallel to the line of sight: the
                         // direction from the eye through the view centre.

@@ -428,6 +428,9 @@ pub struct Prepared {
     pub profile: Option<crate::profile::Profile>,
     /// Figures so far.
     pub stats: RenderStats,
+    /// With exact refraction: the ray-traced refracted branches, added to
+    /// the picture's rows.
+    pub exact: Option<crate::raytrace::exact::ExactLayer>,
 }
 
 /// Builds the virtual image tree and emits it as records.
@@ -450,6 +453,8 @@ pub fn prepare(
                 .ok()
         })
         .flatten();
+    let (refraction, said) = refraction_model(scene, view, options.refraction);
+    stats.refraction = said;
     let build = || {
         crate::image_tree::build_profiled(
             scene,
@@ -459,7 +464,7 @@ pub fn prepare(
                 threshold: scene.threshold,
                 nns: algorithm == Algorithm::Nns,
                 shadows: options.shadows,
-                refraction: options.refraction,
+                refraction,
                 explicit_shadow_shades: scene.modes.shadow_shades,
                 shading: options.shading,
                 budgets: options.budgets,
@@ -496,33 +501,97 @@ pub fn prepare(
     profile.add(crate::profile::Category::Shading, t.elapsed());
     stats.polygons_listed = picture.records.len();
     stats.method = Some(method);
+    let scan = ScanOptions {
+        width,
+        height,
+        method,
+        act_lines: 16,
+        paint_background: true,
+        transparency: match options.shading {
+            crate::shading::ShadingModel::Garcia => scan::TransparencyRule::Garcia,
+            crate::shading::ShadingModel::Donovan => scan::TransparencyRule::Donovan,
+        },
+        threads: options.threads,
+        ids: true,
+    };
+    // Exact refraction: the refracted branches ray traced before the
+    // picture's scan conversion (a failure there is the picture's too).
+    let mut exact = None;
+    if refraction == crate::image_tree::Refraction::Exact {
+        let made = crate::raytrace::exact::layer(
+            scene,
+            view,
+            &tree,
+            &scan,
+            options.shadows,
+            options.shading,
+        );
+        match made {
+            Ok(layer) => exact = layer,
+            Err(e) => stats
+                .warnings
+                .push(format!("exact refraction left out: {e}")),
+        }
+    }
+    stats.raytrace = exact.as_ref().map(|l| l.stats);
     Prepared {
         picture,
         sources,
         file,
-        scan: ScanOptions {
-            width,
-            height,
-            method,
-            act_lines: 16,
-            paint_background: true,
-            transparency: match options.shading {
-                crate::shading::ShadingModel::Garcia => scan::TransparencyRule::Garcia,
-                crate::shading::ShadingModel::Donovan => scan::TransparencyRule::Donovan,
-            },
-            threads: options.threads,
-            ids: true,
-        },
+        scan,
+        exact,
         profile: options.profile.then_some(profile),
         stats,
     }
+}
+
+/// The refraction model for `scene` (resolving `auto`: exact when the
+/// linearized matrix is off by more than a pixel at a transmitting
+/// polygon's corner, [`crate::raytrace::exact::linear_error`]) and, when
+/// the scene refracts, the model in words for the statistics.
+pub fn refraction_model(
+    scene: &Scene,
+    view: &View,
+    asked: crate::image_tree::Refraction,
+) -> (crate::image_tree::Refraction, Option<String>) {
+    use crate::image_tree::Refraction;
+    let refracts = scene.modes.max_level > 1
+        && scene.objects.iter().any(|o| {
+            !o.surface_type.hidden
+                && (0..o.polygons.len()).any(|p| polygon_material(o, p).transmittance > 0.0)
+        });
+    if !refracts {
+        return (asked, None);
+    }
+    let name = |r: Refraction| format!("{r:?}").to_lowercase();
+    if asked != Refraction::Auto {
+        return (asked, Some(format!("{} (--refraction)", name(asked))));
+    }
+    let error = crate::raytrace::exact::linear_error(scene, view);
+    let chosen = if error > 1.0 {
+        Refraction::Exact
+    } else {
+        Refraction::Linearized
+    };
+    let said = format!(
+        "{} (the linearized matrix is off by up to {error:.1} pixels at the transmitting \
+         polygons' corners; exact above 1)",
+        name(chosen)
+    );
+    (chosen, Some(said))
 }
 
 /// Scan converts a prepared tree into `sink`. The result's frame buffer is
 /// empty: the rows went to the sink.
 pub fn scan_into(prepared: Prepared, sink: &mut dyn RowSink) -> Result<Rendered> {
     let t = Instant::now();
-    let scanned = scan::scan_convert(&prepared.picture, &prepared.scan, sink)?;
+    let scanned = match &prepared.exact {
+        Some(layer) => {
+            let mut layered = crate::raytrace::exact::LayeredSink::new(sink, layer);
+            scan::scan_convert(&prepared.picture, &prepared.scan, &mut layered)?
+        }
+        None => scan::scan_convert(&prepared.picture, &prepared.scan, sink)?,
+    };
     let mut stats = prepared.stats;
     stats.paint_time = t.elapsed();
     stats.polygons_tiled = scanned.polygons_tiled;

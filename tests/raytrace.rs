@@ -167,3 +167,45 @@ fn supersampling_casts_n_by_n_rays_per_pixel() {
     assert_eq!(stats.primary, 20 * 10 * 16);
     assert!(stats.rays >= stats.primary);
 }
+
+#[test]
+fn cli_raytrace_writes_the_image_and_reports_rays_per_second() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("rt.png");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_plytrace"))
+        .current_dir(dir.path())
+        .arg("-i")
+        .arg("-f")
+        .arg(support::scene_fixture("underwater.des"))
+        .args(["--raytrace", "--supersample", "2", "--size", "24x24", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let text =
+        String::from_utf8_lossy(&run.stdout).to_string() + &String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{text}");
+    assert!(out.is_file(), "{text}");
+    assert!(text.contains("rays per second"), "{text}");
+    assert!(text.contains("2304 primary rays"), "{text}");
+}
+
+#[test]
+fn cli_says_which_refraction_model_it_used() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |extra: &[&str]| {
+        let r = std::process::Command::new(env!("CARGO_BIN_EXE_plytrace"))
+            .current_dir(dir.path())
+            .arg("-i")
+            .arg("-f")
+            .arg(support::scene_fixture("underwater.des"))
+            .args(["--size", "32x32", "-o"])
+            .arg(dir.path().join("t.png"))
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(r.status.success());
+        String::from_utf8_lossy(&r.stdout).to_string()
+    };
+    assert!(run(&[]).contains("Refraction: exact (the linearized matrix is off"));
+    assert!(run(&["--refraction", "paraxial"]).contains("Refraction: paraxial (--refraction)"));
+}

@@ -1,1 +1,428 @@
-//! Exact refraction for the virtual image tree (004 section 6.4): see below.
+//! Exact refraction for the virtual image tree (`--refraction exact`): the
+//! hybrid Garcia proposes in 004 section 6.4, rays where the linear maps
+//! of section 4.6 are wrong.
+//!
+//! The tree is built without refracted branches (the builder's
+//! [`crate::image_tree::Refraction::Exact`]). Every fragment that would
+//! have had one (a "site": a front-facing polygon fragment that transmits,
+//! below `depth`, its weight `k kt` above `threshold`) gets a ray-traced
+//! layer instead, made before the picture's scan conversion, and added to
+//! the picture's rows as they leave the scan converter:
+//!
+//! ```text
+//! records --scan (the picture's method)--> rows --+--> + mask * layer --> sink
+//! records, sites white, all else black --scan--> mask (coverage)
+//! records --point scan--> ids --> the site at each pixel centre
+//!    --rays (raytrace::RayTracer::refracted)--> layer = k kt L
+//! ```
+//!
+//! The mask is the picture's stream with its colours replaced (sites and
+//! the shadows on them 1, everything else 0) and scan converted by the same method, so it is the
+//! sites' visible coverage, anti-aliased as the picture is, and dimmed by
+//! transparent polygons in front as the branch would be. The layer holds,
+//! per pixel, the weighted colour of the refracted ray of the site seen at
+//! the pixel centre (or at a neighbour's, on a site's edge). Data flows one
+//! way: nothing downstream of the records sees the tree.
+//!
+//! [`linear_error`] estimates how far off the linearized matrix is, in
+//! pixels, at the corners of the transmitting polygons: `auto` (the
+//! default) uses exact refraction when it is off by more than a pixel.
+
+use glam::{DVec3, DVec4};
+use rayon::prelude::*;
+
+use crate::emit::{self, Emit};
+use crate::error::Result;
+use crate::geometry::view::View;
+use crate::image_tree::{FragmentKind, VirtualImageTree};
+use crate::raster::frame_buffer::FrameBuffer;
+use crate::raster::scan::{self, Method, Row, RowSink, ScanOptions};
+use crate::scene::model::{Color, Scene, SortOrder};
+use crate::shading::polygon_material;
+
+use super::{Counter, Ray, RayStats, RayTracer};
+
+/// The ray-traced refracted branches of a tree, ready to be added to the
+/// picture's rows.
+#[derive(Debug, Clone)]
+pub struct ExactLayer {
+    width: u32,
+    /// `mask * layer` per pixel, rows from the top.
+    add: Vec<[f32; 3]>,
+    /// Figures of the rays.
+    pub stats: RayStats,
+    /// Sites (fragments whose refracted branch is ray traced).
+    pub sites: usize,
+}
+
+/// Whether tree node `n` is a site: a front-facing polygon fragment whose
+/// refracted branch the tree would trace.
+fn is_site(scene: &Scene, tree: &VirtualImageTree, n: usize) -> bool {
+    let f = &tree.nodes[n];
+    if f.kind != FragmentKind::Polygon || f.back_facing || f.level >= scene.modes.max_level {
+        return false;
+    }
+    let m = polygon_material(&scene.objects[f.object as usize], f.polygon as usize);
+    m.transmittance > 0.0 && f.weight * m.transmittance > scene.threshold
+}
+
+/// The layer of `tree` (built with exact refraction) for a picture scan
+/// converted with `picture` options; `None` when nothing refracts.
+pub fn layer(
+    scene: &Scene,
+    view: &View,
+    tree: &VirtualImageTree,
+    picture: &ScanOptions,
+    shadows: bool,
+    shading: crate::shading::ShadingModel,
+) -> Result<Option<ExactLayer>> {
+    let sites: Vec<bool> = (0..tree.nodes.len())
+        .map(|n| is_site(scene, tree, n))
+        .collect();
+    let count = sites.iter().filter(|&&s| s).count();
+    if count == 0 {
+        return Ok(None);
+    }
+    let (w, h) = (picture.width, picture.height);
+    let order = tree.output_order(SortOrder::FrontToBack);
+    let how = |blended| Emit {
+        order: SortOrder::FrontToBack,
+        blended,
+        width: w,
+        height: h,
+    };
+    // The mask: sites white (weight 1 after the record's `k`), all else
+    // black; flat shades only.
+    let mut flat = scene.clone();
+    flat.modes.vertex_shades = false;
+    flat.modes.phong = false;
+    flat.background = Color::ZERO;
+    let mut white = tree.clone();
+    // A shadow on a site stands for the site where it lies.
+    let shows_site = |n: usize| {
+        sites[n]
+            || (matches!(tree.nodes[n].kind, FragmentKind::Shadow { .. })
+                && tree.nodes[n].parent.is_some_and(|p| sites[p]))
+    };
+    let on: Vec<bool> = (0..tree.nodes.len()).map(shows_site).collect();
+    // Pre-blended, a fragment carries its parent's shade: below a site
+    // (its reflection) the mask stays 1. Parents come before children.
+    let mut under = vec![false; tree.nodes.len()];
+    for n in 0..tree.nodes.len() {
+        under[n] = on[n] || tree.nodes[n].parent.is_some_and(|p| under[p]);
+    }
+    for (n, f) in white.nodes.iter_mut().enumerate() {
+        let on = on[n];
+        f.shade = if on && f.weight > 0.0 {
+            Color::ONE / f.weight
+        } else {
+            Color::ZERO
+        };
+        f.blended = if under[n] { Color::ONE } else { Color::ZERO };
+    }
+    let blended = matches!(picture.method, Method::Area | Method::Mask | Method::Hybrid);
+    let (mask_stream, _) = emit::records(&flat, &white, how(blended), view.eye);
+    let mask = scan_frame(&mask_stream, picture, picture.method, false)?;
+    // The site at each pixel centre.
+    let (id_stream, _) = emit::records(&flat, &white, how(false), view.eye);
+    let ids = scan_frame(&id_stream, picture, Method::Point, true)?;
+    // The record seen, or the nearest of its ancestors that is a site (a
+    // shadow on a site, or the site's reflection, shows the site too).
+    let site_of = |id: u32| -> Option<usize> {
+        let mut n = *order.get((id as usize).checked_sub(1)?)?;
+        while !sites[n] {
+            n = tree.nodes[n].parent?;
+        }
+        Some(n)
+    };
+    let tracer = RayTracer::new(scene, *view, shadows, shading);
+    let start = std::time::Instant::now();
+    let rows: Vec<(Vec<[f32; 3]>, Counter)> = (0..h)
+        .into_par_iter()
+        .map(|row| {
+            let mut counter = Counter::default();
+            let out = (0..w)
+                .map(|col| {
+                    let k = (row * w + col) as usize;
+                    let m = mask.color[k][0];
+                    if m <= 0.0 {
+                        return [0.0; 3];
+                    }
+                    let site = neighbourhood(col, row, w, h)
+                        .find_map(|(x, y)| site_of(ids.ids[(y * w + x) as usize]));
+                    let Some(n) = site else {
+                        return [0.0; 3];
+                    };
+                    let c = site_colour(&tracer, tree, n, col, row, &mut counter);
+                    (c * m as f64).as_vec3().to_array()
+                })
+                .collect();
+            (out, counter)
+        })
+        .collect();
+    let mut stats = RayStats::default();
+    let mut add = Vec::with_capacity(w as usize * h as usize);
+    for (r, c) in rows {
+        stats.add(&c);
+        stats.primary += c.rays;
+        add.extend(r);
+    }
+    stats.trace_time = start.elapsed();
+    Ok(Some(ExactLayer {
+        width: w,
+        add,
+        stats,
+        sites: count,
+    }))
+}
+
+/// The pixel itself, then its eight neighbours.
+fn neighbourhood(col: u32, row: u32, w: u32, h: u32) -> impl Iterator<Item = (u32, u32)> {
+    const STEPS: [(i64, i64); 9] = [
+        (0, 0),
+        (-1, 0),
+        (1, 0),
+        (0, -1),
+        (0, 1),
+        (-1, -1),
+        (1, -1),
+        (-1, 1),
+        (1, 1),
+    ];
+    STEPS.into_iter().filter_map(move |(dx, dy)| {
+        let (x, y) = (col as i64 + dx, row as i64 + dy);
+        (x >= 0 && y >= 0 && x < w as i64 && y < h as i64).then_some((x as u32, y as u32))
+    })
+}
+
+/// `k kt L`: the refracted ray of site `n` through the centre of pixel
+/// `(col, row)` (row 0 at the top). The eye ray meets the site's plane
+/// in virtual coordinates; the point is mapped back to world space by the
+/// affine map the fragment's virtual and world vertices define (its
+/// level's product of mirror reflections), and the ray goes on from there
+/// as the eye of the fragment sees it.
+fn site_colour(
+    tracer: &RayTracer<'_>,
+    tree: &VirtualImageTree,
+    n: usize,
+    col: u32,
+    row: u32,
+    counter: &mut Counter,
+) -> Color {
+    let f = &tree.nodes[n];
+    let view = tracer.view();
+    let Some((o, d)) = view.ray(col as f64 + 0.5, view.height - row as f64 - 0.5) else {
+        return Color::ZERO;
+    };
+    let Some(pv) = plane_hit(&f.virtual_points, o, d) else {
+        return Color::ZERO;
+    };
+    let t = ((pv - o).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+    let Some(pw) = map_in_plane(&f.virtual_points, &f.world, pv) else {
+        return Color::ZERO;
+    };
+    let dir = if f.eye.w != 0.0 {
+        pw - f.eye.truncate() / f.eye.w
+    } else {
+        -f.eye.truncate()
+    };
+    let rest = dir.normalize_or_zero() * d.length() * (1.0 - t);
+    let ray = Ray {
+        origin: pw,
+        dir: rest,
+        level: f.level,
+        weight: f.weight,
+        eye: f.eye,
+        exclude: None,
+        bends: 0,
+    };
+    let object = &tracer.scene.objects[f.object as usize];
+    let kt = polygon_material(object, f.polygon as usize).transmittance;
+    tracer.refracted(&ray, (f.object, f.polygon), pw, rest, counter) * (kt * f.weight)
+}
+
+/// Where the line `o + t d` meets the plane of `points`.
+fn plane_hit(points: &[DVec3], o: DVec3, d: DVec3) -> Option<DVec3> {
+    let n = crate::geometry::polygon::newell_vector(points.iter().copied()).try_normalize()?;
+    let denom = n.dot(d);
+    if denom == 0.0 {
+        return None;
+    }
+    let t = n.dot(points[0] - o) / denom;
+    Some(o + d * t)
+}
+
+/// `p` (in the plane of `from`) mapped by the affine map taking the
+/// points `from` to the points `to`, fitted on the first vertex and the
+/// two others spanning the largest triangle.
+fn map_in_plane(from: &[DVec3], to: &[DVec3], p: DVec3) -> Option<DVec3> {
+    if from.len() < 3 || from.len() != to.len() {
+        return None;
+    }
+    let mut best = (0.0, 1, 2);
+    for i in 1..from.len() {
+        for j in i + 1..from.len() {
+            let a = (from[i] - from[0])
+                .cross(from[j] - from[0])
+                .length_squared();
+            if a > best.0 {
+                best = (a, i, j);
+            }
+        }
+    }
+    let (_, i, j) = best;
+    let (e1, e2, q) = (from[i] - from[0], from[j] - from[0], p - from[0]);
+    let (a11, a12, a22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let det = a11 * a22 - a12 * a12;
+    if det <= 0.0 {
+        return None;
+    }
+    let (b1, b2) = (q.dot(e1), q.dot(e2));
+    let u = (b1 * a22 - b2 * a12) / det;
+    let v = (a11 * b2 - a12 * b1) / det;
+    Some(to[0] + (to[i] - to[0]) * u + (to[j] - to[0]) * v)
+}
+
+/// Scan converts `stream` into a frame buffer with `method`.
+fn scan_frame(
+    stream: &crate::tree::RecordStream,
+    picture: &ScanOptions,
+    method: Method,
+    ids: bool,
+) -> Result<FrameBuffer> {
+    let mut frame = FrameBuffer::new(picture.width, picture.height, [0.0; 3]);
+    let options = ScanOptions {
+        method,
+        ids,
+        paint_background: true,
+        ..*picture
+    };
+    scan::scan_convert(
+        stream,
+        &options,
+        &mut crate::render::FrameSink { frame: &mut frame },
+    )?;
+    Ok(frame)
+}
+
+/// A sink adding the layer to each row on its way to `inner`.
+pub struct LayeredSink<'a> {
+    /// Where the rows go.
+    pub inner: &'a mut dyn RowSink,
+    /// The layer.
+    pub layer: &'a ExactLayer,
+    buffer: Vec<[f32; 3]>,
+}
+
+impl<'a> LayeredSink<'a> {
+    /// Adds `layer` to the rows going to `inner`.
+    pub fn new(inner: &'a mut dyn RowSink, layer: &'a ExactLayer) -> Self {
+        LayeredSink {
+            inner,
+            layer,
+            buffer: Vec::new(),
+        }
+    }
+}
+
+impl RowSink for LayeredSink<'_> {
+    fn row(&mut self, row: &Row<'_>) -> Result<()> {
+        let w = self.layer.width as usize;
+        let at = row.y as usize * w;
+        self.buffer.clear();
+        self.buffer.extend(
+            row.rgb
+                .iter()
+                .zip(&self.layer.add[at..at + row.rgb.len()])
+                .map(|(a, b)| [0, 1, 2].map(|c| (a[c] + b[c]).clamp(0.0, 1.0))),
+        );
+        self.inner.row(&Row {
+            rgb: &self.buffer,
+            ..*row
+        })
+    }
+}
+
+/// How far, in pixels, the linearized refraction matrix (004 section
+/// 6.4.3) puts what is seen through the corners of the scene's
+/// front-facing transmitting polygons from where exact Snell refraction
+/// puts it: at each corner and edge midpoint (a tenth of the way in) the exact refracted ray is cast to the first
+/// polygon it meets, and that point, mapped by the polygon's linearized
+/// matrix, should project onto the corner itself (the virtual image of a
+/// point seen through the corner lies on the eye ray through it). The
+/// largest error; 0 when nothing transmits.
+pub fn linear_error(scene: &Scene, view: &View) -> f64 {
+    if scene.modes.max_level < 2 {
+        return 0.0;
+    }
+    let polygons = crate::geometry::bvh::WorldPolygons::new(scene);
+    let mut worst: f64 = 0.0;
+    for (oi, object) in scene.objects.iter().enumerate() {
+        if object.surface_type.hidden {
+            continue;
+        }
+        for (pi, poly) in object.polygons.iter().enumerate() {
+            let m = polygon_material(object, pi);
+            if m.transmittance <= 0.0 {
+                continue;
+            }
+            let plane = if view.faces_eye(poly.plane) {
+                poly.plane
+            } else if object.surface_type.open {
+                -poly.plane
+            } else {
+                continue;
+            };
+            let points: Vec<DVec3> = poly
+                .indices
+                .iter()
+                .map(|&i| object.vertices[i as usize])
+                .collect();
+            let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+            let eta = 1.0 / object.surface.index;
+            let Some(matrix) = crate::math::refraction(plane, -view.to_eye(centre), eta) else {
+                continue;
+            };
+            let id = (oi as u32, pi as u32);
+            // The corners and edge midpoints, pulled a tenth of the way
+            // in (a corner on a wall sees along the wall).
+            let n = points.len();
+            let samples = (0..n).flat_map(|k| [points[k], (points[k] + points[(k + 1) % n]) / 2.0]);
+            for c in samples {
+                let c = centre + (c - centre) * 0.9;
+                worst = worst.max(corner_error(&polygons, view, plane, eta, &matrix, c, id));
+            }
+        }
+    }
+    worst
+}
+
+/// [`linear_error`] at one corner `c`.
+fn corner_error(
+    polygons: &crate::geometry::bvh::WorldPolygons,
+    view: &View,
+    plane: DVec4,
+    eta: f64,
+    matrix: &crate::math::Matrix4,
+    c: DVec3,
+    id: (u32, u32),
+) -> f64 {
+    let d = -view.to_eye(c) * view_depth(view);
+    let t = super::optics::refract(d, plane.truncate(), eta).direction();
+    let Some(hit) = polygons.cast(c, t, false, &|p, front| {
+        (front || p.open) && (p.object, p.polygon) != id
+    }) else {
+        return 0.0;
+    };
+    let q = matrix.transform_point(c + t * hit.t);
+    let (a, b) = (view.project(q), view.project(c));
+    let e = ((a.x - b.x).powi(2) + (a.y - b.y).powi(2)).sqrt();
+    if e.is_finite() { e } else { 0.0 }
+}
+
+/// A length that reaches past the scene from the eye: the far plane's
+/// distance along the view axis.
+fn view_depth(view: &View) -> f64 {
+    view.ray(view.width / 2.0, view.height / 2.0)
+        .map_or(1.0, |(o, d)| (o + d).length() + d.length())
+}

@@ -220,16 +220,17 @@ impl<'a> RayTracer<'a> {
 
     /// The first polygon that does not transmit along `ray`, following
     /// refraction only (at a transmitting polygon the ray goes on in the
-    /// refracted direction): the object seen through glass, for tests.
-    pub fn seen_through(&self, ray: &Ray) -> Option<Hit> {
+    /// refracted direction): the object seen through glass and the point
+    /// hit, for tests.
+    pub fn seen_through(&self, ray: &Ray) -> Option<(Hit, DVec3)> {
         let mut ray = *ray;
         for _ in 0..MAX_BENDS {
             let hit = self.cast(&ray)?;
             let p = self.polygons.get(hit.object, hit.polygon)?;
-            if p.transmittance <= 0.0 {
-                return Some(hit);
-            }
             let point = ray.origin + ray.dir * hit.t;
+            if p.transmittance <= 0.0 {
+                return Some((hit, point));
+            }
             let n = p.plane.truncate();
             let front = ray.dir.dot(n) < 0.0;
             let index = self.scene.objects[hit.object as usize].surface.index;
