@@ -74,7 +74,7 @@ const BOX_MARGIN: f64 = 1e4;
 
 /// At most this many items (56 bytes each) in the lights' own
 /// hierarchies together.
-const MAX_LIGHT_ITEMS: usize = 1 << 22;
+const MAX_LIGHT_ITEMS: usize = 1 << 20;
 
 /// Items per leaf.
 const LEAF: usize = 4;
