@@ -700,7 +700,7 @@ impl<'a> Builder<'a> {
             if let Some(regions) = shadow_regions.next() {
                 let start = std::time::Instant::now();
                 let shadows =
-                    self.shadows_on(regions, &c, t, &terms, weight, parent_blend, id, level);
+                    self.shadows_on(regions, c, t, &terms, weight, parent_blend, id, level);
                 self.profile.add(Category::Shadows, start.elapsed());
                 self.tree.nodes[id].children.extend(shadows);
             }
