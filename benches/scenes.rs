@@ -9,7 +9,9 @@
 //! * `tree-*`: the virtual image tree with 0, 1 and 2 shadow lights;
 //! * `aa-*`: every scan conversion method at 512 x 512 on mirror, gallery
 //!   and office2 with their shadow lights (the peak and total pixel-fragments
-//!   of method 4 are printed once per scene).
+//!   of method 4 are printed once per scene);
+//! * `goals`: issue 10's three goal renders at 512 x 512, on one thread
+//!   and on all cores.
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -184,5 +186,39 @@ fn antialiasing(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench, tree, antialiasing);
+/// Issue 10's goals at 512 x 512, default (anti-aliased) output, in
+/// process (the whole-process figures and POV-Ray side by side come from
+/// `benches/side_by_side.sh`): office2 with its 2 shadow lights at depth 3
+/// (goal 0.3 s), office2 without shadows (50 ms), gallery at depth 14
+/// with 4 shadow lights (0.4 s); on one thread and on all cores.
+fn goals(c: &mut Criterion) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes");
+    let mut group = c.benchmark_group("goals");
+    group.sample_size(10);
+    group.warm_up_time(Duration::from_millis(500));
+    group.measurement_time(Duration::from_secs(3));
+    for (label, name, shadows) in [
+        ("office2-2-lights", "office2", true),
+        ("office2-no-shadows", "office2", false),
+        ("gallery-4-lights", "gallery", true),
+    ] {
+        let scene = plytrace::scene::load(&root.join(format!("{name}.des")))
+            .unwrap()
+            .0;
+        for (threads, suffix) in [(1, "1-thread"), (0, "all-cores")] {
+            let options = RenderOptions {
+                size: Some((512, 512)),
+                shadows,
+                threads,
+                ..RenderOptions::default()
+            };
+            group.bench_function(format!("{label}/{suffix}"), |b| {
+                b.iter(|| render(&scene, &options).unwrap())
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, tree, antialiasing, goals);
 criterion_main!(benches);

@@ -651,12 +651,17 @@ impl<'a> Builder<'a> {
             .map(|inv| inv.transform(self.view.eye))
             .unwrap_or(self.view.eye);
         let mut ids = Vec::new();
-        // The shadow regions of every fragment of the level, found in
-        // parallel; the fragments are added below in order.
-        let mut shadow_regions = self.level_shadow_regions(&sorted, t).into_iter();
+        // The shadow regions of the level's fragments, found in parallel
+        // a chunk at a time (so that only one chunk's wait at once); the
+        // fragments are added below in order.
+        let mut shadow_regions = Vec::new().into_iter();
         let mut facets: std::collections::HashMap<(u32, u32, bool), FacetTerms<'a>> =
             std::collections::HashMap::new();
-        for c in sorted {
+        for (k, c) in sorted.iter().enumerate() {
+            if k % SHADOW_CHUNK == 0 {
+                let chunk = &sorted[k..(k + SHADOW_CHUNK).min(sorted.len())];
+                shadow_regions = self.level_shadow_regions(chunk, t).into_iter();
+            }
             // One shade per source polygon and side at this level (the
             // fragments of a level share the eye): the pieces of a polygon
             // of 200,000 vertices would each average all its vertices.
@@ -707,7 +712,7 @@ impl<'a> Builder<'a> {
             if let Some(regions) = shadow_regions.next() {
                 let start = std::time::Instant::now();
                 let shadows =
-                    self.shadows_on(regions, &c, t, &terms, weight, parent_blend, id, level);
+                    self.shadows_on(regions, c, t, &terms, weight, parent_blend, id, level);
                 self.profile.add(Category::Shadows, start.elapsed());
                 self.tree.nodes[id].children.extend(shadows);
             }
@@ -850,7 +855,7 @@ impl<'a> Builder<'a> {
         }
     }
 
-    /// The shadow regions of every fragment of a level (`sorted`, virtual
+    /// The shadow regions of fragments of a level (`sorted`, virtual
     /// coordinates under `t`), one list per fragment in their order,
     /// computed in parallel; empty without `run y`.
     fn level_shadow_regions(
@@ -1063,6 +1068,9 @@ impl<'a> Builder<'a> {
         planes
     }
 }
+
+/// Fragments whose shadows are cast in parallel at once.
+const SHADOW_CHUNK: usize = 4096;
 
 /// At most this many lights are combined into overlap regions on one
 /// target fragment (see [`Builder::shadows_on`]).

@@ -72,6 +72,10 @@ struct LightTree {
 /// the apex of a thin volume reaches farther than the tolerance.
 const BOX_MARGIN: f64 = 1e4;
 
+/// At most this many items (56 bytes each) in the lights' own
+/// hierarchies together.
+const MAX_LIGHT_ITEMS: usize = 1 << 20;
+
 /// Items per leaf.
 const LEAF: usize = 4;
 
@@ -81,6 +85,10 @@ const LEAF: usize = 4;
 pub struct CasterIndex {
     casters: Vec<Caster>,
     lights: Vec<OnceLock<LightTree>>,
+    /// Every caster, for the lights past the memory bound.
+    shared: OnceLock<LightTree>,
+    /// The bound: [`MAX_LIGHT_ITEMS`].
+    max_light_items: usize,
 }
 
 impl CasterIndex {
@@ -134,36 +142,51 @@ impl CasterIndex {
         CasterIndex {
             casters,
             lights: (0..scene.lights.len()).map(|_| OnceLock::new()).collect(),
+            shared: OnceLock::new(),
+            max_light_items: MAX_LIGHT_ITEMS,
         }
     }
 
-    /// The hierarchy of light `j` (world position `light`).
-    fn tree(&self, j: usize, light: DVec3) -> &LightTree {
-        self.lights[j].get_or_init(|| {
-            let mut items: Vec<Item> = self
-                .casters
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| c.open || c.plane.truncate().dot(light) + c.plane.w > 0.0)
-                .map(|(k, c)| Item {
-                    lo: c.lo,
-                    hi: c.hi,
-                    caster: k as u32,
-                })
-                .collect();
-            let mut nodes = Vec::new();
-            if !items.is_empty() {
-                nodes.push(Node {
-                    lo: DVec3::ZERO,
-                    hi: DVec3::ZERO,
-                    first: 0,
-                    count: 0,
-                });
-                let n = items.len();
-                build(&mut items, &mut nodes, 0, 0, n);
-            }
-            LightTree { items, nodes }
-        })
+    /// The hierarchy to query for light `j` (world position `light`), and
+    /// whether its casters still need the facing test: the light's own
+    /// while all lights' hierarchies together stay within
+    /// [`MAX_LIGHT_ITEMS`] items, else one shared by every further light,
+    /// so that many lights never cost lights times casters memory.
+    fn tree(&self, j: usize, light: DVec3) -> (&LightTree, bool) {
+        let n = self.casters.len().max(1);
+        if (j + 1).saturating_mul(n) > self.max_light_items && j > 0 {
+            return (self.shared.get_or_init(|| self.make_tree(|_| true)), true);
+        }
+        let tree = self.lights[j].get_or_init(|| {
+            self.make_tree(|c| c.open || c.plane.truncate().dot(light) + c.plane.w > 0.0)
+        });
+        (tree, false)
+    }
+
+    fn make_tree(&self, keep: impl Fn(&Caster) -> bool) -> LightTree {
+        let mut items: Vec<Item> = self
+            .casters
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| keep(c))
+            .map(|(k, c)| Item {
+                lo: c.lo,
+                hi: c.hi,
+                caster: k as u32,
+            })
+            .collect();
+        let mut nodes = Vec::new();
+        if !items.is_empty() {
+            nodes.push(Node {
+                lo: DVec3::ZERO,
+                hi: DVec3::ZERO,
+                first: 0,
+                count: 0,
+            });
+            let n = items.len();
+            build(&mut items, &mut nodes, 0, 0, n);
+        }
+        LightTree { items, nodes }
     }
 }
 
@@ -360,9 +383,14 @@ impl Casting<'_> {
         };
         {
             let _t = profile.time(Category::ChkBbox);
-            index
-                .tree(j, light)
-                .query(&s.world_volume, bounds, &mut s.found);
+            let (tree, facing_unknown) = index.tree(j, light);
+            tree.query(&s.world_volume, bounds, &mut s.found);
+            if facing_unknown {
+                s.found.retain(|&k| {
+                    let c = &index.casters[k as usize];
+                    c.open || c.plane.truncate().dot(light) + c.plane.w > 0.0
+                });
+            }
         }
         let own = &scene.objects[target.object as usize];
         let n = plane.truncate();
@@ -455,4 +483,57 @@ fn volume(points: &[DVec3], target: DVec4, lv: DVec3, eps: f64, out: &mut Vec<DV
     }
     out.push(DVec4::new(target.x, target.y, target.z, target.w - eps));
     out.push((-target.truncate()).extend(target.truncate().dot(lv)));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Past the memory bound, lights share one hierarchy of all casters
+    /// and test facing per caster: the same shadows as their own
+    /// hierarchies, on every polygon of the gallery (4 lights).
+    #[test]
+    fn the_shared_hierarchy_casts_the_same_shadows() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/gallery.des");
+        let scene = crate::scene::load(&path).expect("the gallery fixture").0;
+        let own = CasterIndex::new(&scene);
+        let mut shared = CasterIndex::new(&scene);
+        shared.max_light_items = 0;
+        let profile = Profile::new(false);
+        let eps = scene.modes.epsilon * scene.size();
+        let cast = |index| Casting {
+            scene: &scene,
+            index,
+            profile: &profile,
+            eps,
+        };
+        let (a, b) = (cast(&own), cast(&shared));
+        let mut s = Scratch::default();
+        let mut total = 0;
+        for (oi, object) in scene.objects.iter().enumerate() {
+            for (pi, poly) in object.polygons.iter().enumerate() {
+                let points: Vec<DVec3> = poly
+                    .indices
+                    .iter()
+                    .map(|&i| object.vertices[i as usize])
+                    .collect();
+                let target = Target {
+                    object: oi as u32,
+                    polygon: pi as u32,
+                    points: &points,
+                    plane: poly.plane,
+                    t: &Matrix4::IDENTITY,
+                    convex: polygon::is_convex(&points),
+                };
+                for (j, light) in scene.lights.iter().enumerate() {
+                    let x = a.pieces(&target, j, light.position, &mut s);
+                    let y = b.pieces(&target, j, light.position, &mut s);
+                    total += x.len();
+                    assert_eq!(x, y, "object {oi} polygon {pi} light {j}");
+                }
+            }
+        }
+        assert!(total > 100, "only {total} shadow pieces compared");
+    }
 }
