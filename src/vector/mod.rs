@@ -23,6 +23,7 @@
 pub mod gouraud;
 pub mod hidden_line;
 pub mod merge;
+pub mod overlay;
 pub mod pdf;
 pub mod svg;
 pub mod tikz;
@@ -96,6 +97,8 @@ pub struct VectorInput {
     pub sources: Vec<Source>,
     /// Per record: seen directly (level 1, a polygon, not a shadow).
     pub direct: Vec<bool>,
+    /// Per record: the record of its parent fragment in the tree.
+    pub parents: Vec<Option<usize>>,
     /// Per record and edge (`k` joins points `k` and `k + 1`): whether the
     /// edge lies on an edge of the original polygon (not made by NNS
     /// splitting or by clipping to the viewport). Only for direct records,
@@ -157,6 +160,19 @@ pub fn prepare_for(scene: &Scene, options: &RenderOptions, style: Style) -> Resu
             f.level == 1 && f.kind == FragmentKind::Polygon
         })
         .collect();
+    let mut record_of = vec![usize::MAX; tree.nodes.len()];
+    for (k, &n) in order.iter().enumerate() {
+        record_of[n] = k;
+    }
+    let parents = order
+        .iter()
+        .map(|&n| {
+            tree.nodes[n]
+                .parent
+                .map(|p| record_of[p])
+                .filter(|&k| k != usize::MAX)
+        })
+        .collect();
     let original_edges = order
         .iter()
         .zip(&direct)
@@ -183,6 +199,7 @@ pub fn prepare_for(scene: &Scene, options: &RenderOptions, style: Style) -> Resu
         stream,
         sources,
         direct,
+        parents,
         original_edges,
         width,
         height,
@@ -324,7 +341,10 @@ pub fn picture(input: &VectorInput, style: Style) -> Picture {
         crisp: style == Style::Ids,
     };
     match style {
-        Style::Shaded => pic.items = merge::paint_items(&input.stream.records, w, h),
+        Style::Shaded => {
+            let records = overlay::with_shadow_patches(input);
+            pic.items = merge::paint_items(&records, w, h);
+        }
         Style::Ids => {
             pic.background = [0, 0, 0];
             let paths = input
