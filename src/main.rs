@@ -690,9 +690,15 @@ impl Host for CliHost {
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("png"));
         let mut staged = Vec::new();
-        let vector = plytrace::vector::Format::from_path(&path).is_some();
-        let rendered = if vector || self.hidden_line {
-            {
+        // Vector output and hidden lines paint the tree themselves.
+        let vector = plytrace::vector::Format::from_path(&path).is_some() || self.hidden_line;
+        let planned = if vector {
+            None
+        } else {
+            Some(render::plan(scene, &options)?)
+        };
+        let rendered = match planned {
+            None => {
                 let file = image_file.take();
                 let run = plytrace::vector::render_run(file, scene, &options, self.hidden_line)?;
                 staged.extend(run.0);
@@ -705,46 +711,43 @@ impl Host for CliHost {
                     stats: run.1,
                 }
             }
-        } else {
-            match render::plan(scene, &options)? {
-                render::Plan::Tree(mut prepared) if streamed => {
-                    // The virtual frame buffer: bands of rows go to the PNG as
-                    // they are finished; the whole image is never in memory.
-                    prepared.scan.ids = false;
-                    (w, h) = (prepared.scan.width, prepared.scan.height);
-                    let file = image_file.take().expect("created for a displayed image");
-                    let mut sink = output::PngSink::from_file(file, w, h, scene.outmode.into())?;
-                    let mut progress = ProgressSink::new(&mut sink, h, self.progress);
-                    let rendered = render::scan_into(*prepared, &mut progress);
-                    progress.finish();
-                    let rendered = rendered?;
-                    let (file, note) = sink.finish()?;
-                    if let Some(note) = note {
-                        err(&format!("warning: {note}"));
-                    }
-                    staged.push(file);
-                    rendered
+            Some(render::Plan::Tree(mut prepared)) if streamed => {
+                // The virtual frame buffer: bands of rows go to the PNG as
+                // they are finished; the whole image is never in memory.
+                prepared.scan.ids = false;
+                (w, h) = (prepared.scan.width, prepared.scan.height);
+                let file = image_file.take().expect("created for a displayed image");
+                let mut sink = output::PngSink::from_file(file, w, h, scene.outmode.into())?;
+                let mut progress = ProgressSink::new(&mut sink, h, self.progress);
+                let rendered = render::scan_into(*prepared, &mut progress);
+                progress.finish();
+                let rendered = rendered?;
+                let (file, note) = sink.finish()?;
+                if let Some(note) = note {
+                    err(&format!("warning: {note}"));
                 }
-                plan => {
-                    let rendered = match plan {
-                        render::Plan::Tree(prepared) => {
-                            let (w, h) = (prepared.scan.width, prepared.scan.height);
-                            let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
-                            let mut sink = render::FrameSink { frame: &mut frame };
-                            let mut progress = ProgressSink::new(&mut sink, h, self.progress);
-                            let rendered = render::scan_into(*prepared, &mut progress);
-                            progress.finish();
-                            let mut rendered = rendered?;
-                            rendered.frame = frame;
-                            rendered
-                        }
-                        render::Plan::Painted(r) => *r,
-                    };
-                    if let Some(file) = image_file.take() {
-                        staged.push(output::stage_image(file, &rendered.frame, scene.outmode)?);
+                staged.push(file);
+                rendered
+            }
+            Some(plan) => {
+                let rendered = match plan {
+                    render::Plan::Tree(prepared) => {
+                        let (w, h) = (prepared.scan.width, prepared.scan.height);
+                        let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
+                        let mut sink = render::FrameSink { frame: &mut frame };
+                        let mut progress = ProgressSink::new(&mut sink, h, self.progress);
+                        let rendered = render::scan_into(*prepared, &mut progress);
+                        progress.finish();
+                        let mut rendered = rendered?;
+                        rendered.frame = frame;
+                        rendered
                     }
-                    rendered
+                    render::Plan::Painted(r) => *r,
+                };
+                if let Some(file) = image_file.take() {
+                    staged.push(output::stage_image(file, &rendered.frame, scene.outmode)?);
                 }
+                rendered
             }
         };
         if rendered.frame.width > 0 {
