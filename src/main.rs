@@ -706,7 +706,7 @@ impl Host for CliHost {
                     frame: FrameBuffer::new(0, 0, [0.0; 3]),
                     polygons: Vec::new(),
                     shadows: Vec::new(),
-                    tree: None,
+                    tree: run.2,
                     profile: None,
                     stats: run.1,
                 }
