@@ -767,7 +767,11 @@ impl CliHost {
             let run =
                 plytrace::vector::render_run(out.image.take(), scene, &options, self.hidden_line)?;
             staged.extend(run.0);
-            return Ok((render::Rendered::empty(run.1), (w, h)));
+            let rendered = render::Rendered {
+                tree: run.2,
+                ..render::Rendered::empty(run.1)
+            };
+            return Ok((rendered, (w, h)));
         }
         let streamed = !self.live.wanted()
             && self.id_image.is_none()

@@ -74,3 +74,14 @@ fn unwritable_combinations_are_refused_before_rendering() {
     assert!(String::from_utf8_lossy(&out.stderr).contains(".svg, .pdf and .tex"));
     assert!(files(dir.path()).is_empty());
 }
+
+#[test]
+fn setmode_o_writes_the_tree_files_with_vector_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(dir.path(), &["-o", "on", "-o", "x.svg"]);
+    assert!(out.status.success(), "{out:?}");
+    let names = files(dir.path());
+    assert!(names.contains(&"x.svg".to_string()), "{names:?}");
+    assert!(names.iter().any(|n| n.ends_with(".out")), "{names:?}");
+    assert!(names.iter().any(|n| n.ends_with(".txt")), "{names:?}");
+}

@@ -16,9 +16,9 @@
 //! the order in which they are closed does not matter either.
 //!
 //! Gouraud (and Phong) records that follow one another form one
-//! [`Item::Gouraud`] run: clipped to the union of their outlines (one
-//! anti-aliased boundary), filled with flat pieces dilated inside the
-//! clip ([`super::gouraud`]).
+//! [`Item::Gouraud`] run: one type-4 shading in PDF (clipped to the union
+//! of their outlines), flat pieces dilated by a stroke in SVG and TikZ
+//! ([`super::gouraud`]).
 
 use super::{Item, Pt, user_points, vertex_paint};
 use crate::tree::Record;

@@ -23,6 +23,7 @@
 pub mod gouraud;
 pub mod hidden_line;
 pub mod merge;
+pub mod overlay;
 pub mod pdf;
 pub mod svg;
 pub mod tikz;
@@ -96,6 +97,8 @@ pub struct VectorInput {
     pub sources: Vec<Source>,
     /// Per record: seen directly (level 1, a polygon, not a shadow).
     pub direct: Vec<bool>,
+    /// Per record: the record of its parent fragment in the tree.
+    pub parents: Vec<Option<usize>>,
     /// Per record and edge (`k` joins points `k` and `k + 1`): whether the
     /// edge lies on an edge of the original polygon (not made by NNS
     /// splitting or by clipping to the viewport). Only for direct records,
@@ -107,6 +110,10 @@ pub struct VectorInput {
     pub height: u32,
     /// Tree figures: NNS counters and warnings.
     pub stats: crate::render::RenderStats,
+    /// The tree in the scene's order and blending, with `setmode o on`
+    /// (the tree this picture was made from: NNS, and for hidden lines
+    /// level 1 without shadows).
+    pub tree_file: Option<RecordStream>,
 }
 
 /// Builds the tree of `scene` with NNS (always) and emits it back to
@@ -149,12 +156,34 @@ pub fn prepare_for(scene: &Scene, options: &RenderOptions, style: Style) -> Resu
         height,
     };
     let (stream, sources) = emit::records(scene, &tree, how, view.eye);
+    let tree_file = scene.modes.output_tree.then(|| {
+        let how = Emit {
+            order: scene.sort_order,
+            blended: scene.modes.blend,
+            width,
+            height,
+        };
+        emit::records(scene, &tree, how, view.eye).0
+    });
     let order = tree.output_order(SortOrder::BackToFront);
     let direct: Vec<bool> = order
         .iter()
         .map(|&n| {
             let f = &tree.nodes[n];
             f.level == 1 && f.kind == FragmentKind::Polygon
+        })
+        .collect();
+    let mut record_of = vec![usize::MAX; tree.nodes.len()];
+    for (k, &n) in order.iter().enumerate() {
+        record_of[n] = k;
+    }
+    let parents = order
+        .iter()
+        .map(|&n| {
+            tree.nodes[n]
+                .parent
+                .map(|p| record_of[p])
+                .filter(|&k| k != usize::MAX)
         })
         .collect();
     let original_edges = order
@@ -183,10 +212,12 @@ pub fn prepare_for(scene: &Scene, options: &RenderOptions, style: Style) -> Resu
         stream,
         sources,
         direct,
+        parents,
         original_edges,
         width,
         height,
         stats,
+        tree_file,
     })
 }
 
@@ -194,21 +225,23 @@ pub fn prepare_for(scene: &Scene, options: &RenderOptions, style: Style) -> Resu
 /// a vector file when `file`'s extension names a vector [`Format`], else
 /// (with `hidden_line`) the hidden-line drawing as PNG or PPM, 1-pixel
 /// lines anti-aliased unless `options.aa` is point sampling. Returns the
-/// staged file and the tree's figures.
+/// staged file, the tree's figures and, with `setmode o on`, the tree
+/// for its files.
 pub fn render_run(
     file: Option<AtomicFile>,
     scene: &Scene,
     options: &RenderOptions,
     hidden_line: bool,
-) -> Result<(Option<Staged>, crate::render::RenderStats)> {
+) -> Result<RunOutput> {
     let style = if hidden_line {
         Style::HiddenLine
     } else {
         Style::Shaded
     };
-    let input = prepare_for(scene, options, style)?;
+    let mut input = prepare_for(scene, options, style)?;
+    let tree = input.tree_file.take();
     let Some(file) = file else {
-        return Ok((None, input.stats));
+        return Ok((None, input.stats, tree));
     };
     let staged = match Format::from_path(file.path()) {
         Some(format) => {
@@ -222,8 +255,15 @@ pub fn render_run(
             crate::output::stage_image(file, &fb, scene.outmode)?
         }
     };
-    Ok((Some(staged), input.stats))
+    Ok((Some(staged), input.stats, tree))
 }
+
+/// What [`render_run`] gives: the staged file, the figures, the tree.
+pub type RunOutput = (
+    Option<Staged>,
+    crate::render::RenderStats,
+    Option<RecordStream>,
+);
 
 /// For each edge of fragment `n`: whether both ends lie on one edge of
 /// the source polygon (in world space, to 1e-6 of the polygon's size).
@@ -324,7 +364,10 @@ pub fn picture(input: &VectorInput, style: Style) -> Picture {
         crisp: style == Style::Ids,
     };
     match style {
-        Style::Shaded => pic.items = merge::paint_items(&input.stream.records, w, h),
+        Style::Shaded => {
+            let records = overlay::with_shadow_patches(input);
+            pic.items = merge::paint_items(&records, w, h);
+        }
         Style::Ids => {
             pic.background = [0, 0, 0];
             let paths = input

@@ -1,7 +1,7 @@
 //! TikZ output: one `tikzpicture` to `\input` into a document that loads
 //! tikz. One unit is 1 pt, `y` up (flipped from the PNG's rows), and the
-//! `W x H` frame is the bounding box. Gouraud runs are clipped to their
-//! outline and filled with flat pieces as in SVG ([`super::gouraud`]).
+//! `W x H` frame is the bounding box. Gouraud runs are flat pieces,
+//! stroked in their own colour, as in SVG ([`super::gouraud`]).
 
 use super::svg::pieces_by_color;
 use super::{Item, Picture, Pt, push_num};
@@ -66,10 +66,8 @@ pub fn to_tikz(p: &Picture) -> Vec<u8> {
                 paths(&mut out, ps, h);
                 out.extend_from_slice(b";\n");
             }
-            Item::Gouraud { outline, triangles } => {
-                out.extend_from_slice(b"\\begin{scope}\n\\clip ");
-                paths(&mut out, outline, h);
-                out.extend_from_slice(b";\n");
+            Item::Gouraud { triangles, .. } => {
+                out.extend_from_slice(b"\\begin{scope}\n");
                 for (c, ps) in pieces_by_color(triangles) {
                     out.extend_from_slice(b"\\filldraw[line width=1pt,line join=round,fill=");
                     color(&mut out, c);
