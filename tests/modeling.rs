@@ -667,6 +667,25 @@ fn renders_match_ray_casts_of_the_exact_solids() {
         |o, d| hits_sphere(o, d, inner - 1e-6),
         |o, d| hits_sphere(o, d, 1.0 + 1e-6),
     );
+    // An extruded square is its exact solid: only rounding between.
+    let hits_box = |o: DVec3, d: DVec3, grow: f64| {
+        let (lo, hi) = (
+            DVec3::new(-1.0, -1.0, 0.0) - grow,
+            DVec3::new(1.0, 1.0, 1.0) + grow,
+        );
+        let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
+        for k in 0..3 {
+            let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        t0 <= t1
+    };
+    render_matches_exact(
+        "extrude 1 -1 -1 1 -1 1 1 -1 1",
+        |o, d| hits_box(o, d, -1e-6),
+        |o, d| hits_box(o, d, 1e-6),
+    );
     let c = (PI / 24.0).cos();
     render_matches_exact(
         "cylinder 24",
