@@ -130,6 +130,9 @@ USAGE:
                                   convert an ASCII object file to binary form
     plytrace tessellation FILE    check Brown's Angle and Edge Conditions of a
                                   triangulated surface about its origin
+    plytrace continuity FILE [bezier|hermite]
+                                  C0/C1 continuity between adjacent bicubic
+                                  patches of a .bpt (Bezier) or .hpt (Hermite) file
 
 FLAGS (the setmode letters of the manual, each taking its value as the next word):
     -i                 immediate mode
@@ -218,6 +221,8 @@ COMMANDS of the scene descriptor language (shortest unique prefix accepted):
 enum Parsed {
     Run(Options),
     Tessellation(PathBuf),
+    /// `plytrace continuity FILE [bezier|hermite]`.
+    Continuity(PathBuf, Option<String>),
     Convert(ConvertKind, Vec<String>),
     Help,
     Version,
@@ -235,6 +240,13 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
             return match args {
                 [_, file] => Ok(Parsed::Tessellation(file.into())),
                 _ => Err("usage: plytrace tessellation <object file>".into()),
+            };
+        }
+        if first == "continuity" {
+            return match args {
+                [_, file] => Ok(Parsed::Continuity(file.into(), None)),
+                [_, file, form] => Ok(Parsed::Continuity(file.into(), Some(form.clone()))),
+                _ => Err("usage: plytrace continuity <patch file> [bezier|hermite]".into()),
             };
         }
         if let Some(kind) = kind {
@@ -1377,6 +1389,18 @@ fn main() -> ExitCode {
         }
         Ok(Parsed::Convert(kind, args)) => return plytrace::convert::main(kind, &args),
         Ok(Parsed::Tessellation(path)) => return check_tessellation(&path),
+        Ok(Parsed::Continuity(path, form)) => {
+            return match plytrace::modeling::patch::continuity_report(&path, form.as_deref()) {
+                Ok(text) => {
+                    out(&text);
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    report(&e);
+                    ExitCode::FAILURE
+                }
+            };
+        }
         Ok(Parsed::Run(o)) => o,
         Err(msg) => {
             err(&format!("error: {msg}"));

@@ -667,10 +667,102 @@ fn renders_match_ray_casts_of_the_exact_solids() {
         |o, d| hits_sphere(o, d, inner - 1e-6),
         |o, d| hits_sphere(o, d, 1.0 + 1e-6),
     );
+    // An extruded square is its exact solid: only rounding between.
+    let hits_box = |o: DVec3, d: DVec3, grow: f64| {
+        let (lo, hi) = (
+            DVec3::new(-1.0, -1.0, 0.0) - grow,
+            DVec3::new(1.0, 1.0, 1.0) + grow,
+        );
+        let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
+        for k in 0..3 {
+            let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        t0 <= t1
+    };
+    render_matches_exact(
+        "extrude 1 -1 -1 1 -1 1 1 -1 1",
+        |o, d| hits_box(o, d, -1e-6),
+        |o, d| hits_box(o, d, 1e-6),
+    );
     let c = (PI / 24.0).cos();
     render_matches_exact(
         "cylinder 24",
         |o, d| hits_cylinder(o, d, c - 1e-6),
         |o, d| hits_cylinder(o, d, 1.0 + 1e-6),
     );
+}
+
+#[test]
+fn the_example_scene_builds_closed_solids() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/primitives.des");
+    let (s, warnings) = plytrace::scene::load(&path).unwrap();
+    // 9 superquadrics, vase, letter, bolt, die, wave, ripple, post, knob.
+    assert_eq!(s.objects.len(), 17, "{warnings:?}");
+    for o in &s.objects {
+        if o.name == "wave" || o.name == "ripple" {
+            assert!(o.surface_type.open, "{}", o.name);
+        } else {
+            assert!(closed(o) && volume(o) > 0.0, "{}", o.name);
+        }
+    }
+    let csg = warnings
+        .iter()
+        .filter(|w| w.message.contains("input faces kept"))
+        .count();
+    assert_eq!(csg, 4);
+    assert!(
+        warnings.iter().all(|w| !w.message.contains("not closed")),
+        "{warnings:?}"
+    );
+}
+
+#[test]
+fn continuity_subcommand_reports_c0_and_c1() {
+    let bin = env!("CARGO_BIN_EXE_plytrace");
+    let wave = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/det/wave.bpt");
+    let out = std::process::Command::new(bin)
+        .arg("continuity")
+        .arg(&wave)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("4 shared edges") && text.contains("C1 everywhere: yes"),
+        "{text}"
+    );
+    // P21 of the first patch (line 14) lifted: still C0, not C1 across
+    // its edge s = 1.
+    let bent: String = std::fs::read_to_string(&wave)
+        .unwrap()
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 13 {
+                "-0.666667 -1.33333 1.24\n".to_string()
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("bent.bpt");
+    std::fs::write(&p, bent).unwrap();
+    let out = std::process::Command::new(bin)
+        .arg("continuity")
+        .arg(&p)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("C0 everywhere: yes") && text.contains("C1 everywhere: NO"),
+        "{text}"
+    );
+    let out = std::process::Command::new(bin)
+        .args(["continuity", "nothere.bpt"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
 }

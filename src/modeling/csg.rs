@@ -531,6 +531,8 @@ fn stitch(polys: Vec<Poly>, tol: f64) -> Vec<Face> {
         .collect();
     candidates.sort_unstable();
     candidates.dedup();
+    // Sorted by x, so that an edge looks only at the points in its x range.
+    candidates.sort_by(|a, b| reps[*a as usize].x.total_cmp(&reps[*b as usize].x));
     if !candidates.is_empty() {
         for l in &mut loops {
             insert_t_points(l, &count, &candidates, &reps, tol);
@@ -546,8 +548,8 @@ fn stitch(polys: Vec<Poly>, tol: f64) -> Vec<Face> {
         .collect()
 }
 
-/// Inserts into the unmatched edges of `l` the candidate points lying on
-/// them, in order along the edge, with normals interpolated.
+/// Inserts into the unmatched edges of `l` the candidate points (sorted by
+/// x) lying on them, in order along the edge, with normals interpolated.
 fn insert_t_points(
     l: &mut Loop,
     count: &HashMap<(u32, u32), i32>,
@@ -571,7 +573,10 @@ fn insert_t_points(
         if len2 == 0.0 {
             continue;
         }
-        let mut on: Vec<(f64, u32)> = candidates
+        let (lo, hi) = (pa.x.min(pb.x) - tol, pa.x.max(pb.x) + tol);
+        let from = candidates.partition_point(|&c| reps[c as usize].x < lo);
+        let to = candidates.partition_point(|&c| reps[c as usize].x <= hi);
+        let mut on: Vec<(f64, u32)> = candidates[from..to.max(from)]
             .iter()
             .filter(|&&c| c != a && c != b)
             .filter_map(|&c| {

@@ -439,3 +439,63 @@ pub fn continuity(set: &PatchSet) -> ContinuityReport {
     }
     ContinuityReport { joins }
 }
+
+/// `plytrace continuity FILE [bezier|hermite]`: reads a patch file (the
+/// form from the word, else `.hpt` is Hermite and anything else Bezier)
+/// and reports, per shared edge and overall, C0 and C1 continuity (gaps
+/// relative to the surface's size, within `1e-9`) and the G1 angle.
+pub fn continuity_report(path: &Path, form: Option<&str>) -> Result<String, Error> {
+    let form = match form.map(str::to_ascii_lowercase).as_deref() {
+        Some("bezier") => Form::Bezier,
+        Some("hermite") => Form::Hermite,
+        Some(other) => {
+            return Err(Error::at(
+                Location::file("<command line>"),
+                format!(
+                    "expected `bezier` or `hermite`, found `{}`",
+                    crate::error::printable(other, 40)
+                ),
+            ));
+        }
+        None if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("hpt")) =>
+        {
+            Form::Hermite
+        }
+        None => Form::Bezier,
+    };
+    let set = read(path, form, |_| Ok(()))?;
+    let r = continuity(&set);
+    let tol = 1e-9;
+    let yes = |b: bool| if b { "yes" } else { "NO" };
+    let mut out = format!(
+        "{}: {} {} patches, {} shared edges\n",
+        path.display(),
+        set.patches.len(),
+        if form == Form::Bezier {
+            "Bezier"
+        } else {
+            "Hermite"
+        },
+        r.joins.len()
+    );
+    for j in &r.joins {
+        out += &format!(
+            "  patches {} and {}: C0 {} (gap {:.2e}), C1 {} (derivative gap {:.2e}), G1 angle {:.4} deg\n",
+            j.patches.0 + 1,
+            j.patches.1 + 1,
+            yes(j.c0_gap <= tol),
+            j.c0_gap,
+            yes(j.c1_gap <= tol),
+            j.c1_gap,
+            j.g1_angle.to_degrees()
+        );
+    }
+    out += &format!(
+        "C0 everywhere: {}\nC1 everywhere: {}",
+        yes(r.c0(tol)),
+        yes(r.c1(tol))
+    );
+    Ok(out)
+}
