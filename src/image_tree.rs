@@ -866,6 +866,11 @@ impl<'a> Builder<'a> {
         if !self.options.shadows {
             return Vec::new();
         }
+        // A full tree takes no more shadows: they are not even cast.
+        if self.tree.nodes.len() + self.reserved >= self.options.budgets.tree_nodes {
+            self.tree.pruned += sorted.len();
+            return Vec::new();
+        }
         let index = match &self.casters {
             Some(i) => i.clone(),
             None => {
@@ -973,10 +978,9 @@ impl<'a> Builder<'a> {
         level: u32,
     ) -> Vec<usize> {
         let eye_real = &terms.eye();
-        // Below level 1 the shadows of a fragment fit in the node budget
-        // whole, or are pruned like a branch.
-        if level > 1
-            && !regions.is_empty()
+        // The shadows of a fragment fit in the node budget whole, or are
+        // pruned like a branch.
+        if !regions.is_empty()
             && self.tree.nodes.len() + self.reserved + regions.len()
                 > self.options.budgets.tree_nodes
         {
@@ -1069,8 +1073,11 @@ impl<'a> Builder<'a> {
     }
 }
 
-/// Fragments whose shadows are cast in parallel at once.
-const SHADOW_CHUNK: usize = 4096;
+/// Fragments whose shadows are cast in parallel at once. It bounds the
+/// regions waiting to be added to the tree: with many Point lights each
+/// fragment may carry up to [`MAX_OVERLAP_PIECES`] overlap regions, and
+/// 4096 fragments of office2 under 50 lights held more than 5 GB.
+const SHADOW_CHUNK: usize = 256;
 
 /// At most this many lights are combined into overlap regions on one
 /// target fragment (see [`Builder::shadows_on`]).

@@ -480,3 +480,52 @@ fn twelve_glass_slabs_stay_within_the_node_budget() {
         }
     }
 }
+
+/// Overlapping shadows of many Point lights multiply (every subset of up
+/// to 8 lights makes regions): office2 under 50 lights held more than
+/// 5 GB. The node budget now bounds level 1's shadows too, and the
+/// pruning is said.
+#[test]
+fn overlapping_shadows_of_many_lights_stay_within_the_node_budget() {
+    let mut des = HEAD.to_string();
+    for k in 0..12 {
+        let a = k as f64 * std::f64::consts::TAU / 12.0;
+        des.push_str(&format!(
+            "light {} {} 4 0.05 0.05 0.05 100 Point\n",
+            0.6 * a.cos(),
+            0.6 * a.sin()
+        ));
+    }
+    let cube = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/det/cube.det"),
+    )
+    .unwrap();
+    des.push_str("defobj floor\nendobj\n");
+    for (x, y) in [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)] {
+        des.push_str(&format!(
+            "defobj cube\nscale 0.3 0.3 0.3\ntranslate {x} {y} 1\nendobj\n"
+        ));
+    }
+    des.push_str("popmatrix\n");
+    let scene = load(&[("floor", floor_det()), ("cube", cube)], &des);
+    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
+    let options = |tree_nodes| plytrace::image_tree::TreeOptions {
+        shadows: true,
+        budgets: plytrace::budget::Budgets {
+            tree_nodes,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let free = plytrace::image_tree::build(&scene, &view, options(1 << 20));
+    assert!(shadow_count(&free) > 400, "{}", shadow_count(&free));
+    let budget = 300;
+    let tree = plytrace::image_tree::build(&scene, &view, options(budget));
+    assert!(tree.nodes.len() <= budget, "{} nodes", tree.nodes.len());
+    assert!(tree.pruned > 0);
+    assert!(
+        tree.warnings.iter().any(|w| w.contains("--max-tree-nodes")),
+        "{:?}",
+        tree.warnings
+    );
+}
