@@ -623,6 +623,27 @@ fn hits_sphere(o: DVec3, d: DVec3, r: f64) -> bool {
     b * b - (o.length_squared() - r * r) >= 0.0 && -b > 0.0
 }
 
+/// Whether the ray `o + t d` meets the solid cone with its apex at
+/// (0, 0, 1) and a base of radius `r` at z = -1: its side (the quadratic
+/// x^2 + y^2 = (r (1 - z) / 2)^2 within -1 <= z <= 1) or its base disc.
+fn hits_cone(o: DVec3, d: DVec3, r: f64) -> bool {
+    let k = r / 2.0;
+    let (a, b, c) = (
+        d.x * d.x + d.y * d.y - k * k * d.z * d.z,
+        2.0 * (o.x * d.x + o.y * d.y + k * k * (1.0 - o.z) * d.z),
+        o.x * o.x + o.y * o.y - k * k * (1.0 - o.z) * (1.0 - o.z),
+    );
+    let disc = b * b - 4.0 * a * c;
+    let side = disc >= 0.0
+        && [-1.0, 1.0].iter().any(|s| {
+            let t = (-b + s * disc.sqrt()) / (2.0 * a);
+            t > 0.0 && (-1.0..=1.0).contains(&(o.z + t * d.z))
+        });
+    let t = (-1.0 - o.z) / d.z;
+    let p = o + t * d;
+    side || (t > 0.0 && p.x * p.x + p.y * p.y <= r * r)
+}
+
 /// Whether the ray meets the cylinder of radius `r`, |z| <= 1.
 fn hits_cylinder(o: DVec3, d: DVec3, r: f64) -> bool {
     // Interval inside the infinite cylinder, then clipped to the slab.
@@ -698,6 +719,15 @@ fn renders_match_ray_casts_of_the_exact_solids() {
         "superquadric 1 1 24 12 1.4 0.8 0.6",
         |o, d| hits_sphere(o / scale, (d / scale).normalize(), inner - 1e-6),
         |o, d| hits_sphere(o / scale, (d / scale).normalize(), 1.0 + 1e-6),
+    );
+    // A lathe of a straight profile from the apex to the rim is a cone:
+    // its 24 facets lie between the cones of the rim's inscribed and
+    // circumscribed circles.
+    let inscribed = (PI / 24.0).cos();
+    render_matches_exact(
+        "lathe 24 0 1 1 -1",
+        |o, d| hits_cone(o, d, inscribed - 1e-6),
+        |o, d| hits_cone(o, d, 1.0 + 1e-6),
     );
     let c = (PI / 24.0).cos();
     render_matches_exact(
