@@ -210,14 +210,8 @@ pub fn plan_with(
         boxes.modes.max_level = 1;
         return plan_with(&boxes, &plain, orders);
     }
-    let (width, height) = options
-        .size
-        .unwrap_or((scene.viewport.width(), scene.viewport.height()));
-    let view = View::new(scene, width, height).ok_or_else(|| {
-        Error::Invalid(
-            "the final CTM is singular: it has no centre of projection to view from".into(),
-        )
-    })?;
+    let view = View::for_scene(scene, options.size)?;
+    let (width, height) = (view.width as u32, view.height as u32);
     let algorithm = chosen_algorithm(scene, options);
     let mut stats = RenderStats {
         algorithm: Some(algorithm),

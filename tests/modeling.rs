@@ -6,7 +6,6 @@
 
 mod support;
 
-use std::collections::HashMap;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use glam::DVec3;
@@ -51,36 +50,6 @@ fn error_of(body: &str, files: &[(&str, &str)]) -> String {
         Ok(_) => panic!("accepted: {body}"),
         Err(e) => e.to_string(),
     }
-}
-
-/// Volume by the divergence theorem over the world polygons (clockwise
-/// from outside: each fan triangle reversed is counter-clockwise).
-fn volume(o: &Object) -> f64 {
-    let mut six = 0.0;
-    for p in &o.polygons {
-        let v = |k: usize| o.vertices[p.indices[k] as usize];
-        for k in 1..p.indices.len() - 1 {
-            six += v(0).dot(v(k + 1).cross(v(k)));
-        }
-    }
-    six / 6.0
-}
-
-/// Every edge (by vertex position) used exactly once in each direction.
-fn closed(o: &Object) -> bool {
-    let key = |v: DVec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
-    let mut edges: HashMap<([u64; 3], [u64; 3]), i32> = HashMap::new();
-    for p in &o.polygons {
-        let m = p.indices.len();
-        for k in 0..m {
-            let a = key(o.vertices[p.indices[k] as usize]);
-            let b = key(o.vertices[p.indices[(k + 1) % m] as usize]);
-            *edges.entry((a, b)).or_default() += 1;
-        }
-    }
-    edges
-        .iter()
-        .all(|((a, b), n)| *n == 1 && edges.get(&(*b, *a)) == Some(&1))
 }
 
 /// Every polygon's plane faces away from the origin (star-shaped solids
@@ -143,7 +112,7 @@ fn sphere_points_and_normals_are_exact() {
         assert!(n.distance(*v) < 1e-9, "{n} at {v}");
     }
     assert!(o.surface_type.curved && !o.surface_type.open);
-    assert!(closed(&o) && outward_about_origin(&o));
+    assert!(support::closed(&o) && outward_about_origin(&o));
 }
 
 #[test]
@@ -171,7 +140,7 @@ fn superquadric_points_lie_on_the_surface_and_normals_follow_8_23() {
                 .iter()
                 .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-9)
         );
-        assert!(closed(&o) && outward_about_origin(&o), "{e1} {e2}");
+        assert!(support::closed(&o) && outward_about_origin(&o), "{e1} {e2}");
         // Normals against the cross product of the parametrization's
         // numerical derivatives (eq. 8.22), at points off the axes.
         for (s, t) in [(0.3, 0.2), (2.0, -0.7), (4.0, 1.1), (5.5, -0.1)] {
@@ -213,8 +182,8 @@ fn volumes_converge_to_the_analytic_volumes() {
             .iter()
             .map(|b| {
                 let o = one(b);
-                assert!(closed(&o), "{name} {b}");
-                (volume(&o) - exact).abs() / exact
+                assert!(support::closed(&o), "{name} {b}");
+                (support::volume(&o) - exact).abs() / exact
             })
             .collect();
         assert!(
@@ -289,23 +258,35 @@ fn lathe_and_extrude_volumes_are_exact_for_their_polygons() {
         "lathe 12 0 0 1 0 1 2",
     ] {
         let o = one(body);
-        assert!(closed(&o), "{body}");
-        assert!((volume(&o) - prism).abs() < 1e-12, "{body}: {}", volume(&o));
+        assert!(support::closed(&o), "{body}");
+        assert!(
+            (support::volume(&o) - prism).abs() < 1e-12,
+            "{body}: {}",
+            support::volume(&o)
+        );
         assert!(o.surface_type.curved);
     }
     // A ring (tube): profile off the axis, a square section.
     let o = one("lathe 24 1 0 2 0 2 1 1 1 1 0");
-    assert!(closed(&o));
+    assert!(support::closed(&o));
     let ring = 24.0 / 2.0 * (TAU / 24.0).sin() * (4.0 - 1.0);
-    assert!((volume(&o) - ring).abs() < 1e-12, "{}", volume(&o));
+    assert!(
+        (support::volume(&o) - ring).abs() < 1e-12,
+        "{}",
+        support::volume(&o)
+    );
     // An extruded L (area 3) either way round, with a closing point.
     for body in [
         "extrude 0.5 0 0 2 0 2 1 1 1 1 2 0 2",
         "extrude 0.5 0 2 1 2 1 1 2 1 2 0 0 0 0 2",
     ] {
         let o = one(body);
-        assert!(closed(&o), "{body}");
-        assert!((volume(&o) - 1.5).abs() < 1e-12, "{body}: {}", volume(&o));
+        assert!(support::closed(&o), "{body}");
+        assert!(
+            (support::volume(&o) - 1.5).abs() < 1e-12,
+            "{body}: {}",
+            support::volume(&o)
+        );
         assert!(!o.surface_type.curved && o.vertex_normals.is_none());
     }
 }
@@ -313,10 +294,10 @@ fn lathe_and_extrude_volumes_are_exact_for_their_polygons() {
 #[test]
 fn open_cylinder_is_two_sided_and_capped_one_is_closed() {
     let o = one("cylinder 10 open");
-    assert!(o.surface_type.open && !closed(&o));
+    assert!(o.surface_type.open && !support::closed(&o));
     assert_eq!(o.polygons.len(), 10);
     let o = one("cylinder 10 capped");
-    assert!(!o.surface_type.open && closed(&o) && outward_about_origin(&o));
+    assert!(!o.surface_type.open && support::closed(&o) && outward_about_origin(&o));
     // Side normals are radial, cap normals along z.
     let n = o.vertex_normals.as_ref().unwrap();
     for (v, n) in o.vertices.iter().zip(n) {
@@ -460,8 +441,12 @@ fn closed_patch_surfaces_are_oriented_outward() {
     .unwrap();
     let o = &s.objects[0];
     assert!(!o.surface_type.open, "closed patches are one-sided");
-    assert!(closed(o));
-    assert!((volume(o) - 8.0).abs() < 1e-12, "{}", volume(o));
+    assert!(support::closed(o));
+    assert!(
+        (support::volume(o) - 8.0).abs() < 1e-12,
+        "{}",
+        support::volume(o)
+    );
     assert!(outward_about_origin(o));
 }
 
@@ -747,7 +732,7 @@ fn the_example_scene_builds_closed_solids() {
         if o.name == "wave" || o.name == "ripple" {
             assert!(o.surface_type.open, "{}", o.name);
         } else {
-            assert!(closed(o) && volume(o) > 0.0, "{}", o.name);
+            assert!(support::closed(o) && support::volume(o) > 0.0, "{}", o.name);
         }
     }
     let csg = warnings

@@ -27,33 +27,6 @@ fn scene(body: &str) -> Scene {
     try_scene(body).unwrap().0
 }
 
-fn volume(o: &Object) -> f64 {
-    let mut six = 0.0;
-    for p in &o.polygons {
-        let v = |k: usize| o.vertices[p.indices[k] as usize];
-        for k in 1..p.indices.len() - 1 {
-            six += v(0).dot(v(k + 1).cross(v(k)));
-        }
-    }
-    six / 6.0
-}
-
-fn closed(o: &Object) -> bool {
-    let key = |v: DVec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
-    let mut edges: HashMap<([u64; 3], [u64; 3]), i32> = HashMap::new();
-    for p in &o.polygons {
-        let m = p.indices.len();
-        for k in 0..m {
-            let a = key(o.vertices[p.indices[k] as usize]);
-            let b = key(o.vertices[p.indices[(k + 1) % m] as usize]);
-            *edges.entry((a, b)).or_default() += 1;
-        }
-    }
-    edges
-        .iter()
-        .all(|((a, b), n)| *n == 1 && edges.get(&(*b, *a)) == Some(&1))
-}
-
 /// Operand pairs: (definition of `a`, definition of `b`), all convex.
 const PAIRS: &[(&str, &str)] = &[
     (
@@ -84,13 +57,19 @@ fn csg(a: &str, b: &str, op: &str) -> (Object, Vec<Diagnostic>) {
 fn volumes_obey_inclusion_exclusion() {
     for (a, b) in PAIRS {
         let s = scene(&defs(a, b));
-        let (va, vb) = (volume(&s.objects[0]), volume(&s.objects[1]));
+        let (va, vb) = (
+            support::volume(&s.objects[0]),
+            support::volume(&s.objects[1]),
+        );
         let mut v = HashMap::new();
         for op in ["union", "intersection", "difference"] {
             let (o, w) = csg(a, b, op);
-            assert!(closed(&o), "{op} of\n{a}\n{b}\nis not closed: {w:?}");
+            assert!(
+                support::closed(&o),
+                "{op} of\n{a}\n{b}\nis not closed: {w:?}"
+            );
             assert!(o.polygons.iter().all(|p| p.indices.len() >= 3));
-            v.insert(op, volume(&o));
+            v.insert(op, support::volume(&o));
             let stat = w
                 .iter()
                 .find(|d| d.message.contains("input faces kept"))
@@ -171,17 +150,21 @@ fn results_are_operands_and_block_transforms_apply() {
     let plain = scene(&body(""));
     assert_eq!(plain.objects.len(), 1);
     let d = &plain.objects[0];
-    assert!(closed(d));
+    assert!(support::closed(d));
     // The lower half of the union of two spheres.
     let whole = scene(
         "defobj a\nsphere 12 6\nendobj\ndefobj b\ntranslate 1 0 0\nsphere 12 6\nendobj\ndefobj u\nunion a b\nendobj",
     );
-    let vu = volume(&whole.objects[0]);
-    assert!((volume(d) - vu / 2.0).abs() < 1e-9, "{} {vu}", volume(d));
+    let vu = support::volume(&whole.objects[0]);
+    assert!(
+        (support::volume(d) - vu / 2.0).abs() < 1e-9,
+        "{} {vu}",
+        support::volume(d)
+    );
     // A translation inside the block moves the result, nothing else.
     let moved = scene(&body("translate 0 5 0\n"));
     let m = &moved.objects[0];
-    assert!((volume(m) - volume(d)).abs() < 1e-9);
+    assert!((support::volume(m) - support::volume(d)).abs() < 1e-9);
     for (p, q) in d.vertices.iter().zip(&m.vertices) {
         assert!((*q - *p - DVec3::new(0.0, 5.0, 0.0)).length() < 1e-9);
     }
@@ -264,15 +247,23 @@ fn coplanar_and_touching_solids() {
     // volumes, closed results.
     for (op, want) in [("union", 1.5), ("intersection", 0.5), ("difference", 0.5)] {
         let (o, _) = csg(&cube(0.0), &cube(0.5), op);
-        assert!((volume(&o) - want).abs() < 1e-12, "{op}: {}", volume(&o));
-        assert!(closed(&o), "{op}");
+        assert!(
+            (support::volume(&o) - want).abs() < 1e-12,
+            "{op}: {}",
+            support::volume(&o)
+        );
+        assert!(support::closed(&o), "{op}");
     }
     // Identical cubes: union and intersection are the cube, difference is
     // empty (no faces).
     for (op, want) in [("union", 1.0), ("intersection", 1.0), ("difference", 0.0)] {
         let (o, _) = csg(&cube(0.0), &cube(0.0), op);
-        assert!((volume(&o) - want).abs() < 1e-12, "{op}: {}", volume(&o));
-        assert!(closed(&o), "{op}");
+        assert!(
+            (support::volume(&o) - want).abs() < 1e-12,
+            "{op}: {}",
+            support::volume(&o)
+        );
+        assert!(support::closed(&o), "{op}");
     }
     // Cubes touching along a face (opposite orientations): the union
     // drops both touching faces (10 faces, volume 2, closed); the
@@ -283,8 +274,12 @@ fn coplanar_and_touching_solids() {
         ("difference", 1.0, 6),
     ] {
         let (o, _) = csg(&cube(0.0), &cube(1.0), op);
-        assert!((volume(&o) - want).abs() < 1e-12, "{op}: {}", volume(&o));
-        assert!(closed(&o), "{op}");
+        assert!(
+            (support::volume(&o) - want).abs() < 1e-12,
+            "{op}: {}",
+            support::volume(&o)
+        );
+        assert!(support::closed(&o), "{op}");
         assert_eq!(o.polygons.len(), faces, "{op}");
     }
 }

@@ -92,6 +92,17 @@ impl View {
         })
     }
 
+    /// The view of `scene` at `size` (else the scene's own viewport), or
+    /// the error every renderer gives for a singular final CTM.
+    pub fn for_scene(scene: &Scene, size: Option<(u32, u32)>) -> crate::error::Result<View> {
+        let (width, height) = size.unwrap_or((scene.viewport.width(), scene.viewport.height()));
+        View::new(scene, width, height).ok_or_else(|| {
+            crate::error::Error::Invalid(
+                "the final CTM is singular: it has no centre of projection to view from".into(),
+            )
+        })
+    }
+
     /// Screen coordinates of world point `p` (which must be in front of the
     /// eye).
     pub fn project(&self, p: DVec3) -> DVec3 {

@@ -496,14 +496,8 @@ fn eye_along(eye: DVec4, point: DVec3, dir: DVec3) -> DVec4 {
 /// Renders `scene` with the ray tracer: the frame buffer (no ids) and the
 /// figures.
 pub fn render(scene: &Scene, options: &RayTraceOptions) -> Result<(FrameBuffer, RayStats)> {
-    let (width, height) = options
-        .size
-        .unwrap_or((scene.viewport.width(), scene.viewport.height()));
-    let view = View::new(scene, width, height).ok_or_else(|| {
-        Error::Invalid(
-            "the final CTM is singular: it has no centre of projection to view from".into(),
-        )
-    })?;
+    let view = View::for_scene(scene, options.size)?;
+    let (width, height) = (view.width as u32, view.height as u32);
     let mut stats = RayStats::default();
     let t = Instant::now();
     let tracer = RayTracer::new(scene, view, options.shadows, options.shading);

@@ -33,7 +33,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use crate::emit::{self, Emit, Source};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::view::View;
 use crate::image_tree::{FragmentKind, TreeOptions, VirtualImageTree};
 use crate::output::{AtomicFile, Staged};
@@ -127,14 +127,8 @@ pub fn prepare(scene: &Scene, options: &RenderOptions) -> Result<VectorInput> {
 /// Shadows are cast only when a Point light can cast them.
 pub fn prepare_for(scene: &Scene, options: &RenderOptions, style: Style) -> Result<VectorInput> {
     let lines = style == Style::HiddenLine;
-    let (width, height) = options
-        .size
-        .unwrap_or((scene.viewport.width(), scene.viewport.height()));
-    let view = View::new(scene, width, height).ok_or_else(|| {
-        Error::Invalid(
-            "the final CTM is singular: it has no centre of projection to view from".into(),
-        )
-    })?;
+    let view = View::for_scene(scene, options.size)?;
+    let (width, height) = (view.width as u32, view.height as u32);
     let tree = crate::image_tree::build(
         scene,
         &view,

@@ -185,3 +185,36 @@ pub fn cube_and_square_dir() -> tempfile::TempDir {
     .unwrap();
     dir
 }
+
+/// Volume of a mesh by the divergence theorem over its world polygons
+/// (clockwise from outside: each fan triangle reversed is
+/// counter-clockwise).
+pub fn volume(o: &plytrace::scene::model::Object) -> f64 {
+    let mut six = 0.0;
+    for p in &o.polygons {
+        let v = |k: usize| o.vertices[p.indices[k] as usize];
+        for k in 1..p.indices.len() - 1 {
+            six += v(0).dot(v(k + 1).cross(v(k)));
+        }
+    }
+    six / 6.0
+}
+
+/// Whether every edge (by vertex position) is used exactly once in each
+/// direction: a closed, consistently oriented mesh.
+pub fn closed(o: &plytrace::scene::model::Object) -> bool {
+    let key = |v: DVec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+    let mut edges: std::collections::HashMap<([u64; 3], [u64; 3]), i32> =
+        std::collections::HashMap::new();
+    for p in &o.polygons {
+        let m = p.indices.len();
+        for k in 0..m {
+            let a = key(o.vertices[p.indices[k] as usize]);
+            let b = key(o.vertices[p.indices[(k + 1) % m] as usize]);
+            *edges.entry((a, b)).or_default() += 1;
+        }
+    }
+    edges
+        .iter()
+        .all(|((a, b), n)| *n == 1 && edges.get(&(*b, *a)) == Some(&1))
+}
