@@ -1135,23 +1135,31 @@ fn report_written(host: &CliHost) {
     }
 }
 
-/// The `setmode d` timing line. The tree path builds geometry, order and
-/// shadows in one pass (the virtual image tree), so it reports that pass,
-/// the records (shading) and the scan conversion; the image-space
-/// algorithms report their own stages.
+/// The `setmode d` timing line: the stages the run measured, by name.
+/// The tree path builds geometry, order and shadows in one pass (the
+/// virtual image tree), then its records and the scan conversion; the
+/// vector painter builds its tree, then paints; the image-space
+/// algorithms have their own stages. Stages a path does not have are left
+/// out rather than shown as zero.
 fn debug_timings(s: &render::RenderStats) -> String {
-    if s.method.is_some() {
-        format!(
-            "  virtual image tree {:?} (geometry, sort, shadows), records {:?} (shading), \
-             scan conversion {:?}; {:?}",
-            s.sort_time, s.shading_time, s.paint_time, s.geometry
-        )
+    let names = if s.method.is_some() {
+        [
+            "geometry",
+            "virtual image tree (geometry, sort, shadows)",
+            "records (shading)",
+            "scan conversion",
+        ]
     } else {
-        format!(
-            "  geometry {:?}, sort {:?}, shading {:?}, paint {:?}; {:?}",
-            s.geometry_time, s.sort_time, s.shading_time, s.paint_time, s.geometry
-        )
-    }
+        ["geometry", "sort", "shading", "paint"]
+    };
+    let times = [s.geometry_time, s.sort_time, s.shading_time, s.paint_time];
+    let stages: Vec<String> = names
+        .iter()
+        .zip(times)
+        .filter(|(_, t)| !t.is_zero())
+        .map(|(n, t)| format!("{n} {t:?}"))
+        .collect();
+    format!("  {}; {:?}", stages.join(", "), s.geometry)
 }
 
 /// Reports the error that ended a batch run; status 130 for Ctrl-C (as a

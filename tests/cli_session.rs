@@ -198,6 +198,34 @@ fn debug_timings_are_measured_on_the_tree_path() {
         .find(|l| l.contains("virtual image tree"))
         .unwrap_or_else(|| panic!("no timing line:\n{stdout}"));
     assert!(!line.contains(" 0ns"), "a stage timed at zero: {line}");
+    // The vector painter and an image-space algorithm name their own.
+    for args in [
+        &["-o", "d.svg"][..],
+        &["-o", "d.png", "--visibility", "z-buffer"],
+    ] {
+        let out = Command::new(BIN)
+            .args(["-f", "d.des"])
+            .args(args)
+            .current_dir(dir.path())
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .spawn()
+            .and_then(|mut c| {
+                c.stdin.take().expect("piped").write_all(b"run\n")?;
+                c.wait_with_output()
+            })
+            .expect("run");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let line = stdout
+            .lines()
+            .find(|l| l.contains("GeometryStats"))
+            .unwrap_or_else(|| panic!("{args:?}: no timing line:\n{stdout}"));
+        assert!(line.contains("paint"), "{args:?}: {line}");
+        assert!(
+            !line.contains(" 0ns"),
+            "{args:?}: a stage timed at zero: {line}"
+        );
+    }
 }
 
 /// script(1) gives the program a terminal, so the line editor runs,

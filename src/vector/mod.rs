@@ -232,11 +232,15 @@ pub fn render_run(
     } else {
         Style::Shaded
     };
+    let t = std::time::Instant::now();
     let mut input = prepare_for(scene, options, style)?;
+    // The tree (NNS) and its records; then painting and writing.
+    input.stats.sort_time = t.elapsed();
     let tree = input.tree_file.take();
     let Some(file) = file else {
         return Ok((None, input.stats, tree));
     };
+    let t = std::time::Instant::now();
     let staged = match Format::from_path(file.path()) {
         Some(format) => {
             let pic = picture(&input, style);
@@ -249,6 +253,7 @@ pub fn render_run(
             crate::output::stage_image(file, &fb, scene.outmode)?
         }
     };
+    input.stats.paint_time = t.elapsed();
     Ok((Some(staged), input.stats, tree))
 }
 
