@@ -556,7 +556,19 @@ fn render_matches_exact(
     inner: impl Fn(DVec3, DVec3) -> bool,
     outer: impl Fn(DVec3, DVec3) -> bool,
 ) {
-    let s = scene(&format!("defobj thing\n{body}\nendobj"));
+    render_matches_exact_with(body, &[], inner, outer);
+}
+
+/// [`render_matches_exact`] with `files` in the scene's `det` directory.
+fn render_matches_exact_with(
+    body: &str,
+    files: &[(&str, &str)],
+    inner: impl Fn(DVec3, DVec3) -> bool,
+    outer: impl Fn(DVec3, DVec3) -> bool,
+) {
+    let s = try_scene(&format!("defobj thing\n{body}\nendobj"), files)
+        .unwrap()
+        .0;
     let size = 64;
     // Point sampled: the id of a pixel is the polygon at its centre, as
     // the oracle's ray asks. (Method 4 gives a pixel covered only by
@@ -714,6 +726,35 @@ fn renders_match_ray_casts_of_the_exact_solids() {
         |o, d| hits_cone(o, d, inscribed - 1e-6),
         |o, d| hits_cone(o, d, 1.0 + 1e-6),
     );
+    // Patches whose control points (Bezier) or geometry matrix (Hermite)
+    // describe the flat square |x|, |y| <= 1.5 at z = 0: the surface is
+    // that square exactly, two-sided (an open patch).
+    let in_square = |o: DVec3, d: DVec3, half: f64| {
+        let t = -o.z / d.z;
+        let p = o + t * d;
+        t > 0.0 && p.x.abs() <= half && p.y.abs() <= half
+    };
+    let mut bpt = String::from("1\n3 3\n");
+    for i in 0..4 {
+        for j in 0..4 {
+            bpt.push_str(&format!("{} {} 0\n", i as f64 - 1.5, j as f64 - 1.5));
+        }
+    }
+    let hpt = "1\n-1.5 -1.5 0\n-1.5 1.5 0\n0 3 0\n0 3 0\n\
+               1.5 -1.5 0\n1.5 1.5 0\n0 3 0\n0 3 0\n\
+               3 0 0\n3 0 0\n0 0 0\n0 0 0\n\
+               3 0 0\n3 0 0\n0 0 0\n0 0 0\n";
+    for (body, name, text) in [
+        ("bezier sq.bpt 5 4", "sq.bpt", bpt.as_str()),
+        ("hermite sq.hpt 5 4", "sq.hpt", hpt),
+    ] {
+        render_matches_exact_with(
+            body,
+            &[(name, text)],
+            |o, d| in_square(o, d, 1.5 - 1e-6),
+            |o, d| in_square(o, d, 1.5 + 1e-6),
+        );
+    }
     let c = (PI / 24.0).cos();
     render_matches_exact(
         "cylinder 24",
