@@ -38,13 +38,13 @@ use glam::{DVec3, DVec4};
 
 use crate::budget::Budgets;
 use crate::geometry::face_splitter;
-use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
 use crate::profile::{Category, Profile};
 use crate::scene::model::{Color, Scene, SortOrder};
 use crate::shading::{FacetTerms, ShadingModel, polygon_material};
+pub use crate::shadow::overlap::{ShadowRegion, intersect_in_plane, overlap_regions};
 use crate::visibility::{depth_sort, nns};
 use rayon::prelude::*;
 
@@ -1086,157 +1086,6 @@ pub const MAX_COMBINED_LIGHTS: usize = 8;
 /// At most this many overlap regions of two or more lights are made on one
 /// target fragment (see [`overlap_regions`]).
 pub const MAX_OVERLAP_PIECES: usize = 4096;
-
-/// A region of a target's plane and the lights it is shadowed from.
-pub type ShadowRegion = (Vec<DVec3>, Vec<u32>);
-
-/// The shadow regions on one target plane (unit normal `normal`) from the
-/// shadow pieces of several lights (`(light, pieces)`, lights in increasing
-/// order, pieces in the plane): first every piece alone, then the
-/// intersections of two pieces of different lights, then of three, and so
-/// on (004 section 4.7 extended to overlapped shadows), each carrying its
-/// light set (increasing). The painter, back to front, lets the regions of
-/// more lights overwrite those of fewer. Two pieces are intersected with
-/// the splitter, clipping one to the planes through the edges of the other
-/// (triangulated when not convex) perpendicular to the target plane.
-///
-/// Past `cap` regions of two or more lights, no more intersections are
-/// made: the remaining overlaps show the shade of a smaller light set (too
-/// bright there), never a wrong outline.
-pub fn overlap_regions(
-    per_light: &[(u32, Vec<Vec<DVec3>>)],
-    normal: DVec3,
-    eps: f64,
-    cap: usize,
-) -> Vec<ShadowRegion> {
-    let mut out: Vec<ShadowRegion> = per_light
-        .iter()
-        .flat_map(|(j, pieces)| pieces.iter().map(move |p| (p.clone(), vec![*j])))
-        .collect();
-    if per_light.len() < 2 {
-        return out;
-    }
-    // Every piece's box and clipping planes, once.
-    let prepared: Vec<Vec<InPlane>> = per_light
-        .iter()
-        .map(|(_, pieces)| pieces.iter().map(|p| InPlane::new(p, normal)).collect())
-        .collect();
-    let mut scratch = ClipScratch::default();
-    let mut many = Vec::new();
-    let mut layer: Vec<(Vec<DVec3>, Vec<u32>, usize)> = Vec::new();
-    for (k, (j, pieces)) in per_light.iter().enumerate() {
-        layer.extend(pieces.iter().map(|p| (p.clone(), vec![*j], k)));
-    }
-    let mut made = 0;
-    let mut found = Vec::new();
-    while !layer.is_empty() && made < cap {
-        let mut next = Vec::new();
-        'regions: for (points, lights, last) in &layer {
-            let bounds = polygon_bounds(points);
-            for (k, (j, _)) in per_light.iter().enumerate().skip(last + 1) {
-                for piece in &prepared[k] {
-                    found.clear();
-                    piece.clip(points, bounds, eps, &mut scratch, &mut many, &mut found);
-                    for region in found.drain(..) {
-                        if made >= cap {
-                            break 'regions;
-                        }
-                        made += 1;
-                        let mut set = lights.clone();
-                        set.push(*j);
-                        next.push((region, set, k));
-                    }
-                }
-            }
-        }
-        out.extend(next.iter().map(|(p, l, _)| (p.clone(), l.clone())));
-        layer = next;
-    }
-    out
-}
-
-fn polygon_bounds(p: &[DVec3]) -> (DVec3, DVec3) {
-    p.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), q| (lo.min(*q), hi.max(*q)),
-    )
-}
-
-/// A polygon in a plane, ready to clip others to it: its box and, per
-/// convex part, the planes perpendicular to the plane through its edges.
-struct InPlane {
-    bounds: (DVec3, DVec3),
-    parts: Vec<Vec<DVec4>>,
-}
-
-impl InPlane {
-    fn new(b: &[DVec3], normal: DVec3) -> InPlane {
-        let parts = polygon::triangulate_if_needed(b)
-            .into_iter()
-            .map(|part| {
-                let centre = part.iter().copied().sum::<DVec3>() / part.len() as f64;
-                (0..part.len())
-                    .filter_map(|i| {
-                        let (p, q) = (part[i], part[(i + 1) % part.len()]);
-                        let n = (q - p).cross(normal).try_normalize()?;
-                        let pl = n.extend(-n.dot(p));
-                        Some(if pl.truncate().dot(centre) + pl.w < 0.0 {
-                            -pl
-                        } else {
-                            pl
-                        })
-                    })
-                    .collect()
-            })
-            .collect();
-        InPlane {
-            bounds: polygon_bounds(b),
-            parts,
-        }
-    }
-
-    /// The pieces of `a` (box `a_bounds`) inside this polygon, into `out`;
-    /// pieces of no area are dropped.
-    fn clip(
-        &self,
-        a: &[DVec3],
-        a_bounds: (DVec3, DVec3),
-        eps: f64,
-        scratch: &mut ClipScratch,
-        many: &mut Vec<Vec<DVec3>>,
-        out: &mut Vec<Vec<DVec3>>,
-    ) {
-        let ((alo, ahi), (blo, bhi)) = (a_bounds, self.bounds);
-        if (alo - DVec3::splat(eps)).cmpgt(bhi).any() || (blo - DVec3::splat(eps)).cmpgt(ahi).any()
-        {
-            return;
-        }
-        let keep = |p: &[DVec3]| polygon::newell_vector(p.iter().copied()).length() > eps * eps;
-        for planes in &self.parts {
-            match plane_clip::clip_to_planes(a, planes, eps, scratch, many) {
-                Ok(Clipped::One) if keep(scratch.piece()) => out.push(scratch.piece().to_vec()),
-                Ok(Clipped::Many) => out.extend(many.drain(..).filter(|p| keep(p))),
-                _ => {}
-            }
-        }
-    }
-}
-
-/// The intersection of two polygons lying in one plane (unit normal
-/// `normal`): `a` clipped to the planes perpendicular to it through the
-/// edges of each convex part of `b`. Pieces of no area are dropped.
-pub fn intersect_in_plane(a: &[DVec3], b: &[DVec3], normal: DVec3, eps: f64) -> Vec<Vec<DVec3>> {
-    let mut out = Vec::new();
-    InPlane::new(b, normal).clip(
-        a,
-        polygon_bounds(a),
-        eps,
-        &mut ClipScratch::default(),
-        &mut Vec::new(),
-        &mut out,
-    );
-    out
-}
 
 /// The plane of `points` with its unit normal towards the eye.
 fn toward_eye_plane(points: &[DVec3], eye: DVec4) -> Option<DVec4> {

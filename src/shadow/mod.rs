@@ -1,0 +1,541 @@
+//! Shadow polygons by projection (004 section 4.7), with the caster
+//! selection of 004 sections 6.4.1-6.4.2 (a hierarchy of bounding volumes
+//! instead of testing every object against every shadow volume).
+//!
+//! The shadow volume of a target fragment and a Point light is the convex
+//! volume from the light through the fragment's outline down to its plane.
+//! Casters are found per light: each light has its own bounding volume
+//! hierarchy holding only the polygons that face it (or are `type open`),
+//! built the first time the light is asked for, so back-facing casters are
+//! never fetched. Boxes are tested against the volume at the nodes and
+//! again, caster by caster, at the leaves. A caster that survives is
+//! tested vertex by vertex against the volume's planes, clipped to it in
+//! reused buffers ([`plane_clip`], stopping as soon as nothing is left) and
+//! projected from the light onto the target's plane. Nothing is allocated
+//! per caster except the shadow pieces that are kept.
+
+pub mod overlap;
+
+use std::sync::OnceLock;
+
+use glam::{DVec3, DVec4};
+
+use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
+use crate::geometry::polygon;
+use crate::math::Matrix4;
+use crate::profile::{Category, Profile};
+use crate::scene::Scene;
+
+/// A polygon that may cast a shadow, in world coordinates; identical
+/// polygons (the same vertices from the same start, the same `type open`)
+/// share one caster, since they cast the same shadow.
+struct Caster {
+    /// The first polygon it stands for.
+    polygon: u32,
+    /// The object of every polygon it stands for, or `None` when they come
+    /// from several objects.
+    single_object: Option<u32>,
+    /// How many identical polygons it stands for.
+    copies: u32,
+    points: Vec<DVec3>,
+    /// Outward plane (unit normal).
+    plane: DVec4,
+    open: bool,
+    lo: DVec3,
+    hi: DVec3,
+}
+
+/// A caster's box and index, stored in a light's hierarchy in leaf order.
+#[derive(Clone, Copy)]
+struct Item {
+    lo: DVec3,
+    hi: DVec3,
+    caster: u32,
+}
+
+/// A node: a leaf when `count > 0` (items `first..first + count`), else
+/// children at `first` and `first + 1`.
+#[derive(Clone, Copy)]
+struct Node {
+    lo: DVec3,
+    hi: DVec3,
+    first: u32,
+    count: u32,
+}
+
+/// The hierarchy of the casters facing one light.
+struct LightTree {
+    items: Vec<Item>,
+    nodes: Vec<Node>,
+}
+
+/// How many tolerances the box of a shadow volume is widened by: the
+/// clipper keeps what lies within the tolerance of each plane, which near
+/// the apex of a thin volume reaches farther than the tolerance.
+const BOX_MARGIN: f64 = 1e4;
+
+/// At most this many items (56 bytes each) in the lights' own
+/// hierarchies together.
+const MAX_LIGHT_ITEMS: usize = 1 << 20;
+
+/// Items per leaf.
+const LEAF: usize = 4;
+
+/// Every displayed polygon of a scene as a caster, in world coordinates
+/// (levels below 1 map their shadow volumes back to them), and per Point
+/// light the hierarchy of those facing it.
+pub struct CasterIndex {
+    casters: Vec<Caster>,
+    lights: Vec<OnceLock<LightTree>>,
+    /// Every caster, for the lights past the memory bound.
+    shared: OnceLock<LightTree>,
+    /// The bound: [`MAX_LIGHT_ITEMS`].
+    max_light_items: usize,
+}
+
+impl CasterIndex {
+    /// The casters of `scene`; the lights' hierarchies are built on first
+    /// use.
+    pub fn new(scene: &Scene) -> CasterIndex {
+        let mut casters: Vec<Caster> = Vec::new();
+        // Identical polygons (65,535 copies of one triangle) would each
+        // be found by every query of the others: one caster for all.
+        let mut seen: std::collections::HashMap<(bool, Vec<[u64; 3]>), usize> =
+            std::collections::HashMap::new();
+        for (oi, object) in scene.objects.iter().enumerate() {
+            if object.surface_type.hidden {
+                continue;
+            }
+            for (pi, poly) in object.polygons.iter().enumerate() {
+                let points: Vec<DVec3> = poly
+                    .indices
+                    .iter()
+                    .map(|&i| object.vertices[i as usize])
+                    .collect();
+                let key = (
+                    object.surface_type.open,
+                    points
+                        .iter()
+                        .map(|p| p.to_array().map(f64::to_bits))
+                        .collect(),
+                );
+                if let Some(&k) = seen.get(&key) {
+                    let caster: &mut Caster = &mut casters[k];
+                    caster.copies += 1;
+                    if caster.single_object != Some(oi as u32) {
+                        caster.single_object = None;
+                    }
+                    continue;
+                }
+                seen.insert(key, casters.len());
+                let (lo, hi) = bounds(&points);
+                casters.push(Caster {
+                    polygon: pi as u32,
+                    single_object: Some(oi as u32),
+                    copies: 1,
+                    points,
+                    plane: poly.plane,
+                    open: object.surface_type.open,
+                    lo,
+                    hi,
+                });
+            }
+        }
+        CasterIndex {
+            casters,
+            lights: (0..scene.lights.len()).map(|_| OnceLock::new()).collect(),
+            shared: OnceLock::new(),
+            max_light_items: MAX_LIGHT_ITEMS,
+        }
+    }
+
+    /// The hierarchy to query for light `j` (world position `light`), and
+    /// whether its casters still need the facing test: the light's own
+    /// while all lights' hierarchies together stay within
+    /// [`MAX_LIGHT_ITEMS`] items, else one shared by every further light,
+    /// so that many lights never cost lights times casters memory.
+    fn tree(&self, j: usize, light: DVec3) -> (&LightTree, bool) {
+        let n = self.casters.len().max(1);
+        if (j + 1).saturating_mul(n) > self.max_light_items && j > 0 {
+            return (self.shared.get_or_init(|| self.make_tree(|_| true)), true);
+        }
+        let tree = self.lights[j].get_or_init(|| {
+            self.make_tree(|c| c.open || c.plane.truncate().dot(light) + c.plane.w > 0.0)
+        });
+        (tree, false)
+    }
+
+    fn make_tree(&self, keep: impl Fn(&Caster) -> bool) -> LightTree {
+        let mut items: Vec<Item> = self
+            .casters
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| keep(c))
+            .map(|(k, c)| Item {
+                lo: c.lo,
+                hi: c.hi,
+                caster: k as u32,
+            })
+            .collect();
+        let mut nodes = Vec::new();
+        if !items.is_empty() {
+            nodes.push(Node {
+                lo: DVec3::ZERO,
+                hi: DVec3::ZERO,
+                first: 0,
+                count: 0,
+            });
+            let n = items.len();
+            build(&mut items, &mut nodes, 0, 0, n);
+        }
+        LightTree { items, nodes }
+    }
+}
+
+fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
+    points.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
+}
+
+/// Splits `items[start..end]` at the median of the box centres along the
+/// longest axis of their bounds.
+fn build(items: &mut [Item], nodes: &mut Vec<Node>, node: usize, start: usize, end: usize) {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for it in &items[start..end] {
+        lo = lo.min(it.lo);
+        hi = hi.max(it.hi);
+    }
+    if end - start <= LEAF {
+        nodes[node] = Node {
+            lo,
+            hi,
+            first: start as u32,
+            count: (end - start) as u32,
+        };
+        return;
+    }
+    let e = hi - lo;
+    let axis = if e.x >= e.y && e.x >= e.z {
+        0
+    } else if e.y >= e.z {
+        1
+    } else {
+        2
+    };
+    let mid = (start + end) / 2;
+    items[start..end].select_nth_unstable_by(mid - start, |a, b| {
+        let ca = (a.lo + a.hi).to_array()[axis];
+        let cb = (b.lo + b.hi).to_array()[axis];
+        ca.total_cmp(&cb).then(a.caster.cmp(&b.caster))
+    });
+    let left = nodes.len();
+    let blank = Node {
+        lo: DVec3::ZERO,
+        hi: DVec3::ZERO,
+        first: 0,
+        count: 0,
+    };
+    nodes.push(blank);
+    nodes.push(blank);
+    nodes[node] = Node {
+        lo,
+        hi,
+        first: left as u32,
+        count: 0,
+    };
+    build(items, nodes, left, start, mid);
+    build(items, nodes, left + 1, mid, end);
+}
+
+/// Whether the box is wholly behind one of `planes`.
+#[inline]
+fn box_outside(planes: &[DVec4], lo: DVec3, hi: DVec3) -> bool {
+    planes.iter().any(|pl| {
+        let n = pl.truncate();
+        // The box corner farthest along the normal.
+        let far = DVec3::select(n.cmpge(DVec3::ZERO), hi, lo);
+        n.dot(far) + pl.w < 0.0
+    })
+}
+
+impl LightTree {
+    /// The casters whose boxes are not wholly outside one of `planes`, in
+    /// increasing order, into `out`.
+    fn query(&self, planes: &[DVec4], bounds: (DVec3, DVec3), out: &mut Vec<u32>) {
+        let (blo, bhi) = bounds;
+        let outside = |lo: DVec3, hi: DVec3| {
+            lo.cmpgt(bhi).any() || hi.cmplt(blo).any() || box_outside(planes, lo, hi)
+        };
+        out.clear();
+        if self.nodes.is_empty() {
+            return;
+        }
+        // Median splits: the depth is at most log2 of the count + 1.
+        let mut stack = [0u32; 72];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = self.nodes[stack[top] as usize];
+            if outside(node.lo, node.hi) {
+                continue;
+            }
+            if node.count == 0 {
+                stack[top] = node.first + 1;
+                stack[top + 1] = node.first;
+                top += 2;
+            } else {
+                let leaf = &self.items[node.first as usize..(node.first + node.count) as usize];
+                out.extend(
+                    leaf.iter()
+                        .filter(|it| !outside(it.lo, it.hi))
+                        .map(|it| it.caster),
+                );
+            }
+        }
+        // The pieces keep the casters' (the scene's) order.
+        out.sort_unstable();
+    }
+}
+
+/// Buffers reused from one shadow volume to the next (one per thread).
+#[derive(Default)]
+pub struct Scratch {
+    found: Vec<u32>,
+    points: Vec<DVec3>,
+    volume: Vec<DVec4>,
+    world_volume: Vec<DVec4>,
+    clip: ClipScratch,
+    many: Vec<Vec<DVec3>>,
+}
+
+/// The target of a shadow query: a fragment in the virtual coordinates of
+/// its level, which the mapping `t` takes the world to.
+pub struct Target<'a> {
+    /// The fragment's object.
+    pub object: u32,
+    /// The fragment's polygon.
+    pub polygon: u32,
+    /// Its points (virtual coordinates).
+    pub points: &'a [DVec3],
+    /// Its plane, towards the eye.
+    pub plane: DVec4,
+    /// The level's mapping from world to virtual coordinates.
+    pub t: &'a Matrix4,
+    /// Whether `points` make a convex polygon.
+    pub convex: bool,
+}
+
+/// What shadow casting reads: the scene, its casters, the profile and
+/// the level's tolerance.
+pub struct Casting<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// Its casters.
+    pub index: &'a CasterIndex,
+    /// Timers of table 6.2.
+    pub profile: &'a Profile,
+    /// The absolute tolerance (`setmode e` times the scene's size).
+    pub eps: f64,
+}
+
+impl Casting<'_> {
+    /// The shadows cast on `target` by Point light `j` at world position
+    /// `light`, projected from the light onto the target's plane (virtual
+    /// coordinates). Polygons back-facing to the light are never fetched
+    /// (unless `type open`); the fragment's own object casts nothing on it
+    /// unless it is `type concave`, and a polygon never on itself.
+    pub fn pieces(
+        &self,
+        target: &Target,
+        j: usize,
+        light: DVec3,
+        s: &mut Scratch,
+    ) -> Vec<Vec<DVec3>> {
+        let (scene, index, profile, eps) = (self.scene, self.index, self.profile, self.eps);
+        let t = target.t;
+        let plane = target.plane;
+        let lv = t.transform_point(light);
+        // The light must be on the viewer's side of the fragment.
+        if plane.truncate().dot(lv) + plane.w <= eps {
+            return Vec::new();
+        }
+        volume(target.points, plane, lv, eps, &mut s.volume);
+        // The index is in world coordinates: map the volume's planes back
+        // (a plane L of the virtual space is t L in world space).
+        let identity = *t == Matrix4::IDENTITY;
+        s.world_volume.clear();
+        if identity {
+            s.world_volume.extend_from_slice(&s.volume);
+        } else {
+            let tt = t.transpose();
+            s.world_volume
+                .extend(s.volume.iter().map(|pl| tt.transform(*pl)));
+        }
+        // The volume lies in the pyramid from the light to the target: at
+        // level 1 (world coordinates) its box, widened well beyond the
+        // tolerance the clipper allows, culls the hierarchy before any plane.
+        let bounds = if identity && target.convex {
+            let (lo, hi) = bounds(target.points);
+            let margin = DVec3::splat(BOX_MARGIN * eps);
+            (lo.min(lv) - margin, hi.max(lv) + margin)
+        } else {
+            (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY))
+        };
+        {
+            let _t = profile.time(Category::ChkBbox);
+            let (tree, facing_unknown) = index.tree(j, light);
+            tree.query(&s.world_volume, bounds, &mut s.found);
+            if facing_unknown {
+                s.found.retain(|&k| {
+                    let c = &index.casters[k as usize];
+                    c.open || c.plane.truncate().dot(light) + c.plane.w > 0.0
+                });
+            }
+        }
+        let own = &scene.objects[target.object as usize];
+        let n = plane.truncate();
+        let mut out = Vec::new();
+        for &k in &s.found {
+            let caster = &index.casters[k as usize];
+            // A caster standing for several identical polygons casts if any
+            // of them may.
+            if caster.single_object == Some(target.object)
+                && (!own.surface_type.concave
+                    || (caster.copies == 1 && caster.polygon == target.polygon))
+            {
+                continue;
+            }
+            let pts: &[DVec3] = if identity {
+                &caster.points
+            } else {
+                s.points.clear();
+                s.points
+                    .extend(caster.points.iter().map(|p| t.transform_point(*p)));
+                &s.points
+            };
+            // A caster in the target's plane (a coincident copy, or a
+            // neighbour of a tessellated plane) shadows nothing on it.
+            if pts.iter().all(|p| (n.dot(*p) + plane.w).abs() <= eps) {
+                continue;
+            }
+            let outside = {
+                let _t = profile.time(Category::ChkPly);
+                s.volume
+                    .iter()
+                    .any(|pl| pts.iter().all(|p| pl.truncate().dot(*p) + pl.w < 0.0))
+            };
+            if outside {
+                continue;
+            }
+            let clipped = {
+                let _t = profile.time(Category::Clipping);
+                plane_clip::clip_to_planes(pts, &s.volume, eps, &mut s.clip, &mut s.many)
+            };
+            match clipped {
+                Ok(Clipped::One) => push_projected(&mut out, s.clip.piece(), plane, lv, eps),
+                Ok(Clipped::Many) => {
+                    for piece in &s.many {
+                        push_projected(&mut out, piece, plane, lv, eps);
+                    }
+                }
+                Ok(Clipped::Empty) | Err(_) => {}
+            }
+        }
+        out
+    }
+}
+
+/// `piece` projected from the light `lv` onto the `target` plane, kept if
+/// finite and of some area.
+fn push_projected(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], target: DVec4, lv: DVec3, eps: f64) {
+    let n = target.truncate();
+    let projected: Vec<DVec3> = piece
+        .iter()
+        .map(|p| {
+            let d = *p - lv;
+            let s = -(n.dot(lv) + target.w) / n.dot(d);
+            lv + d * s
+        })
+        .collect();
+    if projected.iter().all(|p| p.is_finite())
+        && polygon::newell_vector(projected.iter().copied()).length() > eps * eps
+    {
+        out.push(projected);
+    }
+}
+
+/// The shadow volume of fragment `points` for a light at `lv` (virtual
+/// coordinates): the planes from the light through its edges, strictly
+/// above the target plane, below the light (004 section 4.7).
+fn volume(points: &[DVec3], target: DVec4, lv: DVec3, eps: f64, out: &mut Vec<DVec4>) {
+    out.clear();
+    let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    for i in 0..points.len() {
+        let (a, b) = (points[i], points[(i + 1) % points.len()]);
+        let Some(n) = (b - a).cross(lv - a).try_normalize() else {
+            continue;
+        };
+        let mut pl = n.extend(-n.dot(a));
+        if pl.truncate().dot(centre) + pl.w < 0.0 {
+            pl = -pl;
+        }
+        out.push(pl);
+    }
+    out.push(DVec4::new(target.x, target.y, target.z, target.w - eps));
+    out.push((-target.truncate()).extend(target.truncate().dot(lv)));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Past the memory bound, lights share one hierarchy of all casters
+    /// and test facing per caster: the same shadows as their own
+    /// hierarchies, on every polygon of the gallery (4 lights).
+    #[test]
+    fn the_shared_hierarchy_casts_the_same_shadows() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/gallery.des");
+        let scene = crate::scene::load(&path).expect("the gallery fixture").0;
+        let own = CasterIndex::new(&scene);
+        let mut shared = CasterIndex::new(&scene);
+        shared.max_light_items = 0;
+        let profile = Profile::new(false);
+        let eps = scene.modes.epsilon * scene.size();
+        let cast = |index| Casting {
+            scene: &scene,
+            index,
+            profile: &profile,
+            eps,
+        };
+        let (a, b) = (cast(&own), cast(&shared));
+        let mut s = Scratch::default();
+        let mut total = 0;
+        for (oi, object) in scene.objects.iter().enumerate() {
+            for (pi, poly) in object.polygons.iter().enumerate() {
+                let points: Vec<DVec3> = poly
+                    .indices
+                    .iter()
+                    .map(|&i| object.vertices[i as usize])
+                    .collect();
+                let target = Target {
+                    object: oi as u32,
+                    polygon: pi as u32,
+                    points: &points,
+                    plane: poly.plane,
+                    t: &Matrix4::IDENTITY,
+                    convex: polygon::is_convex(&points),
+                };
+                for (j, light) in scene.lights.iter().enumerate() {
+                    let x = a.pieces(&target, j, light.position, &mut s);
+                    let y = b.pieces(&target, j, light.position, &mut s);
+                    total += x.len();
+                    assert_eq!(x, y, "object {oi} polygon {pi} light {j}");
+                }
+            }
+        }
+        assert!(total > 100, "only {total} shadow pieces compared");
+    }
+}
