@@ -12,6 +12,7 @@
 //! it is written as a Phong record, with no highlights unless it has them.
 
 use glam::{DVec3, DVec4};
+use rayon::prelude::*;
 
 use crate::image_tree::{Fragment, FragmentKind, VirtualImageTree};
 use crate::scene::model::{Color, Scene, SortOrder};
@@ -57,21 +58,23 @@ pub fn records(
     } else {
         Vec::new()
     };
-    let mut records = Vec::with_capacity(order.len());
-    let mut sources = Vec::with_capacity(order.len());
-    for &n in &order {
-        let f = &tree.nodes[n];
-        let pre = gouraud.get(n).and_then(|g| g.as_deref());
-        records.push(record(scene, f, how, pre, eye));
-        sources.push(Source {
-            object: f.object,
-            polygon: f.polygon,
-            shadow_of: match f.kind {
-                FragmentKind::Shadow { light } => Some(light),
-                _ => None,
-            },
-        });
-    }
+    // Each record depends only on its fragment: in parallel, in order.
+    let (records, sources) = order
+        .par_iter()
+        .map(|&n| {
+            let f = &tree.nodes[n];
+            let pre = gouraud.get(n).and_then(|g| g.as_deref());
+            let source = Source {
+                object: f.object,
+                polygon: f.polygon,
+                shadow_of: match f.kind {
+                    FragmentKind::Shadow { light } => Some(light),
+                    _ => None,
+                },
+            };
+            (record(scene, f, how, pre, eye), source)
+        })
+        .unzip();
     let stream = RecordStream {
         records,
         background: Some(color_bytes(scene.background)),

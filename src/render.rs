@@ -466,10 +466,7 @@ pub fn prepare(
             &profile,
         )
     };
-    let tree = match &pool {
-        Some(pool) => pool.install(build),
-        None => build(),
-    };
+    let tree = within(&pool, build);
     stats.sort_time = t.elapsed();
     stats.geometry = tree.geometry;
     stats.max_depth = tree.max_depth;
@@ -486,10 +483,10 @@ pub fn prepare(
         height,
     };
     let picture_how = emit(SortOrder::FrontToBack, wants_pre_blending(method));
-    let (picture, sources) = emit::records(scene, &tree, picture_how, view.eye);
+    let (picture, sources) = within(&pool, || emit::records(scene, &tree, picture_how, view.eye));
     let file = scene.modes.output_tree.then(|| {
         let how = emit(scene.sort_order, scene.modes.blend);
-        emit::records(scene, &tree, how, view.eye).0
+        within(&pool, || emit::records(scene, &tree, how, view.eye).0)
     });
     stats.shading_time = t.elapsed();
     profile.add(crate::profile::Category::Shading, t.elapsed());
@@ -536,6 +533,14 @@ pub fn prepare(
         exact,
         profile: options.profile.then_some(profile),
         stats,
+    }
+}
+
+/// Runs `f` in `pool` (`--threads N`), or in rayon's global pool.
+fn within<R: Send>(pool: &Option<rayon::ThreadPool>, f: impl FnOnce() -> R + Send) -> R {
+    match pool {
+        Some(pool) => pool.install(f),
+        None => f(),
     }
 }
 
