@@ -624,6 +624,11 @@ impl<'a> Builder<'a> {
     /// Sorts `candidates` (the polygons of one level, in virtual coordinates
     /// under `t`), adds them as fragments and traces their sub-trees.
     /// Returns the new fragments' indices, back to front.
+    ///
+    /// The shadow regions of the fragments are found in parallel a chunk
+    /// at a time, the next chunk's while this thread adds the current
+    /// one's fragments to the tree, in order (so the tree does not depend
+    /// on the threads).
     #[allow(clippy::too_many_arguments)]
     fn trace(
         &mut self,
@@ -647,50 +652,66 @@ impl<'a> Builder<'a> {
         }
         self.tree.max_depth = self.tree.max_depth.max(level);
         let inverse = t.inverse();
-        let eye_real = inverse
-            .map(|inv| inv.transform(self.view.eye))
-            .unwrap_or(self.view.eye);
-        let mut ids = Vec::new();
-        // The shadow regions of the level's fragments, found in parallel
-        // a chunk at a time (so that only one chunk's wait at once); the
-        // fragments are added below in order.
-        let mut shadow_regions = Vec::new().into_iter();
-        let mut facets: std::collections::HashMap<(u32, u32, bool), FacetTerms<'a>> =
-            std::collections::HashMap::new();
-        for (k, c) in sorted.iter().enumerate() {
-            if k % SHADOW_CHUNK == 0 {
-                let chunk = &sorted[k..(k + SHADOW_CHUNK).min(sorted.len())];
-                shadow_regions = self.level_shadow_regions(chunk, t).into_iter();
+        let mut at = LevelState {
+            level,
+            t,
+            branch,
+            weight,
+            parent_blend,
+            parent,
+            inverse,
+            eye_real: inverse
+                .map(|inv| inv.transform(self.view.eye))
+                .unwrap_or(self.view.eye),
+            facets: std::collections::HashMap::new(),
+            ids: Vec::new(),
+        };
+        let caster = self.caster();
+        let cast = |chunk: Option<&[Candidate]>| match (&caster, chunk) {
+            (Some(c), Some(chunk)) => c.level_regions(chunk, t),
+            _ => Vec::new(),
+        };
+        let chunks: Vec<&[Candidate]> = sorted.chunks(SHADOW_CHUNK).collect();
+        let mut ready = cast(chunks.first().copied());
+        for (k, chunk) in chunks.iter().enumerate() {
+            // A full tree takes no more shadows.
+            let mut regions = std::mem::take(&mut ready);
+            if !regions.is_empty() && self.tree_full() {
+                self.tree.pruned += chunk.len();
+                regions.clear();
             }
-            // One shade per source polygon and side at this level (the
-            // fragments of a level share the eye): the pieces of a polygon
-            // of 200,000 vertices would each average all its vertices.
-            let terms = {
-                let _t = self.profile.time(Category::Shading);
-                let scene: &'a Scene = self.scene;
-                let shading = self.options.shading;
-                facets
-                    .entry((c.object, c.polygon, c.back_facing))
-                    .or_insert_with(|| {
-                        FacetTerms::new(
-                            scene,
-                            eye_real,
-                            c.object,
-                            c.polygon,
-                            c.back_facing,
-                            None,
-                            shading,
-                        )
-                    })
-                    .clone()
-            };
+            let (next, ()) = rayon::join(
+                || cast(chunks.get(k + 1).copied()),
+                || self.add_chunk(&mut at, chunk, regions),
+            );
+            ready = next;
+        }
+        Some(at.ids)
+    }
+
+    /// Whether the tree has reached its node budget.
+    fn tree_full(&self) -> bool {
+        self.tree.nodes.len() + self.reserved >= self.options.budgets.tree_nodes
+    }
+
+    /// Adds the fragments of `chunk` (with their shadow `regions`, if
+    /// any) at level `at`, and queues their branches.
+    fn add_chunk(
+        &mut self,
+        at: &mut LevelState<'_, 'a>,
+        chunk: &[Candidate],
+        regions: Vec<Vec<(ShadowRegion, Vec<DVec3>)>>,
+    ) {
+        let mut regions = regions.into_iter();
+        for c in chunk {
+            let terms = self.facet_terms(at, c);
             let own = terms.shade();
-            let blended = parent_blend + own * weight;
+            let blended = at.parent_blend + own * at.weight;
             let screen: Vec<DVec3> = c.points.iter().map(|p| self.view.project(*p)).collect();
             let id = self.push(Fragment {
-                level,
+                level: at.level,
                 kind: FragmentKind::Polygon,
-                branch,
+                branch: at.branch,
                 object: c.object,
                 polygon: c.polygon,
                 virtual_points: c.points.clone(),
@@ -698,83 +719,129 @@ impl<'a> Builder<'a> {
                 back_facing: c.back_facing,
                 shade: own,
                 blended,
-                weight,
-                parent,
-                world: match inverse {
+                weight: at.weight,
+                parent: at.parent,
+                world: match at.inverse {
                     Some(i) => c.points.iter().map(|p| i.transform_point(*p)).collect(),
                     None => c.points.clone(),
                 },
-                eye: eye_real,
+                eye: at.eye_real,
                 children: Vec::new(),
                 shadowed_from: Vec::new(),
             });
-            ids.push(id);
-            if let Some(regions) = shadow_regions.next() {
+            at.ids.push(id);
+            if let Some(regions) = regions.next() {
                 let start = std::time::Instant::now();
-                let shadows =
-                    self.shadows_on(regions, c, t, &terms, weight, parent_blend, id, level);
+                let shadows = self.shadows_on(
+                    regions,
+                    c,
+                    at.t,
+                    &terms,
+                    at.weight,
+                    at.parent_blend,
+                    id,
+                    at.level,
+                );
                 self.profile.add(Category::Shadows, start.elapsed());
                 self.tree.nodes[id].children.extend(shadows);
             }
-            if level >= self.options.max_level || c.back_facing {
-                continue;
+            if at.level < self.options.max_level && !c.back_facing {
+                self.queue_branches(at, c, id, blended);
             }
-            let object = &self.scene.objects[c.object as usize];
-            let material = polygon_material(object, c.polygon as usize);
-            let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
-                continue;
-            };
-            if material.reflectance > 0.0 && weight * material.reflectance > self.options.threshold
-            {
-                let m = math::reflection(plane);
+        }
+    }
+
+    /// One shade per source polygon and side at this level (the fragments
+    /// of a level share the eye): the pieces of a polygon of 200,000
+    /// vertices would each average all its vertices.
+    fn facet_terms(&self, at: &mut LevelState<'_, 'a>, c: &Candidate) -> FacetTerms<'a> {
+        let _t = self.profile.time(Category::Shading);
+        let scene: &'a Scene = self.scene;
+        let shading = self.options.shading;
+        let eye = at.eye_real;
+        at.facets
+            .entry((c.object, c.polygon, c.back_facing))
+            .or_insert_with(|| {
+                FacetTerms::new(
+                    scene,
+                    eye,
+                    c.object,
+                    c.polygon,
+                    c.back_facing,
+                    None,
+                    shading,
+                )
+            })
+            .clone()
+    }
+
+    /// Queues the reflected and refracted branches of fragment `id` (made
+    /// from `c`, pre-blended shade `blended`) that pass the threshold.
+    fn queue_branches(
+        &mut self,
+        at: &LevelState<'_, 'a>,
+        c: &Candidate,
+        id: usize,
+        blended: Color,
+    ) {
+        let object = &self.scene.objects[c.object as usize];
+        let material = polygon_material(object, c.polygon as usize);
+        let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
+            return;
+        };
+        let weight = at.weight;
+        if material.reflectance > 0.0 && weight * material.reflectance > self.options.threshold {
+            let m = math::reflection(plane);
+            self.enqueue(Pending {
+                weight: weight * material.reflectance,
+                seq: 0,
+                parent: id,
+                branch: Branch::Reflected,
+                level: at.level + 1,
+                t: at.t.mul(&m),
+                plane,
+                blend: blended,
+            });
+        }
+        if material.transmittance > 0.0 && weight * material.transmittance > self.options.threshold
+        {
+            let eta = 1.0 / object.surface.index;
+            if let Some(m) = self.refraction_matrix(c, plane, eta) {
                 self.enqueue(Pending {
-                    weight: weight * material.reflectance,
+                    weight: weight * material.transmittance,
                     seq: 0,
                     parent: id,
-                    branch: Branch::Reflected,
-                    level: level + 1,
-                    t: t.mul(&m),
+                    branch: Branch::Refracted,
+                    level: at.level + 1,
+                    t: at.t.mul(&m),
                     plane,
                     blend: blended,
                 });
             }
-            if material.transmittance > 0.0
-                && weight * material.transmittance > self.options.threshold
-            {
-                let eta = 1.0 / object.surface.index;
-                let centre = c.points.iter().copied().sum::<DVec3>() / c.points.len() as f64;
-                let matrix = match self.options.refraction {
-                    Refraction::Linearized | Refraction::Auto => {
-                        math::refraction(plane, -self.view.to_eye(centre), eta)
-                    }
-                    // Ray traced after the tree (`raytrace::exact`).
-                    Refraction::Exact => None,
-                    Refraction::Orthographic => {
-                        // All rays parallel to the line of sight: the
-                        // direction from the eye through the view centre.
-                        let axis = self
-                            .view
-                            .ray(self.view.width / 2.0, self.view.height / 2.0)
-                            .map(|(_, d)| d);
-                        axis.and_then(|d| math::refraction(plane, d, eta))
-                    }
-                    Refraction::Paraxial => Some(math::refraction_paraxial(plane, eta)),
-                };
-                if let Some(m) = matrix {
-                    self.enqueue(Pending {
-                        weight: weight * material.transmittance,
-                        seq: 0,
-                        parent: id,
-                        branch: Branch::Refracted,
-                        level: level + 1,
-                        t: t.mul(&m),
-                        plane,
-                        blend: blended,
-                    });
-                }
-            }
         }
-        Some(ids)
+    }
+
+    /// The refraction matrix of the options' model through the plane of
+    /// `c` (`None` on total internal reflection, and for exact refraction,
+    /// which is ray traced after the tree by `raytrace::exact`).
+    fn refraction_matrix(&self, c: &Candidate, plane: DVec4, eta: f64) -> Option<Matrix4> {
+        match self.options.refraction {
+            Refraction::Linearized | Refraction::Auto => {
+                let centre = c.points.iter().copied().sum::<DVec3>() / c.points.len() as f64;
+                math::refraction(plane, -self.view.to_eye(centre), eta)
+            }
+            Refraction::Exact => None,
+            Refraction::Orthographic => {
+                // All rays parallel to the line of sight: the direction
+                // from the eye through the view centre.
+                let axis = self
+                    .view
+                    .ray(self.view.width / 2.0, self.view.height / 2.0)
+                    .map(|(_, d)| d);
+                axis.and_then(|d| math::refraction(plane, d, eta))
+            }
+            Refraction::Paraxial => Some(math::refraction_paraxial(plane, eta)),
+        }
     }
 
     fn enqueue(&mut self, mut p: Pending) {
@@ -855,21 +922,11 @@ impl<'a> Builder<'a> {
         }
     }
 
-    /// The shadow regions of fragments of a level (`sorted`, virtual
-    /// coordinates under `t`), one list per fragment in their order,
-    /// computed in parallel; empty without `run y`.
-    fn level_shadow_regions(
-        &mut self,
-        sorted: &[Candidate],
-        t: &Matrix4,
-    ) -> Vec<Vec<(ShadowRegion, Vec<DVec3>)>> {
+    /// The shadow caster of the scene, `None` without `run y`; its index
+    /// of casters is built on the first call.
+    fn caster(&mut self) -> Option<ShadowCaster<'a>> {
         if !self.options.shadows {
-            return Vec::new();
-        }
-        // A full tree takes no more shadows: they are not even cast.
-        if self.tree.nodes.len() + self.reserved >= self.options.budgets.tree_nodes {
-            self.tree.pruned += sorted.len();
-            return Vec::new();
+            return None;
         }
         let index = match &self.casters {
             Some(i) => i.clone(),
@@ -880,82 +937,13 @@ impl<'a> Builder<'a> {
                 i
             }
         };
-        let start = std::time::Instant::now();
-        let this = &*self;
-        let regions = sorted
-            .par_iter()
-            .map_init(crate::shadow::Scratch::default, |s, c| {
-                if crate::cancel::requested() {
-                    return Vec::new();
-                }
-                this.shadow_regions(&index, c, t, s)
-                    .into_iter()
-                    .map(|region| {
-                        let screen = region.0.iter().map(|p| this.view.project(*p)).collect();
-                        (region, screen)
-                    })
-                    .collect()
-            })
-            .collect();
-        self.profile.add(Category::Shadows, start.elapsed());
-        regions
-    }
-
-    /// The shadow regions on fragment `c` (virtual coordinates under `t`)
-    /// from every Point light (004 section 4.7), as overlap regions (see
-    /// [`overlap_regions`]): each region carries the lights it is shadowed
-    /// from. Only the first [`MAX_COMBINED_LIGHTS`] lights that cast on
-    /// the fragment are combined; the shadows of further lights come
-    /// alone. Fragments of `type ltsrc` show their colour whatever the
-    /// lights and get none.
-    fn shadow_regions(
-        &self,
-        index: &crate::shadow::CasterIndex,
-        c: &Candidate,
-        t: &Matrix4,
-        scratch: &mut crate::shadow::Scratch,
-    ) -> Vec<ShadowRegion> {
-        if self.scene.objects[c.object as usize].surface_type.ltsrc {
-            return Vec::new();
-        }
-        let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
-            return Vec::new();
-        };
-        let target = crate::shadow::Target {
-            object: c.object,
-            polygon: c.polygon,
-            points: &c.points,
-            plane,
-            t,
-            convex: polygon::is_convex(&c.points),
-        };
-        let casting = crate::shadow::Casting {
+        Some(ShadowCaster {
             scene: self.scene,
-            index,
+            view: self.view,
             profile: self.profile,
             eps: self.eps,
-        };
-        let mut per_light = Vec::new();
-        for (j, light) in self.scene.lights.iter().enumerate() {
-            if light.kind != crate::scene::model::LightKind::Point {
-                continue;
-            }
-            let pieces = casting.pieces(&target, j, light.position, scratch);
-            if !pieces.is_empty() {
-                per_light.push((j as u32, pieces));
-            }
-        }
-        let split = per_light.len().min(MAX_COMBINED_LIGHTS);
-        let mut regions = overlap_regions(
-            &per_light[..split],
-            plane.truncate(),
-            self.eps,
-            MAX_OVERLAP_PIECES,
-        );
-        for (j, pieces) in &per_light[split..] {
-            regions.extend(pieces.iter().map(|p| (p.clone(), vec![*j])));
-        }
-        regions
+            index,
+        })
     }
 
     /// Adds the shadow `regions` of fragment `c` (see
@@ -1071,6 +1059,120 @@ impl<'a> Builder<'a> {
         planes.extend(self.frustum.iter().copied());
         planes
     }
+}
+
+/// What casting shadows needs of the builder, apart from its tree, so that
+/// a chunk's shadows can be cast while the tree grows.
+struct ShadowCaster<'a> {
+    scene: &'a Scene,
+    view: &'a View,
+    profile: &'a Profile,
+    eps: f64,
+    index: std::sync::Arc<crate::shadow::CasterIndex>,
+}
+
+impl ShadowCaster<'_> {
+    /// The shadow regions of fragments of a level (`chunk`, virtual
+    /// coordinates under `t`), with their screen points, one list per
+    /// fragment in their order, computed in parallel.
+    fn level_regions(
+        &self,
+        chunk: &[Candidate],
+        t: &Matrix4,
+    ) -> Vec<Vec<(ShadowRegion, Vec<DVec3>)>> {
+        let start = std::time::Instant::now();
+        let regions = chunk
+            .par_iter()
+            .map_init(crate::shadow::Scratch::default, |s, c| {
+                if crate::cancel::requested() {
+                    return Vec::new();
+                }
+                self.shadow_regions(c, t, s)
+                    .into_iter()
+                    .map(|region| {
+                        let screen = region.0.iter().map(|p| self.view.project(*p)).collect();
+                        (region, screen)
+                    })
+                    .collect()
+            })
+            .collect();
+        self.profile.add(Category::Shadows, start.elapsed());
+        regions
+    }
+
+    /// The shadow regions on fragment `c` (virtual coordinates under `t`)
+    /// from every Point light (004 section 4.7), as overlap regions (see
+    /// [`overlap_regions`]): each region carries the lights it is shadowed
+    /// from. Only the first [`MAX_COMBINED_LIGHTS`] lights that cast on
+    /// the fragment are combined; the shadows of further lights come
+    /// alone. Fragments of `type ltsrc` show their colour whatever the
+    /// lights and get none.
+    fn shadow_regions(
+        &self,
+        c: &Candidate,
+        t: &Matrix4,
+        scratch: &mut crate::shadow::Scratch,
+    ) -> Vec<ShadowRegion> {
+        if self.scene.objects[c.object as usize].surface_type.ltsrc {
+            return Vec::new();
+        }
+        let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
+            return Vec::new();
+        };
+        let target = crate::shadow::Target {
+            object: c.object,
+            polygon: c.polygon,
+            points: &c.points,
+            plane,
+            t,
+            convex: polygon::is_convex(&c.points),
+        };
+        let casting = crate::shadow::Casting {
+            scene: self.scene,
+            index: &self.index,
+            profile: self.profile,
+            eps: self.eps,
+        };
+        let mut per_light = Vec::new();
+        for (j, light) in self.scene.lights.iter().enumerate() {
+            if light.kind != crate::scene::model::LightKind::Point {
+                continue;
+            }
+            let pieces = casting.pieces(&target, j, light.position, scratch);
+            if !pieces.is_empty() {
+                per_light.push((j as u32, pieces));
+            }
+        }
+        let split = per_light.len().min(MAX_COMBINED_LIGHTS);
+        let mut regions = overlap_regions(
+            &per_light[..split],
+            plane.truncate(),
+            self.eps,
+            MAX_OVERLAP_PIECES,
+        );
+        for (j, pieces) in &per_light[split..] {
+            regions.extend(pieces.iter().map(|p| (p.clone(), vec![*j])));
+        }
+        regions
+    }
+}
+
+/// A level being added to the tree: what its fragments share.
+struct LevelState<'t, 'a> {
+    level: u32,
+    /// The level's mapping and its inverse.
+    t: &'t Matrix4,
+    inverse: Option<Matrix4>,
+    branch: Branch,
+    weight: f64,
+    parent_blend: Color,
+    parent: Option<usize>,
+    /// The eye in true world coordinates.
+    eye_real: DVec4,
+    /// One shade per source polygon and side.
+    facets: std::collections::HashMap<(u32, u32, bool), FacetTerms<'a>>,
+    /// The fragments added, in order.
+    ids: Vec<usize>,
 }
 
 /// Fragments whose shadows are cast in parallel at once. It bounds the
