@@ -397,7 +397,18 @@ pub fn build_profiled(
         reserved: 0,
         first_fallback_splits: 0,
     };
-    let level1 = b.level_one();
+    // The casters' index does not depend on the view: it is built while
+    // this thread finds level 1.
+    let (level1, casters) = rayon::join(
+        || b.level_one(),
+        || {
+            options.shadows.then(|| {
+                let _t = profile.time(Category::Transform);
+                std::sync::Arc::new(crate::shadow::CasterIndex::new(scene))
+            })
+        },
+    );
+    b.casters = casters;
     let roots = b
         .trace(
             1,

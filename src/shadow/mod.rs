@@ -373,15 +373,17 @@ impl Casting<'_> {
             s.world_volume
                 .extend(s.volume.iter().map(|pl| tt.transform(*pl)));
         }
-        // The volume lies in the pyramid from the light to the target: at
-        // level 1 (world coordinates) its box, widened well beyond the
-        // tolerance the clipper allows, culls the hierarchy before any plane.
-        let bounds = if identity && target.convex {
-            let (lo, hi) = bounds(target.points);
-            let margin = DVec3::splat(BOX_MARGIN * eps);
-            (lo.min(lv) - margin, hi.max(lv) + margin)
-        } else {
-            (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY))
+        // The volume lies in the pyramid from the light to the target: its
+        // box in world coordinates (an affine mapping, as mirrors make,
+        // keeps the pyramid the hull of its corners), widened well beyond
+        // the tolerance the clipper allows, culls the hierarchy before any
+        // plane.
+        let bounds = match world_corners(target, identity) {
+            Some((lo, hi)) if target.convex => {
+                let margin = DVec3::splat(BOX_MARGIN * eps);
+                (lo.min(light) - margin, hi.max(light) + margin)
+            }
+            _ => (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY)),
         };
         {
             let _t = profile.time(Category::ChkBbox);
@@ -445,6 +447,25 @@ impl Casting<'_> {
         }
         out
     }
+}
+
+/// The box of the target's corners in world coordinates, when its level's
+/// mapping is affine and invertible.
+fn world_corners(target: &Target, identity: bool) -> Option<(DVec3, DVec3)> {
+    if identity {
+        return Some(bounds(target.points));
+    }
+    let m = &target.t.m;
+    if m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0 {
+        return None;
+    }
+    let inverse = target.t.inverse()?;
+    let world = target.points.iter().map(|p| inverse.transform_point(*p));
+    let b = world.fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    );
+    (b.0.is_finite() && b.1.is_finite()).then_some(b)
 }
 
 /// `piece` projected from the light `lv` onto the `target` plane, kept if
