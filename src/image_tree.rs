@@ -674,26 +674,38 @@ impl<'a> Builder<'a> {
             eye_real: inverse
                 .map(|inv| inv.transform(self.view.eye))
                 .unwrap_or(self.view.eye),
-            facets: std::collections::HashMap::new(),
             ids: Vec::new(),
         };
         let caster = self.caster();
-        let cast = |chunk: Option<&[Candidate]>| match (&caster, chunk) {
-            (Some(c), Some(chunk)) => c.level_regions(chunk, t),
-            _ => Vec::new(),
+        let (scene, profile, shading, eye) =
+            (self.scene, self.profile, self.options.shading, at.eye_real);
+        // What a chunk's fragments need that does not depend on the tree:
+        // their shades and shadows, found in parallel.
+        let prepare = |chunk: Option<&[Candidate]>| {
+            let Some(chunk) = chunk else {
+                return (Vec::new(), Vec::new());
+            };
+            let terms = || {
+                let _t = profile.time(Category::Shading);
+                facet_terms(scene, eye, shading, chunk)
+            };
+            match &caster {
+                Some(c) => rayon::join(terms, || c.level_regions(chunk, t)),
+                None => (terms(), Vec::new()),
+            }
         };
         let chunks: Vec<&[Candidate]> = sorted.chunks(SHADOW_CHUNK).collect();
-        let mut ready = cast(chunks.first().copied());
+        let mut ready = prepare(chunks.first().copied());
         for (k, chunk) in chunks.iter().enumerate() {
+            let (terms, mut regions) = std::mem::take(&mut ready);
             // A full tree takes no more shadows.
-            let mut regions = std::mem::take(&mut ready);
             if !regions.is_empty() && self.tree_full() {
                 self.tree.pruned += chunk.len();
                 regions.clear();
             }
             let (next, ()) = rayon::join(
-                || cast(chunks.get(k + 1).copied()),
-                || self.add_chunk(&mut at, chunk, regions),
+                || prepare(chunks.get(k + 1).copied()),
+                || self.add_chunk(&mut at, chunk, terms, regions),
             );
             ready = next;
         }
@@ -709,13 +721,13 @@ impl<'a> Builder<'a> {
     /// any) at level `at`, and queues their branches.
     fn add_chunk(
         &mut self,
-        at: &mut LevelState<'_, 'a>,
+        at: &mut LevelState<'_>,
         chunk: &[Candidate],
+        terms: Vec<FacetTerms<'a>>,
         regions: Vec<Vec<(ShadowRegion, Vec<DVec3>)>>,
     ) {
         let mut regions = regions.into_iter();
-        for c in chunk {
-            let terms = self.facet_terms(at, c);
+        for (c, terms) in chunk.iter().zip(terms) {
             let own = terms.shade();
             let blended = at.parent_blend + own * at.weight;
             let screen: Vec<DVec3> = c.points.iter().map(|p| self.view.project(*p)).collect();
@@ -762,39 +774,9 @@ impl<'a> Builder<'a> {
         }
     }
 
-    /// One shade per source polygon and side at this level (the fragments
-    /// of a level share the eye): the pieces of a polygon of 200,000
-    /// vertices would each average all its vertices.
-    fn facet_terms(&self, at: &mut LevelState<'_, 'a>, c: &Candidate) -> FacetTerms<'a> {
-        let _t = self.profile.time(Category::Shading);
-        let scene: &'a Scene = self.scene;
-        let shading = self.options.shading;
-        let eye = at.eye_real;
-        at.facets
-            .entry((c.object, c.polygon, c.back_facing))
-            .or_insert_with(|| {
-                FacetTerms::new(
-                    scene,
-                    eye,
-                    c.object,
-                    c.polygon,
-                    c.back_facing,
-                    None,
-                    shading,
-                )
-            })
-            .clone()
-    }
-
     /// Queues the reflected and refracted branches of fragment `id` (made
     /// from `c`, pre-blended shade `blended`) that pass the threshold.
-    fn queue_branches(
-        &mut self,
-        at: &LevelState<'_, 'a>,
-        c: &Candidate,
-        id: usize,
-        blended: Color,
-    ) {
+    fn queue_branches(&mut self, at: &LevelState<'_>, c: &Candidate, id: usize, blended: Color) {
         let object = &self.scene.objects[c.object as usize];
         let material = polygon_material(object, c.polygon as usize);
         let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
@@ -1168,8 +1150,48 @@ impl ShadowCaster<'_> {
     }
 }
 
+/// The shading terms of the fragments of `chunk` seen from `eye` (true
+/// world coordinates), one per fragment: one computed per source polygon
+/// and side (the pieces of a polygon of 200,000 vertices would each
+/// average all its vertices), in parallel.
+fn facet_terms<'a>(
+    scene: &'a Scene,
+    eye: DVec4,
+    shading: ShadingModel,
+    chunk: &[Candidate],
+) -> Vec<FacetTerms<'a>> {
+    let mut first = std::collections::HashMap::new();
+    let mut unique = Vec::new();
+    let slot: Vec<usize> = chunk
+        .iter()
+        .map(|c| {
+            *first
+                .entry((c.object, c.polygon, c.back_facing))
+                .or_insert_with(|| {
+                    unique.push(c);
+                    unique.len() - 1
+                })
+        })
+        .collect();
+    let terms: Vec<FacetTerms<'a>> = unique
+        .par_iter()
+        .map(|c| {
+            FacetTerms::new(
+                scene,
+                eye,
+                c.object,
+                c.polygon,
+                c.back_facing,
+                None,
+                shading,
+            )
+        })
+        .collect();
+    slot.into_iter().map(|k| terms[k].clone()).collect()
+}
+
 /// A level being added to the tree: what its fragments share.
-struct LevelState<'t, 'a> {
+struct LevelState<'t> {
     level: u32,
     /// The level's mapping and its inverse.
     t: &'t Matrix4,
@@ -1180,8 +1202,6 @@ struct LevelState<'t, 'a> {
     parent: Option<usize>,
     /// The eye in true world coordinates.
     eye_real: DVec4,
-    /// One shade per source polygon and side.
-    facets: std::collections::HashMap<(u32, u32, bool), FacetTerms<'a>>,
     /// The fragments added, in order.
     ids: Vec<usize>,
 }
