@@ -603,27 +603,21 @@ impl<'a> Builder<'a> {
         }
         // `setmode x off` (004 section 4.4): objects one at a time, by the
         // farthest depth of their polygons, each object's polygons sorted.
-        let mut objects: Vec<u32> = slots
-            .iter()
-            .map(|c| c.as_ref().expect("full").object)
+        // Grouped by object in one sort (stable: each object's polygons
+        // keep their order), objects in increasing index.
+        let object = |k: usize| slots[k].as_ref().expect("full").object;
+        let mut by_object: Vec<usize> = (0..slots.len()).collect();
+        by_object.sort_by_key(|&k| object(k));
+        let groups: Vec<&[usize]> = by_object
+            .chunk_by(|&a, &b| object(a) == object(b))
             .collect();
-        objects.sort_unstable();
-        objects.dedup();
-        let object_key = |o: u32| {
-            slots
-                .iter()
-                .zip(&keys)
-                .filter(|(c, _)| c.as_ref().is_some_and(|c| c.object == o))
-                .map(|(_, k)| *k)
-                .fold(f64::INFINITY, f64::min)
-        };
-        let object_keys: Vec<f64> = objects.iter().map(|&o| object_key(o)).collect();
+        let object_keys: Vec<f64> = groups
+            .iter()
+            .map(|g| g.iter().map(|&k| keys[k]).fold(f64::INFINITY, f64::min))
+            .collect();
         let mut out = Vec::with_capacity(slots.len());
-        for oi in depth_sort::sorted_order(&object_keys) {
-            let o = objects[oi];
-            let members: Vec<usize> = (0..slots.len())
-                .filter(|&k| slots[k].as_ref().is_some_and(|c| c.object == o))
-                .collect();
+        for gi in depth_sort::sorted_order(&object_keys) {
+            let members = groups[gi];
             let member_keys: Vec<f64> = members.iter().map(|&k| keys[k]).collect();
             for m in depth_sort::sorted_order(&member_keys) {
                 out.push(slots[members[m]].take().expect("each once"));
