@@ -9,12 +9,14 @@
 //! scan lines paged in and out because polygons visit the image in any
 //! order. Here every band sees all of its polygons before it is finished,
 //! so a finished band never needs to come back and nothing is paged to
-//! disk. Bands run in parallel (at most `threads` at once), rows are still
-//! delivered in order, and the output does not depend on the thread count:
-//! memory is (bands in flight) x `act_lines` x width pixels plus the
+//! disk. Bands run in parallel on `threads` worker threads, each taking
+//! the next band as it finishes one, while the calling thread hands the
+//! finished bands to the sink in order (PNG encoding overlaps the
+//! scanning). The output does not depend on the thread count; memory is at
+//! most 2 x `threads` + 1 bands of `act_lines` x width pixels plus the
 //! records.
 
-use rayon::prelude::*;
+use std::sync::{Condvar, Mutex, MutexGuard};
 
 use super::mask::SampleMask;
 use super::shade::{Prepared, RowShader, Shade, Shading};
@@ -119,16 +121,26 @@ impl Plan<'_> {
     }
 }
 
-/// One band's worth of state, reused from band to band.
+/// A finished band, waiting to be delivered in order; its buffers are
+/// reused for a later band.
+#[derive(Default)]
+struct Finished {
+    band: usize,
+    rows: u32,
+    out: BandOut,
+    /// Records that covered a pixel of the band.
+    covered: Vec<u32>,
+    written: u64,
+    /// Peak and total pixel-fragments.
+    fragments: (usize, u64),
+}
+
+/// One thread's scan conversion state, reused from band to band.
 struct Worker<I> {
     tiler: Tiler,
     shader: RowShader,
     integ: I,
     full: Fragment,
-    out: BandOut,
-    rows: u32,
-    covered: Vec<u32>,
-    written: u64,
 }
 
 impl<I: Integrator> Worker<I> {
@@ -144,26 +156,24 @@ impl<I: Integrator> Worker<I> {
                 mask: SampleMask::full(n * n),
                 centre: true,
             },
-            out: BandOut::default(),
-            rows: 0,
-            covered: Vec::new(),
-            written: 0,
         }
     }
 
-    fn run(&mut self, plan: &Plan<'_>, band: usize, bucket: &[u32]) {
+    /// Scan converts band `band` (its records `bucket`) into `done`.
+    fn run(&mut self, plan: &Plan<'_>, band: usize, bucket: &[u32], done: &mut Finished) {
         let rows = plan.rows(band);
         let w = plan.width as usize;
         let pixels = rows.len() * w;
-        self.rows = rows.len() as u32;
+        done.band = band;
+        done.rows = rows.len() as u32;
         self.integ.reset(pixels);
-        self.out.ids.clear();
-        self.out.ids.resize(if plan.ids { pixels } else { 0 }, 0);
-        self.covered.clear();
-        self.written = 0;
+        done.out.ids.clear();
+        done.out.ids.resize(if plan.ids { pixels } else { 0 }, 0);
+        done.covered.clear();
+        done.written = 0;
         for &r in bucket {
-            if self.record(plan, r as usize, rows.clone()) {
-                self.covered.push(r);
+            if self.record(plan, r as usize, rows.clone(), done) {
+                done.covered.push(r);
             }
         }
         if let Some(bg) = plan.background {
@@ -171,11 +181,18 @@ impl<I: Integrator> Worker<I> {
                 self.integ.background(px, bg);
             }
         }
-        self.integ.output(&mut self.out);
+        self.integ.output(&mut done.out);
+        done.fragments = self.integ.fragments();
     }
 
     /// Tiles record `r` into the band; returns whether it covered a pixel.
-    fn record(&mut self, plan: &Plan<'_>, r: usize, rows: std::ops::Range<u32>) -> bool {
+    fn record(
+        &mut self,
+        plan: &Plan<'_>,
+        r: usize,
+        rows: std::ops::Range<u32>,
+        done: &mut Finished,
+    ) -> bool {
         let poly = &plan.records[r];
         let special = matches!(poly.shading, Shading::Special);
         let (w, hi, id) = (plan.width as usize, rows.end, r as u32 + 1);
@@ -184,10 +201,8 @@ impl<I: Integrator> Worker<I> {
             shader,
             integ,
             full,
-            out,
-            written,
-            ..
         } = self;
+        let (ids, written) = (&mut done.out.ids, &mut done.written);
         let mut any = false;
         tiler.tile(poly, rows, |row| {
             shader.setup(poly, row.j, row.edges);
@@ -200,8 +215,8 @@ impl<I: Integrator> Worker<I> {
                 }
                 if integ.pixel(px, frag, poly.level, || shader.shade(poly, i)) {
                     *written += 1;
-                    if plan.ids && frag.centre && (plan.last_wins || out.ids[px] == 0) {
-                        out.ids[px] = id;
+                    if plan.ids && frag.centre && (plan.last_wins || ids[px] == 0) {
+                        ids[px] = id;
                     }
                 }
             };
@@ -226,77 +241,182 @@ impl<I: Integrator> Worker<I> {
         });
         any
     }
+}
 
-    fn deliver(&self, plan: &Plan<'_>, band: usize, sink: &mut dyn RowSink) -> Result<()> {
-        let w = plan.width as usize;
-        let top = band as u32 * plan.act_lines;
-        for r in 0..self.rows as usize {
-            let s = r * w..(r + 1) * w;
-            let out = &self.out;
-            sink.row(&Row {
-                y: top + r as u32,
-                rgb: &out.rgb[s.clone()],
-                coverage: plan.coverage.then(|| &out.coverage[s.clone()]),
-                mask: plan.mask.then(|| &out.mask[s.clone()]),
-                pixels: plan.pixels.then(|| &out.pixels[s.clone()]),
-                ids: plan.ids.then(|| &out.ids[s.clone()]),
-            })?;
-        }
-        Ok(())
+/// Hands a finished band's rows to `sink`, top row first.
+fn deliver(plan: &Plan<'_>, done: &Finished, sink: &mut dyn RowSink) -> Result<()> {
+    let w = plan.width as usize;
+    let top = done.band as u32 * plan.act_lines;
+    let out = &done.out;
+    for r in 0..done.rows as usize {
+        let s = r * w..(r + 1) * w;
+        sink.row(&Row {
+            y: top + r as u32,
+            rgb: &out.rgb[s.clone()],
+            coverage: plan.coverage.then(|| &out.coverage[s.clone()]),
+            mask: plan.mask.then(|| &out.mask[s.clone()]),
+            pixels: plan.pixels.then(|| &out.pixels[s.clone()]),
+            ids: plan.ids.then(|| &out.ids[s.clone()]),
+        })?;
+    }
+    Ok(())
+}
+
+/// The bands' progress, shared by the workers and the delivering thread.
+#[derive(Default)]
+struct Schedule {
+    /// The next band to start.
+    next: usize,
+    /// Bands delivered so far (in order).
+    delivered: usize,
+    /// Finished bands not yet delivered.
+    done: std::collections::BTreeMap<usize, Finished>,
+    /// Buffers of delivered bands, for reuse.
+    spare: Vec<Finished>,
+    /// Set when delivery failed or a worker panicked: everyone stops.
+    stop: bool,
+}
+
+/// The schedule and its condition variable.
+struct Shared {
+    state: Mutex<Schedule>,
+    changed: Condvar,
+}
+
+impl Shared {
+    fn lock(&self) -> MutexGuard<'_, Schedule> {
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn wait<'g>(&self, g: MutexGuard<'g, Schedule>) -> MutexGuard<'g, Schedule> {
+        self.changed.wait(g).unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn stop(&self) {
+        self.lock().stop = true;
+        self.changed.notify_all();
     }
 }
 
-/// Runs the bands of `plan` with integrators from `make`, at most
-/// `threads` bands at once (0: all cores), and hands the rows to `sink`.
+/// Stops everyone if its worker thread unwinds, so that the delivering
+/// thread does not wait for a band that will never come.
+struct StopOnPanic<'a>(&'a Shared);
+
+impl Drop for StopOnPanic<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.stop();
+        }
+    }
+}
+
+/// A worker thread: takes the next band while fewer than `window` bands
+/// wait for delivery, converts it and hands it back.
+fn work<I: Integrator>(
+    worker: &mut Worker<I>,
+    plan: &Plan<'_>,
+    buckets: &[Vec<u32>],
+    shared: &Shared,
+    window: usize,
+) {
+    let _guard = StopOnPanic(shared);
+    let mut g = shared.lock();
+    loop {
+        while !g.stop && g.next < buckets.len() && g.next >= g.delivered + window {
+            g = shared.wait(g);
+        }
+        if g.stop || g.next >= buckets.len() {
+            return;
+        }
+        let band = g.next;
+        g.next += 1;
+        let mut done = g.spare.pop().unwrap_or_default();
+        drop(g);
+        worker.run(plan, band, &buckets[band], &mut done);
+        g = shared.lock();
+        g.done.insert(band, done);
+        shared.changed.notify_all();
+    }
+}
+
+/// Runs the bands of `plan` with integrators from `make` on `threads`
+/// threads (0: as many as cores), while this thread hands the rows, in
+/// order, to `sink`. At most twice as many bands as threads are in flight
+/// or waiting, so memory stays bounded whatever the image height.
 pub(crate) fn convert<I: Integrator>(
     plan: &Plan<'_>,
     threads: usize,
     make: impl Fn() -> I,
     sink: &mut dyn RowSink,
 ) -> Result<ScanStats> {
-    let pool = if threads > 0 {
-        let p = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .map_err(|e| Error::Invalid(format!("cannot start {threads} threads: {e}")))?;
-        Some(p)
-    } else {
-        None
-    };
-    let in_flight = if threads > 0 {
-        threads
-    } else {
-        rayon::current_num_threads()
-    };
     let buckets = plan.buckets();
     let nb = buckets.len();
-    let k = in_flight.clamp(1, nb.max(1));
+    let threads = if threads > 0 {
+        threads
+    } else {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    };
+    let k = threads.clamp(1, nb.max(1));
+    let window = 2 * k;
     let mut workers: Vec<Worker<I>> = (0..k).map(|_| Worker::new(plan, make())).collect();
+    let shared = Shared {
+        state: Mutex::new(Schedule::default()),
+        changed: Condvar::new(),
+    };
     let mut stats = ScanStats::default();
     let mut hit = vec![false; plan.records.len()];
-    for start in (0..nb).step_by(k) {
-        let count = k.min(nb - start);
-        let job = |ws: &mut [Worker<I>]| {
-            ws.par_iter_mut().enumerate().for_each(|(o, w)| {
-                let b = start + o;
-                w.run(plan, b, &buckets[b]);
-            })
-        };
-        match &pool {
-            Some(p) => p.install(|| job(&mut workers[..count])),
-            None => job(&mut workers[..count]),
-        }
-        for (o, w) in workers[..count].iter().enumerate() {
-            w.deliver(plan, start + o, sink)?;
-            for &r in &w.covered {
-                hit[r as usize] = true;
+    std::thread::scope(|scope| {
+        for w in &mut workers {
+            let (buckets, shared) = (&buckets, &shared);
+            let started = std::thread::Builder::new()
+                .name("scan band".into())
+                .spawn_scoped(scope, move || work(w, plan, buckets, shared, window));
+            if let Err(e) = started {
+                shared.stop();
+                return Err(Error::Invalid(format!("cannot start a scan thread: {e}")));
             }
-            stats.pixels_written += w.written;
-            let (peak, total) = w.integ.fragments();
-            stats.peak_fragments = stats.peak_fragments.max(peak);
-            stats.total_fragments += total;
         }
-    }
+        let delivered = deliver_all(plan, nb, &shared, sink, &mut stats, &mut hit);
+        shared.stop();
+        delivered
+    })?;
     stats.polygons_tiled = hit.iter().filter(|&&h| h).count();
     Ok(stats)
+}
+
+/// Delivers the `nb` bands in order as the workers finish them.
+fn deliver_all(
+    plan: &Plan<'_>,
+    nb: usize,
+    shared: &Shared,
+    sink: &mut dyn RowSink,
+    stats: &mut ScanStats,
+    hit: &mut [bool],
+) -> Result<()> {
+    for band in 0..nb {
+        let done = {
+            let mut g = shared.lock();
+            loop {
+                if let Some(d) = g.done.remove(&band) {
+                    break d;
+                }
+                if g.stop {
+                    return Err(Error::Invalid("a scan thread failed".into()));
+                }
+                g = shared.wait(g);
+            }
+        };
+        deliver(plan, &done, sink)?;
+        for &r in &done.covered {
+            hit[r as usize] = true;
+        }
+        stats.pixels_written += done.written;
+        stats.peak_fragments = stats.peak_fragments.max(done.fragments.0);
+        stats.total_fragments += done.fragments.1;
+        let mut g = shared.lock();
+        g.spare.push(done);
+        g.delivered += 1;
+        shared.changed.notify_all();
+    }
+    Ok(())
 }
