@@ -1207,7 +1207,7 @@ fn load_scene(interp: &mut Interpreter, host: &mut CliHost, path: &Path) -> Resu
     let flow = interp.execute_file(path, true, host);
     print_warnings(interp);
     let flow = flow?;
-    host.scanned(path, &interp.scene(), start.elapsed());
+    host.scanned(path, interp.current(), start.elapsed());
     Ok(flow)
 }
 
@@ -1504,8 +1504,7 @@ fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
         if options.immediate {
-            let scene = interp.scene();
-            return match host.run(&scene, true) {
+            return match host.run(interp.current(), true) {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => failed(&e, &host),
             };

@@ -252,6 +252,13 @@ impl Interpreter {
         s
     }
 
+    /// The scene as it stands, like [`Self::scene`] but borrowed: a render
+    /// or a summary needs no copy of every object.
+    pub fn current(&mut self) -> &Scene {
+        self.scene.projection = self.ctm;
+        &self.scene
+    }
+
     /// The current transformation matrix.
     pub fn ctm(&self) -> Matrix4 {
         self.ctm
@@ -496,7 +503,7 @@ impl Interpreter {
                     if let Some(caller) = &done.caller
                         && caller.get
                     {
-                        host.scanned(&done.file, &self.scene(), caller.start.elapsed());
+                        host.scanned(&done.file, self.current(), caller.start.elapsed());
                     }
                 }
                 continue;
@@ -641,7 +648,7 @@ impl Interpreter {
             }
             "clear" => {
                 a.count(0, 0)?;
-                host.clear(&self.scene())?;
+                host.clear(self.current())?;
             }
             "color" => {
                 a.count(3, 3)?;
@@ -910,7 +917,7 @@ impl Interpreter {
                 if self.active.is_some() {
                     return Err(ctx.error(cmd, "`run` inside an object definition"));
                 }
-                host.run(&self.scene(), shadows).map_err(|e| match e {
+                host.run(self.current(), shadows).map_err(|e| match e {
                     Error::Input(mut d) => {
                         d.included_from.push(ctx.location(cmd));
                         Error::Input(d)
