@@ -1186,7 +1186,7 @@ fn load_scene(interp: &mut Interpreter, host: &mut CliHost, path: &Path) -> Resu
     let flow = interp.execute_file(path, true, host);
     print_warnings(interp);
     let flow = flow?;
-    host.scanned(path, &interp.scene(), start.elapsed());
+    host.scanned(path, interp.current_scene(), start.elapsed());
     Ok(flow)
 }
 
@@ -1483,8 +1483,7 @@ fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
         if options.immediate {
-            let scene = interp.scene();
-            return match host.run(&scene, true) {
+            return match host.run(interp.current_scene(), true) {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => failed(&e, &host),
             };
