@@ -530,22 +530,32 @@ impl<'a> Builder<'a> {
     fn sort(&mut self, candidates: Vec<Candidate>) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Sortply);
         if self.options.nns {
-            let faces: Vec<nns::NnsFace> = candidates
-                .iter()
-                .flat_map(|c| {
-                    polygon::triangulate_if_needed(&c.points)
-                        .into_iter()
-                        .map(|world| nns::NnsFace {
-                            object: c.object,
-                            polygon: c.polygon,
-                            world,
-                        })
-                })
-                .collect();
+            // Which source polygons are seen from behind (`type open`);
+            // none in a closed scene, where back faces are culled.
             let back: std::collections::HashMap<(u32, u32), bool> = candidates
                 .iter()
-                .map(|c| ((c.object, c.polygon), c.back_facing))
+                .filter(|c| c.back_facing)
+                .map(|c| ((c.object, c.polygon), true))
                 .collect();
+            let mut faces: Vec<nns::NnsFace> = Vec::with_capacity(candidates.len());
+            for c in candidates {
+                let (object, polygon) = (c.object, c.polygon);
+                if polygon::is_convex(&c.points) {
+                    faces.push(nns::NnsFace {
+                        object,
+                        polygon,
+                        world: c.points,
+                    });
+                } else {
+                    faces.extend(polygon::triangulate(&c.points).into_iter().map(|t| {
+                        nns::NnsFace {
+                            object,
+                            polygon,
+                            world: t.to_vec(),
+                        }
+                    }));
+                }
+            }
             let (sorted, stats) =
                 nns::sort_budgeted(faces, self.view, self.eps, self.options.budgets.splits);
             let total = self.tree.nns.get_or_insert_with(Default::default);
@@ -564,7 +574,7 @@ impl<'a> Builder<'a> {
             return sorted
                 .into_iter()
                 .map(|f| Candidate {
-                    back_facing: back[&(f.object, f.polygon)],
+                    back_facing: back.contains_key(&(f.object, f.polygon)),
                     object: f.object,
                     polygon: f.polygon,
                     points: f.world,

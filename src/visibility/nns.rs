@@ -102,7 +102,6 @@ pub fn fallback_warning(splits: usize, levels: usize) -> String {
 
 struct Face {
     source: NnsFace,
-    screen: Vec<DVec2>,
     lo: DVec2,
     hi: DVec2,
     zmin: f64,
@@ -144,6 +143,9 @@ struct Sorter<'v> {
     max_work: usize,
     /// Set when a budget ran out: the sort gives up.
     stopped: bool,
+    /// The neighbour list of [`Sorter::neighbours`], kept between calls
+    /// so that the search allocates nothing per face.
+    found: Vec<usize>,
 }
 
 /// The most cells of the screen grid along a side.
@@ -216,7 +218,6 @@ pub fn sort_budgeted(
     max_splits: usize,
 ) -> (Vec<NnsFace>, NnsStats) {
     let n = faces.len();
-    let originals = faces.clone();
     let mut s = Sorter {
         view,
         eps: epsilon,
@@ -232,20 +233,37 @@ pub fn sort_budgeted(
         max_splits,
         max_work: max_splits.saturating_mul(WORK_PER_SPLIT),
         stopped: false,
+        found: Vec::new(),
     };
     for f in faces {
         s.add(f);
     }
-    let mut out = Vec::with_capacity(n);
+    // The faces output, by index: a face split or output keeps its
+    // points, so the first `n` are the faces given (for the fallback).
+    let mut order = Vec::with_capacity(n);
     while let Some(head) = s.head() {
         let p = s.find_minimum(head);
         if s.stopped {
             break;
         }
         s.faces[p].alive = false;
-        out.push(s.faces[p].source.clone());
+        order.push(p);
     }
-    if s.stopped {
+    let mut take = |k: usize| {
+        std::mem::replace(
+            &mut s.faces[k].source,
+            NnsFace {
+                object: 0,
+                polygon: 0,
+                world: Vec::new(),
+            },
+        )
+    };
+    let out: Vec<NnsFace>;
+    if !s.stopped {
+        out = order.into_iter().map(take).collect();
+    } else {
+        let originals: Vec<NnsFace> = (0..n).map(&mut take).collect();
         let keys: Vec<f64> = originals
             .iter()
             .map(|f| {
@@ -273,17 +291,14 @@ pub fn sort_budgeted(
 
 impl Sorter<'_> {
     fn add(&mut self, source: NnsFace) -> usize {
-        let screen3: Vec<DVec3> = source.world.iter().map(|p| self.view.project(*p)).collect();
-        let screen: Vec<DVec2> = screen3.iter().map(|p| DVec2::new(p.x, p.y)).collect();
-        let (lo, hi) = screen.iter().fold(
-            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let (zmin, zmax) = screen3
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-                (a.min(p.z), b.max(p.z))
-            });
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for p in &source.world {
+            let q = self.view.project(*p);
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        let (zmin, zmax) = (lo.z, hi.z);
+        let (lo, hi) = (lo.truncate(), hi.truncate());
         let plane = world_plane(&source.world).and_then(|pl| {
             let side = pl.dot(self.view.eye);
             let scale =
@@ -293,7 +308,6 @@ impl Sorter<'_> {
         let id = self.faces.len();
         self.faces.push(Face {
             source,
-            screen,
             lo,
             hi,
             zmin,
@@ -368,9 +382,12 @@ impl Sorter<'_> {
             }
         }
         let candidates = self.neighbours(p);
-        candidates
-            .into_iter()
-            .find(|&q| !chain.contains(&q) && self.may_occult(p, q))
+        let found = candidates
+            .iter()
+            .copied()
+            .find(|&q| !chain.contains(&q) && self.may_occult(p, q));
+        self.found = candidates;
+        found
     }
 
     /// Alive faces whose screen extents and depth ranges overlap `p`'s.
@@ -382,7 +399,8 @@ impl Sorter<'_> {
         }
         let f = &self.faces[p];
         let (x0, x1, y0, y1) = self.grid.range(f.lo, f.hi);
-        let mut out = Vec::new();
+        let mut out = std::mem::take(&mut self.found);
+        out.clear();
         for y in y0..=y1 {
             for x in x0..=x1 {
                 let cell = &mut self.grid.cells[y * self.grid.n + x];
@@ -447,7 +465,14 @@ impl Sorter<'_> {
         }
         // Test 4: depths along the rays through the overlap's corners.
         self.stats.exact_tests += 1;
-        let overlap = convex_overlap(&fa.screen, &fb.screen);
+        let screen = |f: &Face| -> Vec<DVec2> {
+            f.source
+                .world
+                .iter()
+                .map(|p| self.view.project(*p).truncate())
+                .collect()
+        };
+        let overlap = convex_overlap(&screen(fa), &screen(fb));
         if overlap.len() < 3 || signed_area(&overlap).abs() < 1e-9 {
             return false;
         }
