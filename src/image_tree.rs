@@ -660,43 +660,32 @@ impl<'a> Builder<'a> {
         let eye_real = inverse
             .map(|inv| inv.transform(self.view.eye))
             .unwrap_or(self.view.eye);
-        let mut ids = Vec::new();
+        let mut ids = Vec::with_capacity(sorted.len());
         // The shadow regions of the level's fragments, found in parallel
         // a chunk at a time (so that only one chunk's wait at once); the
         // fragments are added below in order.
         let mut shadow_regions = Vec::new().into_iter();
-        let mut facets: std::collections::HashMap<(u32, u32, bool), FacetTerms<'a>> =
-            std::collections::HashMap::new();
-        for (k, c) in sorted.iter().enumerate() {
+        let level_terms = self.level_terms(&sorted, eye_real);
+        let (screens, worlds): (Vec<Vec<DVec3>>, Vec<Vec<DVec3>>) = sorted
+            .par_iter()
+            .with_min_len(PARALLEL_MIN)
+            .map(|c| {
+                let screen = c.points.iter().map(|p| self.view.project(*p)).collect();
+                let world = match inverse {
+                    Some(i) => c.points.iter().map(|p| i.transform_point(*p)).collect(),
+                    None => c.points.clone(),
+                };
+                (screen, world)
+            })
+            .unzip();
+        let per_fragment = level_terms.into_iter().zip(screens).zip(worlds);
+        for ((k, c), ((terms, screen), world)) in sorted.iter().enumerate().zip(per_fragment) {
             if k % SHADOW_CHUNK == 0 {
                 let chunk = &sorted[k..(k + SHADOW_CHUNK).min(sorted.len())];
                 shadow_regions = self.level_shadow_regions(chunk, t).into_iter();
             }
-            // One shade per source polygon and side at this level (the
-            // fragments of a level share the eye): the pieces of a polygon
-            // of 200,000 vertices would each average all its vertices.
-            let terms = {
-                let _t = self.profile.time(Category::Shading);
-                let scene: &'a Scene = self.scene;
-                let shading = self.options.shading;
-                facets
-                    .entry((c.object, c.polygon, c.back_facing))
-                    .or_insert_with(|| {
-                        FacetTerms::new(
-                            scene,
-                            eye_real,
-                            c.object,
-                            c.polygon,
-                            c.back_facing,
-                            None,
-                            shading,
-                        )
-                    })
-                    .clone()
-            };
             let own = terms.shade();
             let blended = parent_blend + own * weight;
-            let screen: Vec<DVec3> = c.points.iter().map(|p| self.view.project(*p)).collect();
             let id = self.push(Fragment {
                 level,
                 kind: FragmentKind::Polygon,
@@ -710,10 +699,7 @@ impl<'a> Builder<'a> {
                 blended,
                 weight,
                 parent,
-                world: match inverse {
-                    Some(i) => c.points.iter().map(|p| i.transform_point(*p)).collect(),
-                    None => c.points.clone(),
-                },
+                world,
                 eye: eye_real,
                 children: Vec::new(),
                 shadowed_from: Vec::new(),
@@ -785,6 +771,42 @@ impl<'a> Builder<'a> {
             }
         }
         Some(ids)
+    }
+
+    /// The shading terms of each of a level's fragments (`sorted`), seen
+    /// from `eye` (true world coordinates), computed in parallel. One per
+    /// source polygon and side (the fragments of a level share the eye):
+    /// the pieces of a polygon of 200,000 vertices would each average all
+    /// its vertices. The terms are a function of the polygon, side and
+    /// eye alone, so the thread count changes nothing.
+    fn level_terms(&self, sorted: &[Candidate], eye: DVec4) -> Vec<FacetTerms<'a>> {
+        let _t = self.profile.time(Category::Shading);
+        let scene: &'a Scene = self.scene;
+        let shading = self.options.shading;
+        let key = |c: &Candidate| (c.object, c.polygon, c.back_facing);
+        let terms = |&(object, polygon, back): &(u32, u32, bool)| {
+            FacetTerms::new(scene, eye, object, polygon, back, None, shading)
+        };
+        let keys: Vec<(u32, u32, bool)> = sorted.iter().map(key).collect();
+        let mut unique = keys.clone();
+        unique.par_sort_unstable();
+        unique.dedup();
+        if unique.len() == keys.len() {
+            // No polygon was cut into pieces (the usual case at level 1).
+            return keys
+                .par_iter()
+                .with_min_len(PARALLEL_MIN)
+                .map(terms)
+                .collect();
+        }
+        let shared: Vec<FacetTerms<'a>> = unique
+            .par_iter()
+            .with_min_len(PARALLEL_MIN)
+            .map(terms)
+            .collect();
+        keys.iter()
+            .map(|k| shared[unique.binary_search(k).expect("listed")].clone())
+            .collect()
     }
 
     fn enqueue(&mut self, mut p: Pending) {
@@ -1088,6 +1110,10 @@ impl<'a> Builder<'a> {
 /// fragment may carry up to [`MAX_OVERLAP_PIECES`] overlap regions, and
 /// 4096 fragments of office2 under 50 lights held more than 5 GB.
 const SHADOW_CHUNK: usize = 256;
+
+/// The fewest fragments a thread takes at once in a level's parallel
+/// per-fragment work (shading terms, projections).
+const PARALLEL_MIN: usize = 512;
 
 /// At most this many lights are combined into overlap regions on one
 /// target fragment (see [`Builder::shadows_on`]).
