@@ -1591,25 +1591,40 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
         ));
     }
     let mirrored = linear_determinant(&transform) < 0.0;
+    // Each polygon's plane, in parallel (a pure function of the polygon);
+    // the polygons are then taken in order, with their warnings.
+    let planes: Vec<Option<std::result::Result<glam::DVec4, PolygonDefect>>> = {
+        use rayon::prelude::*;
+        mesh.polygons
+            .par_iter()
+            .with_min_len(1024)
+            .map_init(Vec::new, |points: &mut Vec<DVec3>, indices| {
+                points.clear();
+                for &i in indices {
+                    points.push(*vertices.get(i as usize)?);
+                }
+                if mirrored {
+                    points.reverse();
+                }
+                Some(polygon::outward_plane(points))
+            })
+            .collect()
+    };
     let mut polygons = Vec::with_capacity(mesh.polygons.len());
     let mut source_polygon = Vec::with_capacity(mesh.polygons.len());
-    for (pi, indices) in mesh.polygons.iter().enumerate() {
+    for (pi, (indices, plane)) in mesh.polygons.iter().zip(planes).enumerate() {
         let mut indices = indices.clone();
         if mirrored {
             indices.reverse();
         }
-        let Some(points) = indices
-            .iter()
-            .map(|&i| vertices.get(i as usize).copied())
-            .collect::<Option<Vec<DVec3>>>()
-        else {
+        let Some(plane) = plane else {
             return Err(format!(
                 "object `{shown}` polygon {}: a vertex index is beyond the {} vertices",
                 pi + 1,
                 vertices.len()
             ));
         };
-        match polygon::outward_plane(&points) {
+        match plane {
             Ok(plane) => {
                 polygons.push(Polygon { indices, plane });
                 source_polygon.push(pi as u32);
