@@ -102,14 +102,19 @@ pub fn fallback_warning(splits: usize, levels: usize) -> String {
 
 struct Face {
     source: NnsFace,
+    /// World plane, oriented so that the eye is on its positive side;
+    /// `None` when seen edge-on.
+    plane: Option<DVec4>,
+}
+
+/// A face's screen extent and depth range, kept apart from its points in
+/// one compact list that the neighbour search walks.
+#[derive(Clone, Copy)]
+struct Bounds {
     lo: DVec2,
     hi: DVec2,
     zmin: f64,
     zmax: f64,
-    /// World plane, oriented so that the eye is on its positive side;
-    /// `None` when seen edge-on.
-    plane: Option<DVec4>,
-    alive: bool,
 }
 
 #[derive(PartialEq)]
@@ -134,6 +139,14 @@ struct Sorter<'v> {
     view: &'v View,
     eps: f64,
     faces: Vec<Face>,
+    bounds: Vec<Bounds>,
+    /// Not yet output nor replaced by its pieces.
+    alive: Vec<bool>,
+    /// The faces given, farthest first ([`HeapKey`] order), and how many
+    /// of them were taken; the pieces of splits go to `heap`. The head of
+    /// the list is the greater of the two.
+    given: Vec<usize>,
+    next_given: usize,
     heap: BinaryHeap<HeapKey>,
     grid: Grid,
     stamp: Vec<u32>,
@@ -222,7 +235,11 @@ pub fn sort_budgeted(
         view,
         eps: epsilon,
         faces: Vec::with_capacity(n),
-        heap: BinaryHeap::with_capacity(n),
+        bounds: Vec::with_capacity(n),
+        alive: Vec::with_capacity(n),
+        given: (0..n).collect(),
+        next_given: 0,
+        heap: BinaryHeap::new(),
         grid: Grid::new(n, view.width, view.height),
         stamp: Vec::new(),
         epoch: 0,
@@ -238,6 +255,10 @@ pub fn sort_budgeted(
     for f in faces {
         s.add(f);
     }
+    // The faces given are ordered once; only pieces go through the heap.
+    let bounds = &s.bounds;
+    s.given
+        .sort_unstable_by(|&a, &b| HeapKey(bounds[b].zmax, b).cmp(&HeapKey(bounds[a].zmax, a)));
     // The faces output, by index: a face split or output keeps its
     // points, so the first `n` are the faces given (for the fallback).
     let mut order = Vec::with_capacity(n);
@@ -246,7 +267,7 @@ pub fn sort_budgeted(
         if s.stopped {
             break;
         }
-        s.faces[p].alive = false;
+        s.alive[p] = false;
         order.push(p);
     }
     let mut take = |k: usize| {
@@ -306,30 +327,43 @@ impl Sorter<'_> {
             (side.abs() > 1e-12 * scale.max(1e-300)).then(|| if side > 0.0 { pl } else { -pl })
         });
         let id = self.faces.len();
-        self.faces.push(Face {
-            source,
-            lo,
-            hi,
-            zmin,
-            zmax,
-            plane,
-            alive: true,
-        });
+        self.faces.push(Face { source, plane });
+        self.bounds.push(Bounds { lo, hi, zmin, zmax });
+        self.alive.push(true);
         self.stamp.push(0);
-        self.heap.push(HeapKey(zmax, id));
+        if id >= self.given.len() {
+            // A piece of a split.
+            self.heap.push(HeapKey(zmax, id));
+        }
         self.grid.insert(id as u32, lo, hi);
         id
     }
 
     /// The farthest face still in the list.
     fn head(&mut self) -> Option<usize> {
+        while self
+            .given
+            .get(self.next_given)
+            .is_some_and(|&id| !self.alive[id])
+        {
+            self.next_given += 1;
+        }
         while let Some(HeapKey(_, id)) = self.heap.peek() {
-            if self.faces[*id].alive {
-                return Some(*id);
+            if self.alive[*id] {
+                break;
             }
             self.heap.pop();
         }
-        None
+        let given = self.given.get(self.next_given).copied();
+        match (given, self.heap.peek()) {
+            (Some(g), Some(h)) => Some(if HeapKey(self.bounds[g].zmax, g) > *h {
+                g
+            } else {
+                h.1
+            }),
+            (Some(g), None) => Some(g),
+            (None, h) => h.map(|h| h.1),
+        }
     }
 
     /// Donovan's search for a minimum face, splitting cycles on the way.
@@ -377,7 +411,7 @@ impl Sorter<'_> {
     /// order), then the others by index.
     fn first_occulted(&mut self, p: usize, chain: &[usize]) -> Option<usize> {
         for &q in chain {
-            if q != p && self.faces[q].alive && self.may_occult(p, q) {
+            if q != p && self.alive[q] && self.may_occult(p, q) {
                 return Some(q);
             }
         }
@@ -397,7 +431,7 @@ impl Sorter<'_> {
             self.stamp.iter_mut().for_each(|s| *s = 0);
             self.epoch = 1;
         }
-        let f = &self.faces[p];
+        let f = self.bounds[p];
         let (x0, x1, y0, y1) = self.grid.range(f.lo, f.hi);
         let mut out = std::mem::take(&mut self.found);
         out.clear();
@@ -405,7 +439,7 @@ impl Sorter<'_> {
             for x in x0..=x1 {
                 let cell = &mut self.grid.cells[y * self.grid.n + x];
                 // Drop faces already output, lazily.
-                cell.retain(|&q| self.faces[q as usize].alive);
+                cell.retain(|&q| self.alive[q as usize]);
                 self.stats.work += cell.len();
                 for &q in cell.iter() {
                     let q = q as usize;
@@ -413,7 +447,7 @@ impl Sorter<'_> {
                         continue;
                     }
                     self.stamp[q] = self.epoch;
-                    let g = &self.faces[q];
+                    let g = &self.bounds[q];
                     if g.lo.x < f.hi.x
                         && f.lo.x < g.hi.x
                         && g.lo.y < f.hi.y
@@ -433,15 +467,16 @@ impl Sorter<'_> {
     /// (tests 1 to 4 of the module comment).
     fn may_occult(&mut self, a: usize, b: usize) -> bool {
         self.stats.work += 1;
-        let (fa, fb) = (&self.faces[a], &self.faces[b]);
+        let (ba, bb) = (&self.bounds[a], &self.bounds[b]);
         // Test 1: screen extents.
-        if fa.hi.x <= fb.lo.x || fb.hi.x <= fa.lo.x || fa.hi.y <= fb.lo.y || fb.hi.y <= fa.lo.y {
+        if ba.hi.x <= bb.lo.x || bb.hi.x <= ba.lo.x || ba.hi.y <= bb.lo.y || bb.hi.y <= ba.lo.y {
             return false;
         }
         // Test 2: depth extents.
-        if fa.zmin >= fb.zmax {
+        if ba.zmin >= bb.zmax {
             return false;
         }
+        let (fa, fb) = (&self.faces[a], &self.faces[b]);
         let (Some(pa), Some(pb)) = (fa.plane, fb.plane) else {
             return false;
         };
@@ -533,7 +568,7 @@ impl Sorter<'_> {
             return false;
         }
         self.stats.splits += 1;
-        self.faces[q].alive = false;
+        self.alive[q] = false;
         let (object, polygon) = (self.faces[q].source.object, self.faces[q].source.polygon);
         for world in pieces {
             self.add(NnsFace {
