@@ -57,21 +57,33 @@ pub fn records(
     } else {
         Vec::new()
     };
-    let mut records = Vec::with_capacity(order.len());
-    let mut sources = Vec::with_capacity(order.len());
-    for &n in &order {
-        let f = &tree.nodes[n];
-        let pre = gouraud.get(n).and_then(|g| g.as_deref());
-        records.push(record(scene, f, how, pre, eye));
-        sources.push(Source {
-            object: f.object,
-            polygon: f.polygon,
-            shadow_of: match f.kind {
-                FragmentKind::Shadow { light } => Some(light),
-                _ => None,
-            },
-        });
-    }
+    // Each record is a function of its fragment alone: made in parallel,
+    // kept in order, so the thread count changes nothing.
+    let records: Vec<Record> = {
+        use rayon::prelude::*;
+        order
+            .par_iter()
+            .with_min_len(512)
+            .map(|&n| {
+                let pre = gouraud.get(n).and_then(|g| g.as_deref());
+                record(scene, &tree.nodes[n], how, pre, eye)
+            })
+            .collect()
+    };
+    let sources = order
+        .iter()
+        .map(|&n| {
+            let f = &tree.nodes[n];
+            Source {
+                object: f.object,
+                polygon: f.polygon,
+                shadow_of: match f.kind {
+                    FragmentKind::Shadow { light } => Some(light),
+                    _ => None,
+                },
+            }
+        })
+        .collect();
     let stream = RecordStream {
         records,
         background: Some(color_bytes(scene.background)),

@@ -679,11 +679,17 @@ impl<'a> Builder<'a> {
             })
             .unzip();
         let per_fragment = level_terms.into_iter().zip(screens).zip(worlds);
-        for ((k, c), ((terms, screen), world)) in sorted.iter().enumerate().zip(per_fragment) {
+        let mut sorted = sorted;
+        self.tree.nodes.reserve(sorted.len());
+        for (k, ((terms, screen), world)) in per_fragment.enumerate() {
             if k % SHADOW_CHUNK == 0 {
                 let chunk = &sorted[k..(k + SHADOW_CHUNK).min(sorted.len())];
                 shadow_regions = self.level_shadow_regions(chunk, t).into_iter();
             }
+            // The points move into the fragment (the chunk's shadow
+            // regions, the last use of the candidate's, are found).
+            let points = std::mem::take(&mut sorted[k].points);
+            let c = &sorted[k];
             let own = terms.shade();
             let blended = parent_blend + own * weight;
             let id = self.push(Fragment {
@@ -692,7 +698,7 @@ impl<'a> Builder<'a> {
                 branch,
                 object: c.object,
                 polygon: c.polygon,
-                virtual_points: c.points.clone(),
+                virtual_points: points,
                 screen,
                 back_facing: c.back_facing,
                 shade: own,
@@ -717,9 +723,11 @@ impl<'a> Builder<'a> {
             }
             let object = &self.scene.objects[c.object as usize];
             let material = polygon_material(object, c.polygon as usize);
-            let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
+            let points = &self.tree.nodes[id].virtual_points;
+            let Some(plane) = toward_eye_plane(points, self.view.eye) else {
                 continue;
             };
+            let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
             if material.reflectance > 0.0 && weight * material.reflectance > self.options.threshold
             {
                 let m = math::reflection(plane);
@@ -738,7 +746,6 @@ impl<'a> Builder<'a> {
                 && weight * material.transmittance > self.options.threshold
             {
                 let eta = 1.0 / object.surface.index;
-                let centre = c.points.iter().copied().sum::<DVec3>() / c.points.len() as f64;
                 let matrix = match self.options.refraction {
                     Refraction::Linearized | Refraction::Auto => {
                         math::refraction(plane, -self.view.to_eye(centre), eta)
