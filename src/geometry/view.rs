@@ -223,6 +223,12 @@ pub fn expand_object(
         .with_min_len(PARALLEL_MIN)
         .map(|(pi, polygon)| expanded.polygon(pi, polygon))
         .collect();
+    out.reserve(
+        outcomes
+            .iter()
+            .filter(|o| matches!(o, Outcome::Kept(_)))
+            .count(),
+    );
     for outcome in outcomes {
         match outcome {
             Outcome::BackFace => stats.back_faces += 1,
