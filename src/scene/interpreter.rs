@@ -1591,9 +1591,11 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
         ));
     }
     let mirrored = linear_determinant(&transform) < 0.0;
-    // Each polygon's plane, in parallel (a pure function of the polygon);
-    // the polygons are then taken in order, with their warnings.
-    let planes: Vec<Option<std::result::Result<glam::DVec4, PolygonDefect>>> = {
+    // Each polygon's vertex list (reversed when mirrored) and plane, in
+    // parallel (a pure function of the polygon); the polygons are then
+    // taken in order, with their warnings.
+    type Oriented = (Vec<u32>, std::result::Result<glam::DVec4, PolygonDefect>);
+    let oriented: Vec<Option<Oriented>> = {
         use rayon::prelude::*;
         mesh.polygons
             .par_iter()
@@ -1603,21 +1605,19 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
                 for &i in indices {
                     points.push(*vertices.get(i as usize)?);
                 }
+                let mut indices = indices.clone();
                 if mirrored {
                     points.reverse();
+                    indices.reverse();
                 }
-                Some(polygon::outward_plane(points))
+                Some((indices, polygon::outward_plane(points)))
             })
             .collect()
     };
     let mut polygons = Vec::with_capacity(mesh.polygons.len());
     let mut source_polygon = Vec::with_capacity(mesh.polygons.len());
-    for (pi, (indices, plane)) in mesh.polygons.iter().zip(planes).enumerate() {
-        let mut indices = indices.clone();
-        if mirrored {
-            indices.reverse();
-        }
-        let Some(plane) = plane else {
+    for (pi, oriented) in oriented.into_iter().enumerate() {
+        let Some((indices, plane)) = oriented else {
             return Err(format!(
                 "object `{shown}` polygon {}: a vertex index is beyond the {} vertices",
                 pi + 1,
