@@ -252,8 +252,17 @@ pub fn sort_budgeted(
         stopped: false,
         found: Vec::new(),
     };
-    for f in faces {
-        s.add(f);
+    // Measuring is a function of each face alone: in parallel, in order.
+    let measured: Vec<(Bounds, Option<DVec4>)> = {
+        use rayon::prelude::*;
+        faces
+            .par_iter()
+            .with_min_len(1024)
+            .map(|f| measure(view, &f.world))
+            .collect()
+    };
+    for (f, (bounds, plane)) in faces.into_iter().zip(measured) {
+        s.insert(f, bounds, plane);
     }
     // The faces given are ordered once; only pieces go through the heap.
     let bounds = &s.bounds;
@@ -312,20 +321,13 @@ pub fn sort_budgeted(
 
 impl Sorter<'_> {
     fn add(&mut self, source: NnsFace) -> usize {
-        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for p in &source.world {
-            let q = self.view.project(*p);
-            lo = lo.min(q);
-            hi = hi.max(q);
-        }
-        let (zmin, zmax) = (lo.z, hi.z);
-        let (lo, hi) = (lo.truncate(), hi.truncate());
-        let plane = world_plane(&source.world).and_then(|pl| {
-            let side = pl.dot(self.view.eye);
-            let scale =
-                self.view.eye.truncate().length() + self.view.eye.w.abs() * pl.w.abs().max(1.0);
-            (side.abs() > 1e-12 * scale.max(1e-300)).then(|| if side > 0.0 { pl } else { -pl })
-        });
+        let (bounds, plane) = measure(self.view, &source.world);
+        self.insert(source, bounds, plane)
+    }
+
+    /// Adds a face measured by [`measure`].
+    fn insert(&mut self, source: NnsFace, bounds: Bounds, plane: Option<DVec4>) -> usize {
+        let Bounds { lo, hi, zmin, zmax } = bounds;
         let id = self.faces.len();
         self.faces.push(Face { source, plane });
         self.bounds.push(Bounds { lo, hi, zmin, zmax });
@@ -579,6 +581,29 @@ impl Sorter<'_> {
         }
         true
     }
+}
+
+/// A face's screen extent, depth range and world plane (oriented so that
+/// the eye is on its positive side; `None` when seen edge-on).
+fn measure(view: &View, world: &[DVec3]) -> (Bounds, Option<DVec4>) {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for p in world {
+        let q = view.project(*p);
+        lo = lo.min(q);
+        hi = hi.max(q);
+    }
+    let bounds = Bounds {
+        lo: lo.truncate(),
+        hi: hi.truncate(),
+        zmin: lo.z,
+        zmax: hi.z,
+    };
+    let plane = world_plane(world).and_then(|pl| {
+        let side = pl.dot(view.eye);
+        let scale = view.eye.truncate().length() + view.eye.w.abs() * pl.w.abs().max(1.0);
+        (side.abs() > 1e-12 * scale.max(1e-300)).then(|| if side > 0.0 { pl } else { -pl })
+    });
+    (bounds, plane)
 }
 
 /// The plane of a planar polygon (unit normal, any orientation).
