@@ -61,6 +61,7 @@ pub fn records(
     // Each record depends only on its fragment: in parallel, in order.
     let (records, sources) = order
         .par_iter()
+        .with_min_len(512)
         .map(|&n| {
             let f = &tree.nodes[n];
             let pre = gouraud.get(n).and_then(|g| g.as_deref());

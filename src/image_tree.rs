@@ -541,22 +541,32 @@ impl<'a> Builder<'a> {
     fn sort(&mut self, candidates: Vec<Candidate>) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Sortply);
         if self.options.nns {
-            let faces: Vec<nns::NnsFace> = candidates
-                .iter()
-                .flat_map(|c| {
-                    polygon::triangulate_if_needed(&c.points)
-                        .into_iter()
-                        .map(|world| nns::NnsFace {
-                            object: c.object,
-                            polygon: c.polygon,
-                            world,
-                        })
-                })
-                .collect();
+            // Which source polygons are seen from behind (`type open`);
+            // none in a closed scene, where back faces are culled.
             let back: std::collections::HashMap<(u32, u32), bool> = candidates
                 .iter()
-                .map(|c| ((c.object, c.polygon), c.back_facing))
+                .filter(|c| c.back_facing)
+                .map(|c| ((c.object, c.polygon), true))
                 .collect();
+            let mut faces: Vec<nns::NnsFace> = Vec::with_capacity(candidates.len());
+            for c in candidates {
+                let (object, polygon) = (c.object, c.polygon);
+                if polygon::is_convex(&c.points) {
+                    faces.push(nns::NnsFace {
+                        object,
+                        polygon,
+                        world: c.points,
+                    });
+                } else {
+                    faces.extend(polygon::triangulate(&c.points).into_iter().map(|t| {
+                        nns::NnsFace {
+                            object,
+                            polygon,
+                            world: t.to_vec(),
+                        }
+                    }));
+                }
+            }
             let (sorted, stats) =
                 nns::sort_budgeted(faces, self.view, self.eps, self.options.budgets.splits);
             let total = self.tree.nns.get_or_insert_with(Default::default);
@@ -575,7 +585,7 @@ impl<'a> Builder<'a> {
             return sorted
                 .into_iter()
                 .map(|f| Candidate {
-                    back_facing: back[&(f.object, f.polygon)],
+                    back_facing: back.contains_key(&(f.object, f.polygon)),
                     object: f.object,
                     polygon: f.polygon,
                     points: f.world,
@@ -664,42 +674,64 @@ impl<'a> Builder<'a> {
             weight,
             parent_blend,
             parent,
-            inverse,
             eye_real: inverse
                 .map(|inv| inv.transform(self.view.eye))
                 .unwrap_or(self.view.eye),
             ids: Vec::new(),
         };
         let caster = self.caster();
-        let (scene, profile, shading, eye) =
-            (self.scene, self.profile, self.options.shading, at.eye_real);
-        // What a chunk's fragments need that does not depend on the tree:
-        // their shades and shadows, found in parallel.
+        let (scene, view, profile, shading, eye) = (
+            self.scene,
+            self.view,
+            self.profile,
+            self.options.shading,
+            at.eye_real,
+        );
+        // What a chunk's fragments need that does not depend on the tree
+        // (shades, screen and world points, shadows), found in parallel.
         let prepare = |chunk: Option<&[Candidate]>| {
             let Some(chunk) = chunk else {
-                return (Vec::new(), Vec::new());
+                return PreparedChunk::default();
             };
-            let terms = || {
+            let own = || {
                 let _t = profile.time(Category::Shading);
-                facet_terms(scene, eye, shading, chunk)
+                let terms = facet_terms(scene, eye, shading, chunk);
+                let points = chunk
+                    .par_iter()
+                    .map(|c| {
+                        let screen = c.points.iter().map(|p| view.project(*p)).collect();
+                        let world = match inverse {
+                            Some(i) => c.points.iter().map(|p| i.transform_point(*p)).collect(),
+                            None => c.points.clone(),
+                        };
+                        (screen, world)
+                    })
+                    .collect();
+                (terms, points)
             };
-            match &caster {
-                Some(c) => rayon::join(terms, || c.level_regions(chunk, t)),
-                None => (terms(), Vec::new()),
+            let ((terms, points), regions) = match &caster {
+                Some(c) => rayon::join(own, || c.level_regions(chunk, t)),
+                None => (own(), Vec::new()),
+            };
+            PreparedChunk {
+                terms,
+                points,
+                regions,
             }
         };
+        self.tree.nodes.reserve(sorted.len());
         let chunks: Vec<&[Candidate]> = sorted.chunks(SHADOW_CHUNK).collect();
         let mut ready = prepare(chunks.first().copied());
         for (k, chunk) in chunks.iter().enumerate() {
-            let (terms, mut regions) = std::mem::take(&mut ready);
+            let mut now = std::mem::take(&mut ready);
             // A full tree takes no more shadows.
-            if !regions.is_empty() && self.tree_full() {
+            if !now.regions.is_empty() && self.tree_full() {
                 self.tree.pruned += chunk.len();
-                regions.clear();
+                now.regions.clear();
             }
             let (next, ()) = rayon::join(
                 || prepare(chunks.get(k + 1).copied()),
-                || self.add_chunk(&mut at, chunk, terms, regions),
+                || self.add_chunk(&mut at, chunk, now),
             );
             ready = next;
         }
@@ -717,14 +749,13 @@ impl<'a> Builder<'a> {
         &mut self,
         at: &mut LevelState<'_>,
         chunk: &[Candidate],
-        terms: Vec<FacetTerms<'a>>,
-        regions: Vec<Vec<(ShadowRegion, Vec<DVec3>)>>,
+        ready: PreparedChunk<'a>,
     ) {
-        let mut regions = regions.into_iter();
-        for (c, terms) in chunk.iter().zip(terms) {
+        let mut regions = ready.regions.into_iter();
+        let per_fragment = chunk.iter().zip(ready.terms).zip(ready.points);
+        for ((c, terms), (screen, world)) in per_fragment {
             let own = terms.shade();
             let blended = at.parent_blend + own * at.weight;
-            let screen: Vec<DVec3> = c.points.iter().map(|p| self.view.project(*p)).collect();
             let id = self.push(Fragment {
                 level: at.level,
                 kind: FragmentKind::Polygon,
@@ -738,10 +769,7 @@ impl<'a> Builder<'a> {
                 blended,
                 weight: at.weight,
                 parent: at.parent,
-                world: match at.inverse {
-                    Some(i) => c.points.iter().map(|p| i.transform_point(*p)).collect(),
-                    None => c.points.clone(),
-                },
+                world,
                 eye: at.eye_real,
                 children: Vec::new(),
                 shadowed_from: Vec::new(),
@@ -1184,12 +1212,21 @@ fn facet_terms<'a>(
     slot.into_iter().map(|k| terms[k].clone()).collect()
 }
 
+/// What a chunk of a level's fragments needs that does not depend on the
+/// tree, one entry per fragment (no shadow regions without `run y`).
+#[derive(Default)]
+struct PreparedChunk<'a> {
+    terms: Vec<FacetTerms<'a>>,
+    /// Screen and true world points.
+    points: Vec<(Vec<DVec3>, Vec<DVec3>)>,
+    regions: Vec<Vec<(ShadowRegion, Vec<DVec3>)>>,
+}
+
 /// A level being added to the tree: what its fragments share.
 struct LevelState<'t> {
     level: u32,
-    /// The level's mapping and its inverse.
+    /// The level's mapping.
     t: &'t Matrix4,
-    inverse: Option<Matrix4>,
     branch: Branch,
     weight: f64,
     parent_blend: Color,

@@ -102,16 +102,18 @@ pub fn outward_plane(points: &[DVec3]) -> Result<DVec4, PolygonDefect> {
 /// two vertices are ever compared with, and the count is linear.
 fn distinct_count_up_to_3(points: &[DVec3], size: f64) -> usize {
     let tol = precision::COINCIDENT_VERTEX * size;
-    let mut unique: Vec<DVec3> = Vec::with_capacity(3);
+    let mut unique = [DVec3::ZERO; 3];
+    let mut count = 0;
     for p in points {
-        if !unique.iter().any(|q| q.distance(*p) <= tol) {
-            unique.push(*p);
-            if unique.len() == 3 {
+        if !unique[..count].iter().any(|q| q.distance(*p) <= tol) {
+            unique[count] = *p;
+            count += 1;
+            if count == 3 {
                 break;
             }
         }
     }
-    unique.len()
+    count
 }
 
 /// Vertex normals by averaging the unit normals of the polygons that share

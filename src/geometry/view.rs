@@ -181,6 +181,8 @@ pub struct GeometryStats {
 }
 
 /// Expands object `index` of `scene` into screen polygons appended to `out`.
+/// The polygons are expanded in parallel and appended in order, so the
+/// thread count changes nothing.
 pub fn expand_object(
     scene: &Scene,
     index: usize,
@@ -188,6 +190,7 @@ pub fn expand_object(
     out: &mut Vec<ScreenPolygon>,
     stats: &mut GeometryStats,
 ) {
+    use rayon::prelude::*;
     let object = &scene.objects[index];
     let containment = classify_object(object, view);
     if containment == Containment::Outside {
@@ -196,7 +199,8 @@ pub fn expand_object(
     }
     let clip_coords: Vec<DVec4> = object
         .vertices
-        .iter()
+        .par_iter()
+        .with_min_len(PARALLEL_MIN)
         .map(|v| view.projection.transform_point4(*v))
         .collect();
     let codes: Vec<u8> = if containment == Containment::Crossing {
@@ -204,35 +208,92 @@ pub fn expand_object(
     } else {
         Vec::new()
     };
-    for (pi, polygon) in object.polygons.iter().enumerate() {
+    let expanded = Expansion {
+        object,
+        index: index as u32,
+        view,
+        containment,
+        clip_coords: &clip_coords,
+        codes: &codes,
+    };
+    let outcomes: Vec<Outcome> = object
+        .polygons
+        .par_iter()
+        .enumerate()
+        .with_min_len(PARALLEL_MIN)
+        .map(|(pi, polygon)| expanded.polygon(pi, polygon))
+        .collect();
+    out.reserve(
+        outcomes
+            .iter()
+            .filter(|o| matches!(o, Outcome::Kept(_)))
+            .count(),
+    );
+    for outcome in outcomes {
+        match outcome {
+            Outcome::BackFace => stats.back_faces += 1,
+            Outcome::Outside { clipped } => {
+                stats.clipped += usize::from(clipped);
+                stats.outside += 1;
+            }
+            Outcome::TooSmall { clipped } => {
+                stats.clipped += usize::from(clipped);
+                stats.too_small += 1;
+            }
+            Outcome::Kept(p) => {
+                stats.clipped += usize::from(p.clipped);
+                out.push(p);
+            }
+        }
+    }
+}
+
+/// The fewest polygons (or vertices) a thread takes at once.
+const PARALLEL_MIN: usize = 1024;
+
+/// What became of one polygon in [`expand_object`].
+enum Outcome {
+    BackFace,
+    Outside { clipped: bool },
+    TooSmall { clipped: bool },
+    Kept(ScreenPolygon),
+}
+
+/// One object's expansion: what each of its polygons needs.
+struct Expansion<'a> {
+    object: &'a Object,
+    index: u32,
+    view: &'a View,
+    containment: Containment,
+    clip_coords: &'a [DVec4],
+    codes: &'a [u8],
+}
+
+impl Expansion<'_> {
+    fn polygon(&self, pi: usize, polygon: &crate::scene::model::Polygon) -> Outcome {
+        let (object, view) = (self.object, self.view);
         let front = view.faces_eye(polygon.plane);
         if !front && !object.surface_type.open {
-            stats.back_faces += 1;
-            continue;
+            return Outcome::BackFace;
         }
         let mut clipped = false;
         let points: Vec<ClipVertex> = polygon
             .indices
             .iter()
             .map(|&i| ClipVertex {
-                clip: clip_coords[i as usize],
+                clip: self.clip_coords[i as usize],
                 world: object.vertices[i as usize],
             })
             .collect();
-        let points = if containment == Containment::Crossing {
-            match clip::classify(polygon.indices.iter().map(|&i| codes[i as usize])) {
+        let points = if self.containment == Containment::Crossing {
+            match clip::classify(polygon.indices.iter().map(|&i| self.codes[i as usize])) {
                 Containment::Inside => points,
-                Containment::Outside => {
-                    stats.outside += 1;
-                    continue;
-                }
+                Containment::Outside => return Outcome::Outside { clipped: false },
                 Containment::Crossing => {
                     clipped = true;
-                    stats.clipped += 1;
                     let c = clip::clip_polygon(&points, view.epsilon);
                     if c.is_empty() {
-                        stats.outside += 1;
-                        continue;
+                        return Outcome::Outside { clipped };
                     }
                     c
                 }
@@ -242,17 +303,16 @@ pub fn expand_object(
         };
         let screen: Vec<DVec3> = points.iter().map(|p| view.screen_point(p.clip)).collect();
         if is_below_detail(&screen, view) {
-            stats.too_small += 1;
-            continue;
+            return Outcome::TooSmall { clipped };
         }
-        out.push(ScreenPolygon {
-            object: index as u32,
+        Outcome::Kept(ScreenPolygon {
+            object: self.index,
             polygon: pi as u32,
             points: screen,
             world: points.iter().map(|p| p.world).collect(),
             clipped,
             back_facing: !front,
-        });
+        })
     }
 }
 

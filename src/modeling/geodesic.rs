@@ -263,25 +263,39 @@ pub fn geodesic_turned(n: usize, division: Division, f: &TurnedRadial) -> Result
         return Err(format!("a geodesic of {n} divisions per edge is too large"));
     };
     let v = icosahedron_vertices();
-    let mut index: HashMap<[i64; 3], u32> = HashMap::new();
+    // Points on the icosahedron's edges are shared by two faces (its
+    // vertices by five) and found by their rounded direction; points
+    // inside a face belong to it alone. Each face's grid is computed once.
+    let mut shared: HashMap<[i64; 3], u32> = HashMap::new();
     let mut dirs: Vec<DVec3> = Vec::new();
-    let mut id = |p: DVec3| -> u32 {
-        let d = p.normalize();
-        let key = [
-            (d.x * 1e9).round() as i64,
-            (d.y * 1e9).round() as i64,
-            (d.z * 1e9).round() as i64,
-        ];
-        *index.entry(key).or_insert_with(|| {
-            dirs.push(d);
-            dirs.len() as u32 - 1
-        })
-    };
+    let side = n + 1;
+    let mut grid: Vec<u32> = vec![u32::MAX; side * side];
     let mut polygons = Vec::with_capacity(faces);
     for [ia, ib, ic] in icosahedron_faces() {
         let (a, b, c) = (v[ia], v[ib], v[ic]);
+        grid.fill(u32::MAX);
         // Grid indices: i steps from A towards B, j from A towards C.
-        let mut at = |i: usize, j: usize| id(grid_point(a, b, c, (n - i - j, i, j), n, division));
+        let mut at = |i: usize, j: usize| -> u32 {
+            let slot = &mut grid[i * side + j];
+            if *slot == u32::MAX {
+                let d = grid_point(a, b, c, (n - i - j, i, j), n, division).normalize();
+                *slot = if i == 0 || j == 0 || i + j == n {
+                    let key = [
+                        (d.x * 1e9).round() as i64,
+                        (d.y * 1e9).round() as i64,
+                        (d.z * 1e9).round() as i64,
+                    ];
+                    *shared.entry(key).or_insert_with(|| {
+                        dirs.push(d);
+                        dirs.len() as u32 - 1
+                    })
+                } else {
+                    dirs.push(d);
+                    dirs.len() as u32 - 1
+                };
+            }
+            *slot
+        };
         for i in 0..n {
             for j in 0..n - i {
                 let (p0, p1, p2) = (at(i, j), at(i + 1, j), at(i, j + 1));

@@ -259,6 +259,13 @@ impl Interpreter {
         &self.scene
     }
 
+    /// [`Interpreter::scene`], moving the scene out: the interpreter is
+    /// done with it.
+    pub fn into_scene(mut self) -> Scene {
+        self.scene.projection = self.ctm;
+        std::mem::take(&mut self.scene)
+    }
+
     /// The current transformation matrix.
     pub fn ctm(&self) -> Matrix4 {
         self.ctm
@@ -1582,25 +1589,40 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
         ));
     }
     let mirrored = linear_determinant(&transform) < 0.0;
+    // Each polygon's vertex list (reversed when mirrored) and plane, in
+    // parallel (a pure function of the polygon); the polygons are then
+    // taken in order, with their warnings.
+    type Oriented = (Vec<u32>, std::result::Result<glam::DVec4, PolygonDefect>);
+    let oriented: Vec<Option<Oriented>> = {
+        use rayon::prelude::*;
+        mesh.polygons
+            .par_iter()
+            .with_min_len(1024)
+            .map_init(Vec::new, |points: &mut Vec<DVec3>, indices| {
+                points.clear();
+                for &i in indices {
+                    points.push(*vertices.get(i as usize)?);
+                }
+                let mut indices = indices.clone();
+                if mirrored {
+                    points.reverse();
+                    indices.reverse();
+                }
+                Some((indices, polygon::outward_plane(points)))
+            })
+            .collect()
+    };
     let mut polygons = Vec::with_capacity(mesh.polygons.len());
     let mut source_polygon = Vec::with_capacity(mesh.polygons.len());
-    for (pi, indices) in mesh.polygons.iter().enumerate() {
-        let mut indices = indices.clone();
-        if mirrored {
-            indices.reverse();
-        }
-        let Some(points) = indices
-            .iter()
-            .map(|&i| vertices.get(i as usize).copied())
-            .collect::<Option<Vec<DVec3>>>()
-        else {
+    for (pi, oriented) in oriented.into_iter().enumerate() {
+        let Some((indices, plane)) = oriented else {
             return Err(format!(
                 "object `{shown}` polygon {}: a vertex index is beyond the {} vertices",
                 pi + 1,
                 vertices.len()
             ));
         };
-        match polygon::outward_plane(&points) {
+        match plane {
             Ok(plane) => {
                 polygons.push(Polygon { indices, plane });
                 source_polygon.push(pi as u32);

@@ -21,5 +21,5 @@ pub fn load(path: &Path) -> Result<(Scene, Vec<crate::error::Diagnostic>)> {
     let mut interp = Interpreter::new();
     interp.execute_file(path, true, &mut NoHost)?;
     let warnings = interp.take_warnings();
-    Ok((interp.scene(), warnings))
+    Ok((interp.into_scene(), warnings))
 }

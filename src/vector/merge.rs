@@ -21,7 +21,7 @@
 //! ([`super::gouraud`]).
 
 use super::{Item, Pt, user_points, vertex_paint};
-use crate::tree::Record;
+use crate::tree::{Record, Shades};
 
 /// Cells per side of the overlap grid.
 const CELLS: usize = 64;
@@ -46,6 +46,16 @@ impl Cells {
             r1: 0,
             any: 0,
         }
+    }
+
+    /// Empties the cells for reuse: only the rows with bits are cleared.
+    fn clear(&mut self) {
+        if self.r0 <= self.r1 {
+            self.rows[self.r0..=self.r1].fill(0);
+        }
+        self.r0 = CELLS;
+        self.r1 = 0;
+        self.any = 0;
     }
 }
 
@@ -114,6 +124,9 @@ struct Merger {
     open: Vec<Group>,
     run: Option<Run>,
     items: Vec<Item>,
+    /// The cells of closed groups, cleared, for the next groups (a group
+    /// per record is common: a curved surface's shades all differ).
+    spare: Vec<Cells>,
 }
 
 impl Merger {
@@ -136,6 +149,9 @@ impl Merger {
             color: g.color,
             opacity: 1.0,
         });
+        let mut cells = g.cells;
+        cells.clear();
+        self.spare.push(cells);
     }
 
     fn flush_run(&mut self) {
@@ -159,7 +175,7 @@ impl Merger {
             let g = self.open.remove(0);
             self.emit(g);
         }
-        let mut cells = Cells::empty();
+        let mut cells = self.spare.pop().unwrap_or_else(Cells::empty);
         f.add_to(&mut cells);
         self.open.push(Group {
             color,
@@ -231,8 +247,18 @@ pub fn paint_items(records: &[Record], w: f64, h: f64) -> Vec<Item> {
         open: Vec::new(),
         run: None,
         items: Vec::new(),
+        spare: Vec::new(),
     };
     for r in records {
+        if let Shades::Faceted(color) = r.shades {
+            // One opaque colour: the common case, without a colour list.
+            if r.points.len() >= 3 {
+                let pts = user_points_with(r, w, h);
+                let f = Footprint::of(&pts, w, h);
+                m.flat(pts, color, f);
+            }
+            continue;
+        }
         let Some((colors, opacity)) = vertex_paint(r) else {
             continue;
         };

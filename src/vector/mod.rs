@@ -477,9 +477,19 @@ pub fn push_num(out: &mut Vec<u8>, v: f64) {
         out.push(b'-');
     }
     let a = i.unsigned_abs();
-    let (whole, frac) = (a / 100, a % 100);
-    let mut buf = itoa_buf(whole);
-    out.append(&mut buf);
+    let (mut whole, frac) = (a / 100, a % 100);
+    // The digits of the whole part, last first.
+    let mut digits = [0u8; 20];
+    let mut n = 0;
+    loop {
+        digits[n] = b'0' + (whole % 10) as u8;
+        n += 1;
+        whole /= 10;
+        if whole == 0 {
+            break;
+        }
+    }
+    out.extend(digits[..n].iter().rev());
     if frac != 0 {
         out.push(b'.');
         out.push(b'0' + (frac / 10) as u8);
@@ -487,19 +497,6 @@ pub fn push_num(out: &mut Vec<u8>, v: f64) {
             out.push(b'0' + (frac % 10) as u8);
         }
     }
-}
-
-fn itoa_buf(mut n: u64) -> Vec<u8> {
-    let mut b = Vec::with_capacity(8);
-    loop {
-        b.push(b'0' + (n % 10) as u8);
-        n /= 10;
-        if n == 0 {
-            break;
-        }
-    }
-    b.reverse();
-    b
 }
 
 /// `v` rounded to 0.01 units.
@@ -524,6 +521,8 @@ mod tests {
         assert_eq!(s(512.0), "512");
         assert_eq!(s(0.071), "0.07");
         assert_eq!(s(-0.3), "-0.3");
+        assert_eq!(s(1234567.891), "1234567.89");
+        assert_eq!(s(-100.0), "-100");
     }
 
     #[test]

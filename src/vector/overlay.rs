@@ -19,8 +19,9 @@ use super::VectorInput;
 use crate::tree::{Record, Shades};
 
 /// The stream's records with the shadow patches inserted after each
-/// child they belong to.
-pub fn with_shadow_patches(input: &VectorInput) -> Vec<Record> {
+/// child they belong to (the stream itself, borrowed, when there are no
+/// shadows).
+pub fn with_shadow_patches(input: &VectorInput) -> std::borrow::Cow<'_, [Record]> {
     let records = &input.stream.records;
     // Shadow records of each record (by record index).
     let mut shadows: Vec<Vec<usize>> = vec![Vec::new(); records.len()];
@@ -32,7 +33,7 @@ pub fn with_shadow_patches(input: &VectorInput) -> Vec<Record> {
         }
     }
     if shadows.iter().all(Vec::is_empty) {
-        return records.clone();
+        return std::borrow::Cow::Borrowed(records);
     }
     let boxes: Vec<[f32; 4]> = records.iter().map(|r| bbox(&r.points)).collect();
     let meets = |a: usize, b: usize| {
@@ -90,7 +91,7 @@ pub fn with_shadow_patches(input: &VectorInput) -> Vec<Record> {
             a = input.parents[p];
         }
     }
-    out
+    std::borrow::Cow::Owned(out)
 }
 
 /// Shadow polygons of one parent by cell of the parent's bounding box.

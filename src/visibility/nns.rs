@@ -102,15 +102,19 @@ pub fn fallback_warning(splits: usize, levels: usize) -> String {
 
 struct Face {
     source: NnsFace,
-    screen: Vec<DVec2>,
+    /// World plane, oriented so that the eye is on its positive side;
+    /// `None` when seen edge-on.
+    plane: Option<DVec4>,
+}
+
+/// A face's screen extent and depth range, kept apart from its points in
+/// one compact list that the neighbour search walks.
+#[derive(Clone, Copy)]
+struct Bounds {
     lo: DVec2,
     hi: DVec2,
     zmin: f64,
     zmax: f64,
-    /// World plane, oriented so that the eye is on its positive side;
-    /// `None` when seen edge-on.
-    plane: Option<DVec4>,
-    alive: bool,
 }
 
 #[derive(PartialEq)]
@@ -135,6 +139,14 @@ struct Sorter<'v> {
     view: &'v View,
     eps: f64,
     faces: Vec<Face>,
+    bounds: Vec<Bounds>,
+    /// Not yet output nor replaced by its pieces.
+    alive: Vec<bool>,
+    /// The faces given, farthest first ([`HeapKey`] order), and how many
+    /// of them were taken; the pieces of splits go to `heap`. The head of
+    /// the list is the greater of the two.
+    given: Vec<usize>,
+    next_given: usize,
     heap: BinaryHeap<HeapKey>,
     grid: Grid,
     stamp: Vec<u32>,
@@ -144,6 +156,9 @@ struct Sorter<'v> {
     max_work: usize,
     /// Set when a budget ran out: the sort gives up.
     stopped: bool,
+    /// The neighbour list of [`Sorter::neighbours`], kept between calls
+    /// so that the search allocates nothing per face.
+    found: Vec<usize>,
 }
 
 /// The most cells of the screen grid along a side.
@@ -216,12 +231,15 @@ pub fn sort_budgeted(
     max_splits: usize,
 ) -> (Vec<NnsFace>, NnsStats) {
     let n = faces.len();
-    let originals = faces.clone();
     let mut s = Sorter {
         view,
         eps: epsilon,
         faces: Vec::with_capacity(n),
-        heap: BinaryHeap::with_capacity(n),
+        bounds: Vec::with_capacity(n),
+        alive: Vec::with_capacity(n),
+        given: (0..n).collect(),
+        next_given: 0,
+        heap: BinaryHeap::new(),
         grid: Grid::new(n, view.width, view.height),
         stamp: Vec::new(),
         epoch: 0,
@@ -232,20 +250,50 @@ pub fn sort_budgeted(
         max_splits,
         max_work: max_splits.saturating_mul(WORK_PER_SPLIT),
         stopped: false,
+        found: Vec::new(),
     };
-    for f in faces {
-        s.add(f);
+    // Measuring is a function of each face alone: in parallel, in order.
+    let measured: Vec<(Bounds, Option<DVec4>)> = {
+        use rayon::prelude::*;
+        faces
+            .par_iter()
+            .with_min_len(1024)
+            .map(|f| measure(view, &f.world))
+            .collect()
+    };
+    for (f, (bounds, plane)) in faces.into_iter().zip(measured) {
+        s.insert(f, bounds, plane);
     }
-    let mut out = Vec::with_capacity(n);
+    // The faces given are ordered once; only pieces go through the heap.
+    let bounds = &s.bounds;
+    s.given
+        .sort_unstable_by(|&a, &b| HeapKey(bounds[b].zmax, b).cmp(&HeapKey(bounds[a].zmax, a)));
+    // The faces output, by index: a face split or output keeps its
+    // points, so the first `n` are the faces given (for the fallback).
+    let mut order = Vec::with_capacity(n);
     while let Some(head) = s.head() {
         let p = s.find_minimum(head);
         if s.stopped {
             break;
         }
-        s.faces[p].alive = false;
-        out.push(s.faces[p].source.clone());
+        s.alive[p] = false;
+        order.push(p);
     }
-    if s.stopped {
+    let mut take = |k: usize| {
+        std::mem::replace(
+            &mut s.faces[k].source,
+            NnsFace {
+                object: 0,
+                polygon: 0,
+                world: Vec::new(),
+            },
+        )
+    };
+    let out: Vec<NnsFace>;
+    if !s.stopped {
+        out = order.into_iter().map(take).collect();
+    } else {
+        let originals: Vec<NnsFace> = (0..n).map(&mut take).collect();
         let keys: Vec<f64> = originals
             .iter()
             .map(|f| {
@@ -273,49 +321,51 @@ pub fn sort_budgeted(
 
 impl Sorter<'_> {
     fn add(&mut self, source: NnsFace) -> usize {
-        let screen3: Vec<DVec3> = source.world.iter().map(|p| self.view.project(*p)).collect();
-        let screen: Vec<DVec2> = screen3.iter().map(|p| DVec2::new(p.x, p.y)).collect();
-        let (lo, hi) = screen.iter().fold(
-            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let (zmin, zmax) = screen3
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-                (a.min(p.z), b.max(p.z))
-            });
-        let plane = world_plane(&source.world).and_then(|pl| {
-            let side = pl.dot(self.view.eye);
-            let scale =
-                self.view.eye.truncate().length() + self.view.eye.w.abs() * pl.w.abs().max(1.0);
-            (side.abs() > 1e-12 * scale.max(1e-300)).then(|| if side > 0.0 { pl } else { -pl })
-        });
+        let (bounds, plane) = measure(self.view, &source.world);
+        self.insert(source, bounds, plane)
+    }
+
+    /// Adds a face measured by [`measure`].
+    fn insert(&mut self, source: NnsFace, bounds: Bounds, plane: Option<DVec4>) -> usize {
+        let Bounds { lo, hi, zmin, zmax } = bounds;
         let id = self.faces.len();
-        self.faces.push(Face {
-            source,
-            screen,
-            lo,
-            hi,
-            zmin,
-            zmax,
-            plane,
-            alive: true,
-        });
+        self.faces.push(Face { source, plane });
+        self.bounds.push(Bounds { lo, hi, zmin, zmax });
+        self.alive.push(true);
         self.stamp.push(0);
-        self.heap.push(HeapKey(zmax, id));
+        if id >= self.given.len() {
+            // A piece of a split.
+            self.heap.push(HeapKey(zmax, id));
+        }
         self.grid.insert(id as u32, lo, hi);
         id
     }
 
     /// The farthest face still in the list.
     fn head(&mut self) -> Option<usize> {
+        while self
+            .given
+            .get(self.next_given)
+            .is_some_and(|&id| !self.alive[id])
+        {
+            self.next_given += 1;
+        }
         while let Some(HeapKey(_, id)) = self.heap.peek() {
-            if self.faces[*id].alive {
-                return Some(*id);
+            if self.alive[*id] {
+                break;
             }
             self.heap.pop();
         }
-        None
+        let given = self.given.get(self.next_given).copied();
+        match (given, self.heap.peek()) {
+            (Some(g), Some(h)) => Some(if HeapKey(self.bounds[g].zmax, g) > *h {
+                g
+            } else {
+                h.1
+            }),
+            (Some(g), None) => Some(g),
+            (None, h) => h.map(|h| h.1),
+        }
     }
 
     /// Donovan's search for a minimum face, splitting cycles on the way.
@@ -363,14 +413,17 @@ impl Sorter<'_> {
     /// order), then the others by index.
     fn first_occulted(&mut self, p: usize, chain: &[usize]) -> Option<usize> {
         for &q in chain {
-            if q != p && self.faces[q].alive && self.may_occult(p, q) {
+            if q != p && self.alive[q] && self.may_occult(p, q) {
                 return Some(q);
             }
         }
         let candidates = self.neighbours(p);
-        candidates
-            .into_iter()
-            .find(|&q| !chain.contains(&q) && self.may_occult(p, q))
+        let found = candidates
+            .iter()
+            .copied()
+            .find(|&q| !chain.contains(&q) && self.may_occult(p, q));
+        self.found = candidates;
+        found
     }
 
     /// Alive faces whose screen extents and depth ranges overlap `p`'s.
@@ -380,14 +433,15 @@ impl Sorter<'_> {
             self.stamp.iter_mut().for_each(|s| *s = 0);
             self.epoch = 1;
         }
-        let f = &self.faces[p];
+        let f = self.bounds[p];
         let (x0, x1, y0, y1) = self.grid.range(f.lo, f.hi);
-        let mut out = Vec::new();
+        let mut out = std::mem::take(&mut self.found);
+        out.clear();
         for y in y0..=y1 {
             for x in x0..=x1 {
                 let cell = &mut self.grid.cells[y * self.grid.n + x];
                 // Drop faces already output, lazily.
-                cell.retain(|&q| self.faces[q as usize].alive);
+                cell.retain(|&q| self.alive[q as usize]);
                 self.stats.work += cell.len();
                 for &q in cell.iter() {
                     let q = q as usize;
@@ -395,7 +449,7 @@ impl Sorter<'_> {
                         continue;
                     }
                     self.stamp[q] = self.epoch;
-                    let g = &self.faces[q];
+                    let g = &self.bounds[q];
                     if g.lo.x < f.hi.x
                         && f.lo.x < g.hi.x
                         && g.lo.y < f.hi.y
@@ -415,15 +469,16 @@ impl Sorter<'_> {
     /// (tests 1 to 4 of the module comment).
     fn may_occult(&mut self, a: usize, b: usize) -> bool {
         self.stats.work += 1;
-        let (fa, fb) = (&self.faces[a], &self.faces[b]);
+        let (ba, bb) = (&self.bounds[a], &self.bounds[b]);
         // Test 1: screen extents.
-        if fa.hi.x <= fb.lo.x || fb.hi.x <= fa.lo.x || fa.hi.y <= fb.lo.y || fb.hi.y <= fa.lo.y {
+        if ba.hi.x <= bb.lo.x || bb.hi.x <= ba.lo.x || ba.hi.y <= bb.lo.y || bb.hi.y <= ba.lo.y {
             return false;
         }
         // Test 2: depth extents.
-        if fa.zmin >= fb.zmax {
+        if ba.zmin >= bb.zmax {
             return false;
         }
+        let (fa, fb) = (&self.faces[a], &self.faces[b]);
         let (Some(pa), Some(pb)) = (fa.plane, fb.plane) else {
             return false;
         };
@@ -447,7 +502,14 @@ impl Sorter<'_> {
         }
         // Test 4: depths along the rays through the overlap's corners.
         self.stats.exact_tests += 1;
-        let overlap = convex_overlap(&fa.screen, &fb.screen);
+        let screen = |f: &Face| -> Vec<DVec2> {
+            f.source
+                .world
+                .iter()
+                .map(|p| self.view.project(*p).truncate())
+                .collect()
+        };
+        let overlap = convex_overlap(&screen(fa), &screen(fb));
         if overlap.len() < 3 || signed_area(&overlap).abs() < 1e-9 {
             return false;
         }
@@ -508,7 +570,7 @@ impl Sorter<'_> {
             return false;
         }
         self.stats.splits += 1;
-        self.faces[q].alive = false;
+        self.alive[q] = false;
         let (object, polygon) = (self.faces[q].source.object, self.faces[q].source.polygon);
         for world in pieces {
             self.add(NnsFace {
@@ -519,6 +581,29 @@ impl Sorter<'_> {
         }
         true
     }
+}
+
+/// A face's screen extent, depth range and world plane (oriented so that
+/// the eye is on its positive side; `None` when seen edge-on).
+fn measure(view: &View, world: &[DVec3]) -> (Bounds, Option<DVec4>) {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for p in world {
+        let q = view.project(*p);
+        lo = lo.min(q);
+        hi = hi.max(q);
+    }
+    let bounds = Bounds {
+        lo: lo.truncate(),
+        hi: hi.truncate(),
+        zmin: lo.z,
+        zmax: hi.z,
+    };
+    let plane = world_plane(world).and_then(|pl| {
+        let side = pl.dot(view.eye);
+        let scale = view.eye.truncate().length() + view.eye.w.abs() * pl.w.abs().max(1.0);
+        (side.abs() > 1e-12 * scale.max(1e-300)).then(|| if side > 0.0 { pl } else { -pl })
+    });
+    (bounds, plane)
 }
 
 /// The plane of a planar polygon (unit normal, any orientation).
