@@ -805,33 +805,26 @@ impl<'a> Builder<'a> {
             return;
         };
         let weight = at.weight;
-        if material.reflectance > 0.0 && weight * material.reflectance > self.options.threshold {
+        let pending = |branch, k: f64, m: &Matrix4| Pending {
+            weight: weight * k,
+            seq: 0,
+            parent: id,
+            branch,
+            level: at.level + 1,
+            t: at.t.mul(m),
+            plane,
+            blend: blended,
+        };
+        let threshold = self.options.threshold;
+        let passes = |k: f64| k > 0.0 && weight * k > threshold;
+        if passes(material.reflectance) {
             let m = math::reflection(plane);
-            self.enqueue(Pending {
-                weight: weight * material.reflectance,
-                seq: 0,
-                parent: id,
-                branch: Branch::Reflected,
-                level: at.level + 1,
-                t: at.t.mul(&m),
-                plane,
-                blend: blended,
-            });
+            self.enqueue(pending(Branch::Reflected, material.reflectance, &m));
         }
-        if material.transmittance > 0.0 && weight * material.transmittance > self.options.threshold
-        {
+        if passes(material.transmittance) {
             let eta = 1.0 / object.surface.index;
             if let Some(m) = self.refraction_matrix(c, plane, eta) {
-                self.enqueue(Pending {
-                    weight: weight * material.transmittance,
-                    seq: 0,
-                    parent: id,
-                    branch: Branch::Refracted,
-                    level: at.level + 1,
-                    t: at.t.mul(&m),
-                    plane,
-                    blend: blended,
-                });
+                self.enqueue(pending(Branch::Refracted, material.transmittance, &m));
             }
         }
     }
