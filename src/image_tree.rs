@@ -351,6 +351,17 @@ impl Ord for Pending {
     }
 }
 
+/// The shades of one level's fragments ([`Builder::level_terms`]).
+struct LevelShades<'a> {
+    /// Per source polygon and side: its shade.
+    shades: Vec<Color>,
+    /// Per source polygon and side: its shading terms, when shadows are
+    /// cast (empty otherwise).
+    terms: Vec<FacetTerms<'a>>,
+    /// Per fragment: the index of its polygon and side.
+    of_fragment: Vec<u32>,
+}
+
 /// A polygon found at some level, before sorting.
 struct Candidate {
     object: u32,
@@ -665,7 +676,7 @@ impl<'a> Builder<'a> {
         // a chunk at a time (so that only one chunk's wait at once); the
         // fragments are added below in order.
         let mut shadow_regions = Vec::new().into_iter();
-        let level_terms = self.level_terms(&sorted, eye_real);
+        let level_shades = self.level_terms(&sorted, eye_real);
         let (screens, worlds): (Vec<Vec<DVec3>>, Vec<Vec<DVec3>>) = sorted
             .par_iter()
             .with_min_len(PARALLEL_MIN)
@@ -678,10 +689,10 @@ impl<'a> Builder<'a> {
                 (screen, world)
             })
             .unzip();
-        let per_fragment = level_terms.into_iter().zip(screens).zip(worlds);
+        let per_fragment = level_shades.of_fragment.iter().zip(screens).zip(worlds);
         let mut sorted = sorted;
         self.tree.nodes.reserve(sorted.len());
-        for (k, ((terms, screen), world)) in per_fragment.enumerate() {
+        for (k, ((&shared, screen), world)) in per_fragment.enumerate() {
             if k % SHADOW_CHUNK == 0 {
                 let chunk = &sorted[k..(k + SHADOW_CHUNK).min(sorted.len())];
                 shadow_regions = self.level_shadow_regions(chunk, t).into_iter();
@@ -690,7 +701,7 @@ impl<'a> Builder<'a> {
             // regions, the last use of the candidate's, are found).
             let points = std::mem::take(&mut sorted[k].points);
             let c = &sorted[k];
-            let own = terms.shade();
+            let own = level_shades.shades[shared as usize];
             let blended = parent_blend + own * weight;
             let id = self.push(Fragment {
                 level,
@@ -713,8 +724,9 @@ impl<'a> Builder<'a> {
             ids.push(id);
             if let Some(regions) = shadow_regions.next() {
                 let start = std::time::Instant::now();
+                let terms = &level_shades.terms[shared as usize];
                 let shadows =
-                    self.shadows_on(regions, c, t, &terms, weight, parent_blend, id, level);
+                    self.shadows_on(regions, c, t, terms, weight, parent_blend, id, level);
                 self.profile.add(Category::Shadows, start.elapsed());
                 self.tree.nodes[id].children.extend(shadows);
             }
@@ -780,40 +792,61 @@ impl<'a> Builder<'a> {
         Some(ids)
     }
 
-    /// The shading terms of each of a level's fragments (`sorted`), seen
-    /// from `eye` (true world coordinates), computed in parallel. One per
-    /// source polygon and side (the fragments of a level share the eye):
-    /// the pieces of a polygon of 200,000 vertices would each average all
-    /// its vertices. The terms are a function of the polygon, side and
-    /// eye alone, so the thread count changes nothing.
-    fn level_terms(&self, sorted: &[Candidate], eye: DVec4) -> Vec<FacetTerms<'a>> {
+    /// The shades of a level's fragments (`sorted`), seen from `eye` (true
+    /// world coordinates), computed in parallel: one per source polygon
+    /// and side (the fragments of a level share the eye; the pieces of a
+    /// polygon of 200,000 vertices would each average all its vertices).
+    /// The shading terms are kept only when shadows need them. A function
+    /// of the polygon, side and eye alone, so the thread count changes
+    /// nothing.
+    fn level_terms(&self, sorted: &[Candidate], eye: DVec4) -> LevelShades<'a> {
         let _t = self.profile.time(Category::Shading);
         let scene: &'a Scene = self.scene;
         let shading = self.options.shading;
-        let key = |c: &Candidate| (c.object, c.polygon, c.back_facing);
-        let terms = |&(object, polygon, back): &(u32, u32, bool)| {
+        let keys: Vec<(u32, u32, bool)> = sorted
+            .iter()
+            .map(|c| (c.object, c.polygon, c.back_facing))
+            .collect();
+        // The fragments by source polygon: each polygon's terms once, and
+        // the polygons (their vertices) read in memory order rather than
+        // in depth order.
+        let mut by_polygon: Vec<u32> = (0..keys.len() as u32).collect();
+        by_polygon.par_sort_unstable_by_key(|&k| keys[k as usize]);
+        let firsts: Vec<(u32, u32, bool)> = (0..by_polygon.len())
+            .filter(|&i| i == 0 || keys[by_polygon[i] as usize] != keys[by_polygon[i - 1] as usize])
+            .map(|i| keys[by_polygon[i] as usize])
+            .collect();
+        let new = |&(object, polygon, back): &(u32, u32, bool)| {
             FacetTerms::new(scene, eye, object, polygon, back, None, shading)
         };
-        let keys: Vec<(u32, u32, bool)> = sorted.iter().map(key).collect();
-        let mut unique = keys.clone();
-        unique.par_sort_unstable();
-        unique.dedup();
-        if unique.len() == keys.len() {
-            // No polygon was cut into pieces (the usual case at level 1).
-            return keys
+        let (shades, terms) = if self.options.shadows {
+            let terms: Vec<FacetTerms<'a>> = firsts
                 .par_iter()
                 .with_min_len(PARALLEL_MIN)
-                .map(terms)
+                .map(new)
                 .collect();
+            (terms.iter().map(FacetTerms::shade).collect(), terms)
+        } else {
+            let shades = firsts
+                .par_iter()
+                .with_min_len(PARALLEL_MIN)
+                .map(|k| new(k).shade())
+                .collect();
+            (shades, Vec::new())
+        };
+        let mut of_fragment = vec![0u32; keys.len()];
+        let mut group = 0;
+        for (i, &k) in by_polygon.iter().enumerate() {
+            if i > 0 && keys[k as usize] != keys[by_polygon[i - 1] as usize] {
+                group += 1;
+            }
+            of_fragment[k as usize] = group;
         }
-        let shared: Vec<FacetTerms<'a>> = unique
-            .par_iter()
-            .with_min_len(PARALLEL_MIN)
-            .map(terms)
-            .collect();
-        keys.iter()
-            .map(|k| shared[unique.binary_search(k).expect("listed")].clone())
-            .collect()
+        LevelShades {
+            shades,
+            terms,
+            of_fragment,
+        }
     }
 
     fn enqueue(&mut self, mut p: Pending) {
