@@ -8,12 +8,6 @@
 //! value as the next word (`-n on`, `-l 3`), and the debugging level is a
 //! bare digit (`-3`).
 
-/// mimalloc: a few small lists per polygon make the system allocator a
-/// fifth of a 70,000-polygon vector run (README, "Speed").
-#[cfg(feature = "mimalloc")]
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 use std::io::{BufRead, IsTerminal, Write};
 use std::path::{Component, Path, PathBuf};
 use std::process::ExitCode;
