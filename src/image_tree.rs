@@ -697,7 +697,7 @@ impl<'a> Builder<'a> {
                 let _t = profile.time(Category::Shading);
                 let terms = facet_terms(scene, eye, shading, chunk);
                 let points = chunk
-                    .par_iter()
+                    .iter()
                     .map(|c| {
                         let screen = c.points.iter().map(|p| view.project(*p)).collect();
                         let world = match inverse {

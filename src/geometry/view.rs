@@ -216,13 +216,15 @@ pub fn expand_object(
         clip_coords: &clip_coords,
         codes: &codes,
     };
+    // Back faces (usually half) are only counted.
     let outcomes: Vec<Outcome> = object
         .polygons
         .par_iter()
         .enumerate()
         .with_min_len(PARALLEL_MIN)
-        .map(|(pi, polygon)| expanded.polygon(pi, polygon))
+        .filter_map(|(pi, polygon)| expanded.polygon(pi, polygon))
         .collect();
+    stats.back_faces += object.polygons.len() - outcomes.len();
     out.reserve(
         outcomes
             .iter()
@@ -231,7 +233,6 @@ pub fn expand_object(
     );
     for outcome in outcomes {
         match outcome {
-            Outcome::BackFace => stats.back_faces += 1,
             Outcome::Outside { clipped } => {
                 stats.clipped += usize::from(clipped);
                 stats.outside += 1;
@@ -251,9 +252,8 @@ pub fn expand_object(
 /// The fewest polygons (or vertices) a thread takes at once.
 const PARALLEL_MIN: usize = 1024;
 
-/// What became of one polygon in [`expand_object`].
+/// What became of one polygon in [`expand_object`] that is not a back face.
 enum Outcome {
-    BackFace,
     Outside { clipped: bool },
     TooSmall { clipped: bool },
     Kept(ScreenPolygon),
@@ -270,11 +270,12 @@ struct Expansion<'a> {
 }
 
 impl Expansion<'_> {
-    fn polygon(&self, pi: usize, polygon: &crate::scene::model::Polygon) -> Outcome {
+    /// `None` for a back face.
+    fn polygon(&self, pi: usize, polygon: &crate::scene::model::Polygon) -> Option<Outcome> {
         let (object, view) = (self.object, self.view);
         let front = view.faces_eye(polygon.plane);
         if !front && !object.surface_type.open {
-            return Outcome::BackFace;
+            return None;
         }
         let mut clipped = false;
         let points: Vec<ClipVertex> = polygon
@@ -288,12 +289,12 @@ impl Expansion<'_> {
         let points = if self.containment == Containment::Crossing {
             match clip::classify(polygon.indices.iter().map(|&i| self.codes[i as usize])) {
                 Containment::Inside => points,
-                Containment::Outside => return Outcome::Outside { clipped: false },
+                Containment::Outside => return Some(Outcome::Outside { clipped: false }),
                 Containment::Crossing => {
                     clipped = true;
                     let c = clip::clip_polygon(&points, view.epsilon);
                     if c.is_empty() {
-                        return Outcome::Outside { clipped };
+                        return Some(Outcome::Outside { clipped });
                     }
                     c
                 }
@@ -303,16 +304,16 @@ impl Expansion<'_> {
         };
         let screen: Vec<DVec3> = points.iter().map(|p| view.screen_point(p.clip)).collect();
         if is_below_detail(&screen, view) {
-            return Outcome::TooSmall { clipped };
+            return Some(Outcome::TooSmall { clipped });
         }
-        Outcome::Kept(ScreenPolygon {
+        Some(Outcome::Kept(ScreenPolygon {
             object: self.index,
             polygon: pi as u32,
             points: screen,
             world: points.iter().map(|p| p.world).collect(),
             clipped,
             back_facing: !front,
-        })
+        }))
     }
 }
 

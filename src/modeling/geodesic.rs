@@ -57,15 +57,15 @@ pub enum Radial {
 impl Radial {
     /// The radius in unit direction `d`.
     pub fn radius(&self, d: DVec3) -> f64 {
-        let lon = d.y.atan2(d.x);
-        let colat = d.z.clamp(-1.0, 1.0).acos();
+        let lon = || d.y.atan2(d.x);
+        let colat = || d.z.clamp(-1.0, 1.0).acos();
         match *self {
             Radial::Sphere => 1.0,
             Radial::Ellipsoid(a, b, c) => {
                 1.0 / ((d.x / a).powi(2) + (d.y / b).powi(2) + (d.z / c).powi(2)).sqrt()
             }
-            Radial::Bumps(amp, f) => 1.0 + amp * (f * lon).cos() * (f * colat).sin(),
-            Radial::Lobes(amp, k) => 1.0 + amp * (k * lon).cos() * colat.sin(),
+            Radial::Bumps(amp, f) => 1.0 + amp * (f * lon()).cos() * (f * colat()).sin(),
+            Radial::Lobes(amp, k) => 1.0 + amp * (k * lon()).cos() * colat().sin(),
         }
     }
 }

@@ -75,7 +75,18 @@ pub fn pieces_by_color(triangles: &[[(Pt, [u8; 3]); 3]]) -> Vec<([u8; 3], Vec<Ve
 
 /// The picture as an SVG document.
 pub fn to_svg(p: &Picture) -> Vec<u8> {
-    let mut out = Vec::with_capacity(64 + p.items.len() * 64);
+    // About 14 bytes a point ("L123.45 67.8") and 64 an item: the
+    // document grows once or not at all.
+    let points: usize = p
+        .items
+        .iter()
+        .map(|item| match item {
+            Item::Fill { paths, .. } => paths.iter().map(Vec::len).sum(),
+            Item::Gouraud { triangles, .. } => 3 * triangles.len(),
+            Item::Lines { segments, .. } => 2 * segments.len(),
+        })
+        .sum();
+    let mut out = Vec::with_capacity(256 + p.items.len() * 64 + points * 14);
     out.extend_from_slice(b"<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     out.extend_from_slice(b"<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"");
     push_num(&mut out, p.width);
