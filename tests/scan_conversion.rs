@@ -670,6 +670,43 @@ fn bands_and_threads_do_not_change_a_bit() {
     }
 }
 
+/// A sink that takes `left` rows, then fails.
+struct FailAfter {
+    left: usize,
+    taken: Vec<u32>,
+}
+
+impl RowSink for FailAfter {
+    fn row(&mut self, row: &Row<'_>) -> plytrace::Result<()> {
+        if self.left == 0 {
+            return Err(plytrace::Error::Invalid("the disk is full".into()));
+        }
+        self.left -= 1;
+        self.taken.push(row.y);
+        Ok(())
+    }
+}
+
+/// The band workers stop when the sink fails: its error comes back (no
+/// hang waiting for bands nobody takes), after exactly the rows it took,
+/// in order.
+#[test]
+fn a_failing_sink_stops_every_band_worker() {
+    let (w, h) = (41, 31);
+    let s = stream(scene(60, 9, true), false);
+    for (threads, act_lines, left) in [(3, 1, 0), (3, 1, 17), (2, 4, 5), (1, 7, 30)] {
+        let mut o = opts(w, h, Method::Multilevel);
+        (o.threads, o.act_lines) = (threads, act_lines);
+        let mut sink = FailAfter {
+            left,
+            taken: Vec::new(),
+        };
+        let e = scan_convert(&s, &o, &mut sink).unwrap_err();
+        assert!(e.to_string().contains("the disk is full"), "{e}");
+        assert_eq!(sink.taken, (0..left as u32).collect::<Vec<_>>());
+    }
+}
+
 // --- Supersampling ----------------------------------------------------------
 
 #[test]
