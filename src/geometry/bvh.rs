@@ -341,10 +341,7 @@ impl WorldPolygons {
 }
 
 fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
-    points.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    )
+    crate::geometry::polygon::bounds(points.iter().copied())
 }
 
 /// Whether the segment `o + t / inv`, `t` in `0..=limit`, meets the box.

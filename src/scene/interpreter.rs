@@ -1664,10 +1664,7 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
             .collect();
         polygon::vertex_normals(vertices.len(), &faces)
     });
-    let (lo, hi) = mesh.vertices.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), v| (lo.min(*v), hi.max(*v)),
-    );
+    let (lo, hi) = polygon::bounds(mesh.vertices.iter().copied());
     let (lo, hi) = if mesh.vertices.is_empty() {
         (DVec3::ZERO, DVec3::ZERO)
     } else {

@@ -321,9 +321,8 @@ impl Scene {
     /// The size of the scene: the diagonal of the box around every vertex
     /// (1 for an empty scene). Tolerances relative to the scene use it.
     pub fn size(&self) -> f64 {
-        let (lo, hi) = self.objects.iter().flat_map(|o| o.vertices.iter()).fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        let (lo, hi) = crate::geometry::polygon::bounds(
+            self.objects.iter().flat_map(|o| o.vertices.iter().copied()),
         );
         if lo.x.is_finite() {
             (hi - lo).length()

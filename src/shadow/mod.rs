@@ -193,10 +193,7 @@ impl CasterIndex {
 }
 
 fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
-    points.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    )
+    polygon::bounds(points.iter().copied())
 }
 
 /// Splits `items[start..end]` at the median of the box centres along the
@@ -460,11 +457,7 @@ fn world_corners(target: &Target, identity: bool) -> Option<(DVec3, DVec3)> {
         return None;
     }
     let inverse = target.t.inverse()?;
-    let world = target.points.iter().map(|p| inverse.transform_point(*p));
-    let b = world.fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(p), hi.max(p)),
-    );
+    let b = polygon::bounds(target.points.iter().map(|p| inverse.transform_point(*p)));
     (b.0.is_finite() && b.1.is_finite()).then_some(b)
 }
 

@@ -65,7 +65,7 @@ pub fn overlap_regions(
     while !layer.is_empty() && made < cap {
         let mut next = Vec::new();
         'regions: for (points, lights, last) in &layer {
-            let bounds = polygon_bounds(points);
+            let bounds = super::bounds(points);
             for (k, (j, _)) in per_light.iter().enumerate().skip(last + 1) {
                 grids[k].near(bounds, eps, &mut near);
                 for &i in &near {
@@ -94,13 +94,6 @@ pub fn overlap_regions(
         layer = next;
     }
     out
-}
-
-fn polygon_bounds(p: &[DVec3]) -> (DVec3, DVec3) {
-    p.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), q| (lo.min(*q), hi.max(*q)),
-    )
 }
 
 /// The pieces of one light bucketed by the grid cells their boxes meet,
@@ -244,7 +237,7 @@ impl InPlane {
             })
             .collect();
         InPlane {
-            bounds: polygon_bounds(b),
+            bounds: super::bounds(b),
             parts,
         }
     }
@@ -283,7 +276,7 @@ pub fn intersect_in_plane(a: &[DVec3], b: &[DVec3], normal: DVec3, eps: f64) -> 
     let mut out = Vec::new();
     InPlane::new(b, normal).clip(
         a,
-        polygon_bounds(a),
+        super::bounds(a),
         eps,
         &mut ClipScratch::default(),
         &mut Vec::new(),
