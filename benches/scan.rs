@@ -23,12 +23,12 @@ fn records() -> Vec<Record> {
         let pts = vec![[x, y], [x + 0.05, y + 0.01], [x + 0.02, y + 0.06]];
         out.push(Record {
             level: 1,
-            shades: Shades::Phong(PhongShades {
+            shades: Shades::Phong(Box::new(PhongShades {
                 shininess: 10.0,
                 light_colors: vec![[100, 100, 100]],
                 rgbt: vec![[200, 50, 50, 0]; 3],
                 normals: vec![vec![[0.1, 0.2, 1.0]]; 3],
-            }),
+            })),
             points: pts,
         });
     }

@@ -14,6 +14,7 @@
 use glam::{DVec3, DVec4};
 use rayon::prelude::*;
 
+use crate::geometry::view::View;
 use crate::image_tree::{Fragment, FragmentKind, VirtualImageTree};
 use crate::scene::model::{Color, Scene, SortOrder};
 use crate::shading::{
@@ -45,16 +46,17 @@ pub struct Emit {
     pub height: u32,
 }
 
-/// The tree as a record stream, with each record's source.
+/// The tree (built for `view`) as a record stream, with each record's
+/// source.
 pub fn records(
     scene: &Scene,
     tree: &VirtualImageTree,
     how: Emit,
-    eye: DVec4,
+    view: &View,
 ) -> (RecordStream, Vec<Source>) {
     let order = tree.output_order(how.order);
     let gouraud = if how.blended {
-        blended_vertex_shades(scene, tree)
+        blended_vertex_shades(scene, tree, view)
     } else {
         Vec::new()
     };
@@ -73,7 +75,7 @@ pub fn records(
                     _ => None,
                 },
             };
-            (record(scene, f, how, pre, eye), source)
+            (record(scene, tree, f, how, pre, view), source)
         })
         .unzip();
     let stream = RecordStream {
@@ -88,16 +90,18 @@ pub fn records(
 /// One fragment's record.
 fn record(
     scene: &Scene,
+    tree: &VirtualImageTree,
     f: &Fragment,
     how: Emit,
     pre_gouraud: Option<&[Color]>,
-    eye: DVec4,
+    view: &View,
 ) -> Record {
     let level = f.level.min(31) as u16;
     let points = f
-        .screen
+        .virtual_points
         .iter()
-        .map(|p| {
+        .map(|&v| {
+            let p = view.project(v);
             [
                 (p.x / how.width as f64) as f32,
                 (p.y / how.height as f64) as f32,
@@ -107,7 +111,13 @@ fn record(
     let shades = if f.kind == FragmentKind::Restore {
         Shades::Special
     } else {
-        shades(scene, f, how.blended, pre_gouraud, eye)
+        shades(
+            scene,
+            &Lit::new(tree, f),
+            how.blended,
+            pre_gouraud,
+            view.eye,
+        )
     };
     Record {
         level,
@@ -116,15 +126,39 @@ fn record(
     }
 }
 
+/// A fragment with what shading it from its level's space takes: its
+/// true world points (polygons only) and the eye that sees it.
+struct Lit<'t> {
+    f: &'t Fragment,
+    world: Vec<DVec3>,
+    eye: DVec4,
+}
+
+impl<'t> Lit<'t> {
+    fn new(tree: &VirtualImageTree, f: &'t Fragment) -> Lit<'t> {
+        let world = if f.kind == FragmentKind::Polygon {
+            tree.world(f)
+        } else {
+            Vec::new()
+        };
+        Lit {
+            f,
+            world,
+            eye: tree.eye(f),
+        }
+    }
+}
+
 /// A fragment's shades: `offset + weight * own`, the offset being the
 /// parent's shade when pre-blending.
 fn shades(
     scene: &Scene,
-    f: &Fragment,
+    lit: &Lit<'_>,
     blended: bool,
     pre_gouraud: Option<&[Color]>,
     eye: DVec4,
 ) -> Shades {
+    let f = lit.f;
     let polygon = f.kind == FragmentKind::Polygon;
     let (offset, weight) = if blended {
         (f.blended - f.shade * f.weight, f.weight)
@@ -134,16 +168,16 @@ fn shades(
     if polygon
         && let Some(ph) = phong_vertices(
             scene,
-            f.eye,
+            lit.eye,
             f.object,
             f.polygon,
             f.back_facing,
-            &f.world,
+            &lit.world,
             offset,
             weight,
         )
     {
-        let t = transparency_bytes(scene, f, eye);
+        let t = transparency_bytes(scene, lit, eye);
         let stride = ph.stride();
         let vertices: Vec<&[f32]> = ph.attrs.chunks(stride).collect();
         let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
@@ -156,7 +190,7 @@ fn shades(
                 [byte(mean(0)), byte(mean(1)), byte(mean(2))]
             })
             .collect();
-        return Shades::Phong(PhongShades {
+        return Shades::Phong(Box::new(PhongShades {
             shininess: ph.shininess as f64,
             light_colors,
             rgbt: vertices
@@ -172,14 +206,21 @@ fn shades(
                         .collect()
                 })
                 .collect(),
-        });
+        }));
     }
     let colors: Vec<Color> = match (polygon && scene.modes.vertex_shades, pre_gouraud) {
         (true, Some(pre)) => pre.to_vec(),
-        (true, None) => vertex_shades(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world)
-            .into_iter()
-            .map(|c| offset + c * weight)
-            .collect(),
+        (true, None) => vertex_shades(
+            scene,
+            lit.eye,
+            f.object,
+            f.polygon,
+            f.back_facing,
+            &lit.world,
+        )
+        .into_iter()
+        .map(|c| offset + c * weight)
+        .collect(),
         _ => vec![if blended {
             f.blended
         } else {
@@ -187,13 +228,13 @@ fn shades(
         }],
     };
     let t = if polygon {
-        transparency_bytes(scene, f, eye)
+        transparency_bytes(scene, lit, eye)
     } else {
         vec![0]
     };
     if t.iter().any(|&v| v > 0) {
-        let n = f.screen.len();
-        return Shades::Phong(PhongShades {
+        let n = f.virtual_points.len();
+        return Shades::Phong(Box::new(PhongShades {
             shininess: 1.0,
             light_colors: Vec::new(),
             rgbt: (0..n)
@@ -203,7 +244,7 @@ fn shades(
                 })
                 .collect(),
             normals: vec![Vec::new(); n],
-        });
+        }));
     }
     match colors.as_slice() {
         [one] => Shades::Faceted(color_bytes(*one)),
@@ -213,11 +254,18 @@ fn shades(
 
 /// The transparency of a polygon fragment as bytes: one per vertex with
 /// vertex shades, else one for the polygon.
-fn transparency_bytes(scene: &Scene, f: &Fragment, eye: DVec4) -> Vec<u8> {
+fn transparency_bytes(scene: &Scene, lit: &Lit<'_>, eye: DVec4) -> Vec<u8> {
+    let f = lit.f;
     let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
     if scene.modes.vertex_shades
-        && let Some(ts) =
-            vertex_transparency(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world)
+        && let Some(ts) = vertex_transparency(
+            scene,
+            lit.eye,
+            f.object,
+            f.polygon,
+            f.back_facing,
+            &lit.world,
+        )
     {
         return ts.into_iter().map(|t| byte(t as f64)).collect();
     }
@@ -244,7 +292,11 @@ pub fn color_bytes(c: Color) -> [u8; 3] {
 /// the two parent edges crossing the point's row, then across), plus `k`
 /// times its own vertex shade. `None` for other fragments, or all when
 /// vertex shades are off.
-fn blended_vertex_shades(scene: &Scene, tree: &VirtualImageTree) -> Vec<Option<Vec<Color>>> {
+fn blended_vertex_shades(
+    scene: &Scene,
+    tree: &VirtualImageTree,
+    view: &View,
+) -> Vec<Option<Vec<Color>>> {
     let mut out: Vec<Option<Vec<Color>>> = vec![None; tree.nodes.len()];
     if !scene.modes.vertex_shades {
         return out;
@@ -255,17 +307,23 @@ fn blended_vertex_shades(scene: &Scene, tree: &VirtualImageTree) -> Vec<Option<V
         if f.kind != FragmentKind::Polygon {
             continue;
         }
-        let own = vertex_shades(scene, f.eye, f.object, f.polygon, f.back_facing, &f.world);
+        let own = vertex_shades(
+            scene,
+            tree.eye(f),
+            f.object,
+            f.polygon,
+            f.back_facing,
+            &tree.world(f),
+        );
         let parent = f.parent.and_then(|p| out[p].as_ref().map(|vs| (p, vs)));
         let blended = match parent {
             Some((p, parent_shades)) => {
-                let parent = &tree.nodes[p];
-                f.screen
+                let outline = tree.nodes[p].screen(view);
+                f.screen(view)
                     .iter()
                     .zip(&own)
                     .map(|(s, c)| {
-                        interpolate_in_polygon(&parent.screen, parent_shades, s.x, s.y)
-                            + *c * f.weight
+                        interpolate_in_polygon(&outline, parent_shades, s.x, s.y) + *c * f.weight
                     })
                     .collect()
             }

@@ -90,10 +90,9 @@ pub struct Fragment {
     pub object: u32,
     /// Index of the polygon in the object's `polygons`.
     pub polygon: u32,
-    /// Points in the virtual coordinates of its level.
+    /// Points in the virtual coordinates of its level; its screen points
+    /// are their projections ([`Fragment::screen`]), made when needed.
     pub virtual_points: Vec<DVec3>,
-    /// Screen points (x, y in pixels, y up; z normalized depth).
-    pub screen: Vec<DVec3>,
     /// Whether the viewer sees the polygon's back (`type open`).
     pub back_facing: bool,
     /// Its own shade (ambient, diffuse, specular).
@@ -104,10 +103,10 @@ pub struct Fragment {
     pub weight: f64,
     /// Index of the parent fragment in [`VirtualImageTree::nodes`].
     pub parent: Option<usize>,
-    /// The same points in true world coordinates (mapped back by `T^-1`).
-    pub world: Vec<DVec3>,
-    /// The eye in true world coordinates, as this fragment sees it.
-    pub eye: DVec4,
+    /// Index of its level's space in [`VirtualImageTree::spaces`]: its
+    /// true world points ([`VirtualImageTree::world`]) and the eye that
+    /// sees it ([`VirtualImageTree::eye`]).
+    pub space: u32,
     /// Children in back-to-front order: shadow polygons, the reflected
     /// branch, then the refracted.
     pub children: Vec<usize>,
@@ -117,11 +116,37 @@ pub struct Fragment {
     pub shadowed_from: Vec<u32>,
 }
 
+impl Fragment {
+    /// Its screen points (x, y in pixels, y up; z normalized depth): the
+    /// projections of its virtual points by the real eye.
+    pub fn screen(&self, view: &View) -> Vec<DVec3> {
+        self.virtual_points
+            .iter()
+            .map(|p| view.project(*p))
+            .collect()
+    }
+}
+
+/// The virtual coordinates of one traced level (004 section 4.6): how
+/// its points map back to true world space, where shading is done (004
+/// section 4.8). The fragments of a level share it, so they do not each
+/// carry their world points and eye.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VirtualSpace {
+    /// `T^-1`, the inverse of the product of the level's matrices; `None`
+    /// at level 1 (the identity) or where `T` is singular.
+    pub inverse: Option<Matrix4>,
+    /// The eye in true world coordinates, as the level sees it.
+    pub eye: DVec4,
+}
+
 /// The virtual image tree of a view.
 #[derive(Debug, Clone, Default)]
 pub struct VirtualImageTree {
     /// All fragments; `roots` and `children` index this.
     pub nodes: Vec<Fragment>,
+    /// The levels' spaces; [`Fragment::space`] indexes this.
+    pub spaces: Vec<VirtualSpace>,
     /// Level-1 fragments, back to front.
     pub roots: Vec<usize>,
     /// Deepest level reached.
@@ -142,6 +167,24 @@ pub struct VirtualImageTree {
 }
 
 impl VirtualImageTree {
+    /// Fragment `f`'s points in true world coordinates (its virtual
+    /// points mapped back by `T^-1`).
+    pub fn world(&self, f: &Fragment) -> Vec<DVec3> {
+        match self.spaces[f.space as usize].inverse {
+            Some(i) => f
+                .virtual_points
+                .iter()
+                .map(|p| i.transform_point(*p))
+                .collect(),
+            None => f.virtual_points.clone(),
+        }
+    }
+
+    /// The eye in true world coordinates, as fragment `f` sees it.
+    pub fn eye(&self, f: &Fragment) -> DVec4 {
+        self.spaces[f.space as usize].eye
+    }
+
     /// The fragments in output order (004 section 4.10).
     pub fn output_order(&self, order: SortOrder) -> Vec<usize> {
         let mut out = Vec::with_capacity(self.nodes.len());
@@ -667,6 +710,13 @@ impl<'a> Builder<'a> {
         }
         self.tree.max_depth = self.tree.max_depth.max(level);
         let inverse = t.inverse();
+        let eye_real = inverse
+            .map(|inv| inv.transform(self.view.eye))
+            .unwrap_or(self.view.eye);
+        self.tree.spaces.push(VirtualSpace {
+            inverse,
+            eye: eye_real,
+        });
         let mut at = LevelState {
             level,
             t,
@@ -674,50 +724,28 @@ impl<'a> Builder<'a> {
             weight,
             parent_blend,
             parent,
-            eye_real: inverse
-                .map(|inv| inv.transform(self.view.eye))
-                .unwrap_or(self.view.eye),
+            eye_real,
+            space: (self.tree.spaces.len() - 1) as u32,
             ids: Vec::new(),
         };
         let caster = self.caster();
-        let (scene, view, profile, shading, eye) = (
-            self.scene,
-            self.view,
-            self.profile,
-            self.options.shading,
-            at.eye_real,
-        );
+        let (scene, profile, shading, eye) =
+            (self.scene, self.profile, self.options.shading, at.eye_real);
         // What a chunk's fragments need that does not depend on the tree
-        // (shades, screen and world points, shadows), found in parallel.
+        // (shades, world points, shadows), found in parallel.
         let prepare = |chunk: Option<&[Candidate]>| {
             let Some(chunk) = chunk else {
                 return PreparedChunk::default();
             };
             let own = || {
                 let _t = profile.time(Category::Shading);
-                let terms = facet_terms(scene, eye, shading, chunk);
-                let points = chunk
-                    .iter()
-                    .map(|c| {
-                        let screen = c.points.iter().map(|p| view.project(*p)).collect();
-                        let world = match inverse {
-                            Some(i) => c.points.iter().map(|p| i.transform_point(*p)).collect(),
-                            None => c.points.clone(),
-                        };
-                        (screen, world)
-                    })
-                    .collect();
-                (terms, points)
+                facet_terms(scene, eye, shading, chunk)
             };
-            let ((terms, points), regions) = match &caster {
+            let (terms, regions) = match &caster {
                 Some(c) => rayon::join(own, || c.level_regions(chunk, t)),
                 None => (own(), Vec::new()),
             };
-            PreparedChunk {
-                terms,
-                points,
-                regions,
-            }
+            PreparedChunk { terms, regions }
         };
         self.tree.nodes.reserve(sorted.len());
         let chunks: Vec<&[Candidate]> = sorted.chunks(SHADOW_CHUNK).collect();
@@ -752,8 +780,7 @@ impl<'a> Builder<'a> {
         ready: PreparedChunk<'a>,
     ) {
         let mut regions = ready.regions.into_iter();
-        let per_fragment = chunk.iter().zip(ready.terms).zip(ready.points);
-        for ((c, terms), (screen, world)) in per_fragment {
+        for (c, terms) in chunk.iter().zip(ready.terms) {
             let own = terms.shade();
             let blended = at.parent_blend + own * at.weight;
             let id = self.push(Fragment {
@@ -763,30 +790,19 @@ impl<'a> Builder<'a> {
                 object: c.object,
                 polygon: c.polygon,
                 virtual_points: c.points.clone(),
-                screen,
                 back_facing: c.back_facing,
                 shade: own,
                 blended,
                 weight: at.weight,
                 parent: at.parent,
-                world,
-                eye: at.eye_real,
+                space: at.space,
                 children: Vec::new(),
                 shadowed_from: Vec::new(),
             });
             at.ids.push(id);
             if let Some(regions) = regions.next() {
                 let start = std::time::Instant::now();
-                let shadows = self.shadows_on(
-                    regions,
-                    c,
-                    at.t,
-                    &terms,
-                    at.weight,
-                    at.parent_blend,
-                    id,
-                    at.level,
-                );
+                let shadows = self.shadows_on(regions, c, &terms, at, id);
                 self.profile.add(Category::Shadows, start.elapsed());
                 self.tree.nodes[id].children.extend(shadows);
             }
@@ -961,17 +977,13 @@ impl<'a> Builder<'a> {
     /// the limit of 004 section 4.10 on "overlapped shadow regions caused
     /// by multiple light sources"). Back to front, regions of fewer lights
     /// come first.
-    #[allow(clippy::too_many_arguments)]
     fn shadows_on(
         &mut self,
-        regions: Vec<(ShadowRegion, Vec<DVec3>)>,
+        regions: Vec<ShadowRegion>,
         c: &Candidate,
-        t: &Matrix4,
         terms: &FacetTerms,
-        weight: f64,
-        parent_blend: Color,
+        at: &LevelState<'_>,
         parent: usize,
-        level: u32,
     ) -> Vec<usize> {
         let eye_real = &terms.eye();
         // The shadows of a fragment fit in the node budget whole, or are
@@ -983,27 +995,25 @@ impl<'a> Builder<'a> {
             self.tree.pruned += 1;
             return Vec::new();
         }
-        let inverse = t.inverse();
+        let inverse = self.tree.spaces[at.space as usize].inverse;
         // One pass over the lights for the target; each region then costs
         // only its own lights.
         let mut out = Vec::with_capacity(regions.len());
-        for ((points, lights), screen) in regions {
+        for (points, lights) in regions {
             let shade = self.shadow_shade(c, eye_real, &lights, &points, inverse, terms);
             out.push(self.push(Fragment {
-                level,
+                level: at.level,
                 kind: FragmentKind::Shadow { light: lights[0] },
                 branch: Branch::Shadow,
                 object: c.object,
                 polygon: c.polygon,
                 virtual_points: points,
-                screen,
                 back_facing: c.back_facing,
                 shade,
-                blended: parent_blend + shade * weight,
-                weight,
+                blended: at.parent_blend + shade * at.weight,
+                weight: at.weight,
                 parent: Some(parent),
-                world: Vec::new(),
-                eye: *eye_real,
+                space: at.space,
                 children: Vec::new(),
                 shadowed_from: lights,
             }));
@@ -1081,13 +1091,9 @@ struct ShadowCaster<'a> {
 
 impl ShadowCaster<'_> {
     /// The shadow regions of fragments of a level (`chunk`, virtual
-    /// coordinates under `t`), with their screen points, one list per
-    /// fragment in their order, computed in parallel.
-    fn level_regions(
-        &self,
-        chunk: &[Candidate],
-        t: &Matrix4,
-    ) -> Vec<Vec<(ShadowRegion, Vec<DVec3>)>> {
+    /// coordinates under `t`), one list per fragment in their order,
+    /// computed in parallel.
+    fn level_regions(&self, chunk: &[Candidate], t: &Matrix4) -> Vec<Vec<ShadowRegion>> {
         let start = std::time::Instant::now();
         let regions = chunk
             .par_iter()
@@ -1096,12 +1102,6 @@ impl ShadowCaster<'_> {
                     return Vec::new();
                 }
                 self.shadow_regions(c, t, s)
-                    .into_iter()
-                    .map(|region| {
-                        let screen = region.0.iter().map(|p| self.view.project(*p)).collect();
-                        (region, screen)
-                    })
-                    .collect()
             })
             .collect();
         self.profile.add(Category::Shadows, start.elapsed());
@@ -1210,9 +1210,7 @@ fn facet_terms<'a>(
 #[derive(Default)]
 struct PreparedChunk<'a> {
     terms: Vec<FacetTerms<'a>>,
-    /// Screen and true world points.
-    points: Vec<(Vec<DVec3>, Vec<DVec3>)>,
-    regions: Vec<Vec<(ShadowRegion, Vec<DVec3>)>>,
+    regions: Vec<Vec<ShadowRegion>>,
 }
 
 /// A level being added to the tree: what its fragments share.
@@ -1226,6 +1224,8 @@ struct LevelState<'t> {
     parent: Option<usize>,
     /// The eye in true world coordinates.
     eye_real: DVec4,
+    /// Index of the level's space in [`VirtualImageTree::spaces`].
+    space: u32,
     /// The fragments added, in order.
     ids: Vec<usize>,
 }

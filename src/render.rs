@@ -483,10 +483,10 @@ pub fn prepare(
         height,
     };
     let picture_how = emit(SortOrder::FrontToBack, wants_pre_blending(method));
-    let (picture, sources) = within(&pool, || emit::records(scene, &tree, picture_how, view.eye));
+    let (picture, sources) = within(&pool, || emit::records(scene, &tree, picture_how, view));
     let file = scene.modes.output_tree.then(|| {
         let how = emit(scene.sort_order, scene.modes.blend);
-        within(&pool, || emit::records(scene, &tree, how, view.eye).0)
+        within(&pool, || emit::records(scene, &tree, how, view).0)
     });
     stats.shading_time = t.elapsed();
     profile.add(crate::profile::Category::Shading, t.elapsed());

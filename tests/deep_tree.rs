@@ -120,18 +120,14 @@ type Painted = ((u32, u32, u32), bool);
 
 /// The last fragment hit at each pixel centre (rows from the top) when
 /// the tree is painted back to front.
-fn painted_fragments(tree: &VirtualImageTree, size: u32) -> Vec<Option<usize>> {
+fn painted_fragments(tree: &VirtualImageTree, view: &View, size: u32) -> Vec<Option<usize>> {
     let order = tree.output_order(SortOrder::BackToFront);
+    let screens: Vec<Vec<DVec3>> = tree.nodes.iter().map(|f| f.screen(view)).collect();
     let mut out = Vec::new();
     for row in 0..size {
         for col in 0..size {
             let (x, y) = (col as f64 + 0.5, size as f64 - (row as f64 + 0.5));
-            out.push(
-                order
-                    .iter()
-                    .copied()
-                    .rfind(|&n| inside(&tree.nodes[n].screen, x, y)),
-            );
+            out.push(order.iter().copied().rfind(|&n| inside(&screens[n], x, y)));
         }
     }
     out
@@ -139,8 +135,8 @@ fn painted_fragments(tree: &VirtualImageTree, size: u32) -> Vec<Option<usize>> {
 
 /// The tree painted back to front at each pixel centre (rows from the
 /// top): the last fragment hit wins; a shadow polygon shows its target.
-fn painted(tree: &VirtualImageTree, size: u32) -> Vec<Option<Painted>> {
-    painted_fragments(tree, size)
+fn painted(tree: &VirtualImageTree, view: &View, size: u32) -> Vec<Option<Painted>> {
+    painted_fragments(tree, view, size)
         .into_iter()
         .map(|last| {
             last.map(|n| {
@@ -182,7 +178,7 @@ fn compare(scene: &Scene, size: u32, max_level: u32) -> Counts {
         },
     );
     let want = oracle(scene, size, max_level);
-    let got = painted(&tree, size);
+    let got = painted(&tree, &view, size);
     let mut c = Counts::default();
     let s = size as i64;
     for y in 0..s {
@@ -313,7 +309,7 @@ fn overlapping_shadows_of_two_lights() {
         assert_eq!(f.kind, FragmentKind::Shadow { light: 0 });
         let without_both = plytrace::shading::facet_shade_with(
             &scene,
-            f.eye,
+            tree.eye(f),
             f.object,
             f.polygon,
             f.back_facing,
@@ -324,7 +320,7 @@ fn overlapping_shadows_of_two_lights() {
         // Darker than the target without one light only.
         let without_one = plytrace::shading::facet_shade_with(
             &scene,
-            f.eye,
+            tree.eye(f),
             f.object,
             f.polygon,
             f.back_facing,
@@ -334,7 +330,7 @@ fn overlapping_shadows_of_two_lights() {
         assert!(f.shade.length() < without_one.length());
     }
     assert_overlap_order(&tree, &both);
-    assert_overlap_pixels(&scene, &tree, size);
+    assert_overlap_pixels(&scene, &tree, &view, size);
     // `setmode h on`: each region shaded at its own centroid, still without
     // both lights.
     let tree = image_tree::build(
@@ -353,7 +349,7 @@ fn overlapping_shadows_of_two_lights() {
         let at = f.virtual_points.iter().copied().sum::<DVec3>() / f.virtual_points.len() as f64;
         let want = plytrace::shading::facet_shade_with(
             &scene,
-            f.eye,
+            tree.eye(f),
             f.object,
             f.polygon,
             f.back_facing,
@@ -385,7 +381,7 @@ fn assert_overlap_order(tree: &VirtualImageTree, both: &[usize]) {
 
 /// At uniform pixels on the floor, the painted shadow's light set is the
 /// set of lights whose shadow rays are blocked.
-fn assert_overlap_pixels(scene: &Scene, tree: &VirtualImageTree, size: u32) {
+fn assert_overlap_pixels(scene: &Scene, tree: &VirtualImageTree, view: &View, size: u32) {
     let caster = RayCaster::new(scene);
     let mut want = Vec::new();
     for row in 0..size {
@@ -404,7 +400,7 @@ fn assert_overlap_pixels(scene: &Scene, tree: &VirtualImageTree, size: u32) {
             }));
         }
     }
-    let got = painted_fragments(tree, size);
+    let got = painted_fragments(tree, view, size);
     let s = size as i64;
     let (mut checked, mut overlap, mut bad) = (0, 0, Vec::new());
     for y in 0..s {
@@ -471,7 +467,7 @@ fn the_tree_shades_with_the_selected_model() {
             let shade = |m| {
                 facet_shade_with_model(
                     &scene,
-                    f.eye,
+                    tree.eye(f),
                     f.object,
                     f.polygon,
                     f.back_facing,

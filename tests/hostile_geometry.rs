@@ -288,7 +288,7 @@ fn twenty_thousand_point_lights() {
             .collect();
         let want = plytrace::shading::facet_shade_with(
             &scene,
-            f.eye,
+            tree.eye(f),
             f.object,
             f.polygon,
             f.back_facing,
@@ -389,7 +389,7 @@ fn nns_falls_back_to_the_depth_sort_past_its_split_budget() {
         .iter()
         .map(|&r| {
             tree.nodes[r]
-                .screen
+                .screen(&view)
                 .iter()
                 .map(|p| p.z)
                 .fold(f64::NEG_INFINITY, f64::max)

@@ -92,12 +92,12 @@ fn glass(level: u16, pts: &[(f32, f32)], c: [u8; 3], t: u8) -> Record {
     rec(
         level,
         pts,
-        Shades::Phong(PhongShades {
+        Shades::Phong(Box::new(PhongShades {
             shininess: 1.0,
             light_colors: vec![],
             rgbt: vec![[c[0], c[1], c[2], t]; n],
             normals: vec![vec![]; n],
-        }),
+        })),
     )
 }
 
@@ -532,7 +532,7 @@ fn scene(n: usize, seed: u64, levels: bool) -> Vec<Record> {
                 2 if k % 8 == 2 => Shades::Special,
                 _ => {
                     let t = if k % 3 == 0 { byte(rnd() * 0.8) } else { 0 };
-                    Shades::Phong(PhongShades {
+                    Shades::Phong(Box::new(PhongShades {
                         shininess: 5.0 + 20.0 * rnd(),
                         light_colors: vec![[90, 90, 60], [30, 30, 70]],
                         rgbt: pts.iter().map(|_| [byte(rnd()), 40, 50, t]).collect(),
@@ -544,7 +544,7 @@ fn scene(n: usize, seed: u64, levels: bool) -> Vec<Record> {
                                     .collect()
                             })
                             .collect(),
-                    })
+                    }))
                 }
             };
             rec(level, &pts, shades)

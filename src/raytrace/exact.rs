@@ -121,10 +121,10 @@ pub fn layer(
         f.blended = if under[n] { Color::ONE } else { Color::ZERO };
     }
     let blended = matches!(picture.method, Method::Area | Method::Mask | Method::Hybrid);
-    let (mask_stream, _) = emit::records(&flat, &white, how(blended), view.eye);
+    let (mask_stream, _) = emit::records(&flat, &white, how(blended), view);
     let mask = scan_frame(&mask_stream, picture, picture.method, false)?;
     // The site at each pixel centre.
-    let (id_stream, _) = emit::records(&flat, &white, how(false), view.eye);
+    let (id_stream, _) = emit::records(&flat, &white, how(false), view);
     let ids = scan_frame(&id_stream, picture, Method::Point, true)?;
     // The record seen, or the nearest of its ancestors that is a site (a
     // shadow on a site, or the site's reflection, shows the site too).
@@ -218,13 +218,14 @@ fn site_colour(
         return Color::ZERO;
     };
     let t = ((pv - o).dot(d) / d.length_squared()).clamp(0.0, 1.0);
-    let Some(pw) = map_in_plane(&f.virtual_points, &f.world, pv) else {
+    let Some(pw) = map_in_plane(&f.virtual_points, &tree.world(f), pv) else {
         return Color::ZERO;
     };
-    let dir = if f.eye.w != 0.0 {
-        pw - f.eye.truncate() / f.eye.w
+    let eye = tree.eye(f);
+    let dir = if eye.w != 0.0 {
+        pw - eye.truncate() / eye.w
     } else {
-        -f.eye.truncate()
+        -eye.truncate()
     };
     let rest = dir.normalize_or_zero() * d.length() * (1.0 - t);
     let ray = Ray {
@@ -232,7 +233,7 @@ fn site_colour(
         dir: rest,
         level: f.level,
         weight: f.weight,
-        eye: f.eye,
+        eye,
         exclude: None,
         bends: 0,
     };

@@ -253,7 +253,7 @@ impl RecordStream {
             let shades = match kind {
                 b'0' => Shades::Special,
                 b'1' => Shades::Faceted(faceted.expect("read above")),
-                b'3' => Shades::Phong(phong.expect("read above")),
+                b'3' => Shades::Phong(Box::new(phong.expect("read above"))),
                 _ => Shades::Gouraud(colors),
             };
             records.push(Record {
@@ -481,12 +481,12 @@ fn phong_record(words: &[&str], err: &dyn Fn(String) -> Error) -> Result<Record>
     Ok(Record {
         level,
         points,
-        shades: Shades::Phong(PhongShades {
+        shades: Shades::Phong(Box::new(PhongShades {
             shininess,
             light_colors,
             rgbt,
             normals,
-        }),
+        })),
     })
 }
 
@@ -555,7 +555,7 @@ mod tests {
                 Record {
                     level: 3,
                     points: vec![[0.1, 0.2], [0.5, 0.25], [0.3, 0.9]],
-                    shades: Shades::Phong(PhongShades {
+                    shades: Shades::Phong(Box::new(PhongShades {
                         shininess: 120.5,
                         light_colors: vec![[255, 250, 240], [10, 20, 30]],
                         rgbt: vec![[1, 2, 3, 0], [4, 5, 6, 128], [7, 8, 9, 255]],
@@ -564,7 +564,7 @@ mod tests {
                             vec![[-0.3, 0.1, 0.9], [0.2, -0.2, 0.95]],
                             vec![[0.0, 0.5, 0.8], [1.0 / 3.0, 0.1, 0.5]],
                         ],
-                    }),
+                    })),
                 },
             ],
         }

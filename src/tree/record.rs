@@ -23,8 +23,9 @@ pub enum Shades {
     Faceted([u8; 3]),
     /// Type 2: one shade per vertex.
     Gouraud(Vec<[u8; 3]>),
-    /// Type 3: Phong, with `r g b t` and highlight vectors per vertex.
-    Phong(PhongShades),
+    /// Type 3: Phong, with `r g b t` and highlight vectors per vertex
+    /// (boxed: most records are faceted, and the stream is held whole).
+    Phong(Box<PhongShades>),
 }
 
 /// The Phong parameters of figure 4.14: `<hilite> <nlt> <hltclr>` and, per

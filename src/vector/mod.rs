@@ -149,7 +149,7 @@ pub fn prepare_for(scene: &Scene, options: &RenderOptions, style: Style) -> Resu
         width,
         height,
     };
-    let (stream, sources) = emit::records(scene, &tree, how, view.eye);
+    let (stream, sources) = emit::records(scene, &tree, how, &view);
     let tree_file = scene.modes.output_tree.then(|| {
         let how = Emit {
             order: scene.sort_order,
@@ -157,7 +157,7 @@ pub fn prepare_for(scene: &Scene, options: &RenderOptions, style: Style) -> Resu
             width,
             height,
         };
-        emit::records(scene, &tree, how, view.eye).0
+        emit::records(scene, &tree, how, &view).0
     });
     let order = tree.output_order(SortOrder::BackToFront);
     let direct: Vec<bool> = order
@@ -286,9 +286,10 @@ fn original_edge_flags(scene: &Scene, tree: &VirtualImageTree, n: usize) -> Vec<
             distance_to_segment(a, p, q) <= tol && distance_to_segment(b, p, q) <= tol
         })
     };
-    let m = f.world.len();
+    let world = tree.world(f);
+    let m = world.len();
     (0..m)
-        .map(|k| on_edge(f.world[k], f.world[(k + 1) % m]))
+        .map(|k| on_edge(world[k], world[(k + 1) % m]))
         .collect()
 }
 
