@@ -92,7 +92,7 @@ pub struct Fragment {
     pub polygon: u32,
     /// Points in the virtual coordinates of its level; its screen points
     /// are their projections ([`Fragment::screen`]), made when needed.
-    pub virtual_points: Vec<DVec3>,
+    pub virtual_points: Box<[DVec3]>,
     /// Whether the viewer sees the polygon's back (`type open`).
     pub back_facing: bool,
     /// Its own shade (ambient, diffuse, specular).
@@ -113,7 +113,7 @@ pub struct Fragment {
     /// For shadow polygons, every light (indices into `Scene::lights`,
     /// increasing) the region is shadowed from; the first is the one in
     /// [`FragmentKind::Shadow`]. Empty for other fragments.
-    pub shadowed_from: Vec<u32>,
+    pub shadowed_from: Box<[u32]>,
 }
 
 impl Fragment {
@@ -176,7 +176,7 @@ impl VirtualImageTree {
                 .iter()
                 .map(|p| i.transform_point(*p))
                 .collect(),
-            None => f.virtual_points.clone(),
+            None => f.virtual_points.to_vec(),
         }
     }
 
@@ -789,7 +789,7 @@ impl<'a> Builder<'a> {
                 branch: at.branch,
                 object: c.object,
                 polygon: c.polygon,
-                virtual_points: c.points.clone(),
+                virtual_points: c.points.as_slice().into(),
                 back_facing: c.back_facing,
                 shade: own,
                 blended,
@@ -797,7 +797,7 @@ impl<'a> Builder<'a> {
                 parent: at.parent,
                 space: at.space,
                 children: Vec::new(),
-                shadowed_from: Vec::new(),
+                shadowed_from: Box::default(),
             });
             at.ids.push(id);
             if let Some(regions) = regions.next() {
@@ -1007,7 +1007,7 @@ impl<'a> Builder<'a> {
                 branch: Branch::Shadow,
                 object: c.object,
                 polygon: c.polygon,
-                virtual_points: points,
+                virtual_points: points.into_boxed_slice(),
                 back_facing: c.back_facing,
                 shade,
                 blended: at.parent_blend + shade * at.weight,
@@ -1015,7 +1015,7 @@ impl<'a> Builder<'a> {
                 parent: Some(parent),
                 space: at.space,
                 children: Vec::new(),
-                shadowed_from: lights,
+                shadowed_from: lights.into_boxed_slice(),
             }));
         }
         out

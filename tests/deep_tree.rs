@@ -301,7 +301,7 @@ fn overlapping_shadows_of_two_lights() {
         },
     );
     let both: Vec<usize> = (0..tree.nodes.len())
-        .filter(|&n| tree.nodes[n].shadowed_from == [0, 1])
+        .filter(|&n| *tree.nodes[n].shadowed_from == [0, 1])
         .collect();
     assert!(!both.is_empty(), "no overlap region");
     for &n in &both {
@@ -344,7 +344,7 @@ fn overlapping_shadows_of_two_lights() {
         },
     );
     let mut count = 0;
-    for f in tree.nodes.iter().filter(|f| f.shadowed_from == [0, 1]) {
+    for f in tree.nodes.iter().filter(|f| *f.shadowed_from == [0, 1]) {
         count += 1;
         let at = f.virtual_points.iter().copied().sum::<DVec3>() / f.virtual_points.len() as f64;
         let want = plytrace::shading::facet_shade_with(
@@ -422,9 +422,9 @@ fn assert_overlap_pixels(scene: &Scene, tree: &VirtualImageTree, view: &View, si
             }
             checked += 1;
             overlap += (w.len() == 2) as usize;
-            let g = got[k].map(|n| &tree.nodes[n].shadowed_from);
-            if g != Some(w) {
-                bad.push((x, y, w.clone(), g.cloned()));
+            let g = got[k].map(|n| tree.nodes[n].shadowed_from.to_vec());
+            if g.as_ref() != Some(w) {
+                bad.push((x, y, w.clone(), g));
             }
         }
     }
