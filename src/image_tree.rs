@@ -1151,15 +1151,11 @@ impl ShadowCaster<'_> {
                 per_light.push((j as u32, pieces));
             }
         }
-        let split = per_light.len().min(MAX_COMBINED_LIGHTS);
-        let mut regions = overlap_regions(
-            &per_light[..split],
-            plane.truncate(),
-            self.eps,
-            MAX_OVERLAP_PIECES,
-        );
-        for (j, pieces) in &per_light[split..] {
-            regions.extend(pieces.iter().map(|p| (p.clone(), vec![*j])));
+        let rest = per_light.split_off(per_light.len().min(MAX_COMBINED_LIGHTS));
+        let mut regions =
+            overlap_regions(per_light, plane.truncate(), self.eps, MAX_OVERLAP_PIECES);
+        for (j, pieces) in rest {
+            regions.extend(pieces.into_iter().map(|p| (p, vec![j])));
         }
         regions
     }

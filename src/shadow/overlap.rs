@@ -31,42 +31,55 @@ pub type ShadowRegion = (Vec<DVec3>, Vec<u32>);
 /// Past `cap` regions of two or more lights, no more intersections are
 /// made: the remaining overlaps show the shade of a smaller light set (too
 /// bright there), never a wrong outline.
+///
+/// The regions are made once, in the list returned: each layer of
+/// intersections refers to the previous one by index, so a floor with
+/// thousands of pieces holds no copies of them.
 pub fn overlap_regions(
-    per_light: &[(u32, Vec<Vec<DVec3>>)],
+    per_light: Vec<(u32, Vec<Vec<DVec3>>)>,
     normal: DVec3,
     eps: f64,
     cap: usize,
 ) -> Vec<ShadowRegion> {
-    let mut out: Vec<ShadowRegion> = per_light
-        .iter()
-        .flat_map(|(j, pieces)| pieces.iter().map(move |p| (p.clone(), vec![*j])))
-        .collect();
-    if per_light.len() < 2 {
-        return out;
-    }
+    let lights: Vec<u32> = per_light.iter().map(|(j, _)| *j).collect();
     // Every piece's box and clipping planes, once, and a grid per light.
-    let prepared: Vec<Vec<InPlane>> = per_light
-        .iter()
-        .map(|(_, pieces)| pieces.iter().map(|p| InPlane::new(p, normal)).collect())
-        .collect();
+    let prepared: Vec<Vec<InPlane>> = if lights.len() < 2 {
+        Vec::new()
+    } else {
+        per_light
+            .iter()
+            .map(|(_, pieces)| pieces.iter().map(|p| InPlane::new(p, normal)).collect())
+            .collect()
+    };
     let grids: Vec<PieceGrid> = prepared
         .iter()
         .map(|pieces| PieceGrid::new(pieces, normal))
         .collect();
+    // The pieces alone, and the layer to intersect next: (index of the
+    // region in `out`, index of its last light in `lights`).
+    let mut out: Vec<ShadowRegion> = Vec::new();
+    let mut layer: Vec<(usize, usize)> = Vec::new();
+    for (k, (j, pieces)) in per_light.into_iter().enumerate() {
+        for p in pieces {
+            layer.push((out.len(), k));
+            out.push((p, vec![j]));
+        }
+    }
+    if lights.len() < 2 {
+        return out;
+    }
     let mut scratch = ClipScratch::default();
     let mut many = Vec::new();
-    let mut layer: Vec<(Vec<DVec3>, Vec<u32>, usize)> = Vec::new();
-    for (k, (j, pieces)) in per_light.iter().enumerate() {
-        layer.extend(pieces.iter().map(|p| (p.clone(), vec![*j], k)));
-    }
     let mut made = 0;
     let mut found = Vec::new();
     let mut near = Vec::new();
     while !layer.is_empty() && made < cap {
         let mut next = Vec::new();
-        'regions: for (points, lights, last) in &layer {
+        let mut next_last = Vec::new();
+        'regions: for &(at, last) in &layer {
+            let (points, set) = &out[at];
             let bounds = super::bounds(points);
-            for (k, (j, _)) in per_light.iter().enumerate().skip(last + 1) {
+            for (k, j) in lights.iter().enumerate().skip(last + 1) {
                 grids[k].near(bounds, eps, &mut near);
                 for &i in &near {
                     found.clear();
@@ -83,15 +96,21 @@ pub fn overlap_regions(
                             break 'regions;
                         }
                         made += 1;
-                        let mut set = lights.clone();
+                        let mut set = set.clone();
                         set.push(*j);
-                        next.push((region, set, k));
+                        next.push((region, set));
+                        next_last.push(k);
                     }
                 }
             }
         }
-        out.extend(next.iter().map(|(p, l, _)| (p.clone(), l.clone())));
-        layer = next;
+        let start = out.len();
+        out.extend(next);
+        layer = next_last
+            .into_iter()
+            .enumerate()
+            .map(|(n, k)| (start + n, k))
+            .collect();
     }
     out
 }
@@ -331,7 +350,7 @@ mod tests {
         ] {
             let (a, b) = (pieces(seed, 150, normal), pieces(seed + 100, 170, normal));
             let per_light = [(0, a.clone()), (3, b.clone())];
-            let got = overlap_regions(&per_light, normal, 1e-9, usize::MAX);
+            let got = overlap_regions(per_light.to_vec(), normal, 1e-9, usize::MAX);
             let mut want: Vec<ShadowRegion> = a
                 .iter()
                 .map(|p| (p.clone(), vec![0]))
