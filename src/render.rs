@@ -483,11 +483,20 @@ pub fn prepare(
         height,
     };
     let picture_how = emit(SortOrder::FrontToBack, wants_pre_blending(method));
-    let (picture, sources) = within(&pool, || emit::records(scene, &tree, picture_how, view));
     let file = scene.modes.output_tree.then(|| {
         let how = emit(scene.sort_order, scene.modes.blend);
         within(&pool, || emit::records(scene, &tree, how, view).0)
     });
+    // The tree is kept past its records only for exact refraction.
+    let (picture, sources, tree) = if refraction == crate::image_tree::Refraction::Exact {
+        let (p, s) = within(&pool, || emit::records(scene, &tree, picture_how, view));
+        (p, s, Some(tree))
+    } else {
+        let (p, s) = within(&pool, || {
+            emit::records_freeing(scene, tree, picture_how, view)
+        });
+        (p, s, None)
+    };
     stats.shading_time = t.elapsed();
     profile.add(crate::profile::Category::Shading, t.elapsed());
     stats.polygons_listed = picture.records.len();
@@ -508,11 +517,11 @@ pub fn prepare(
     // Exact refraction: the refracted branches ray traced before the
     // picture's scan conversion (a failure there is the picture's too).
     let mut exact = None;
-    if refraction == crate::image_tree::Refraction::Exact {
+    if let Some(tree) = &tree {
         let made = crate::raytrace::exact::layer(
             scene,
             view,
-            &tree,
+            tree,
             &scan,
             options.shadows,
             options.shading,

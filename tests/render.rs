@@ -419,3 +419,38 @@ fn image_space_algorithms_refuse_the_tree_by_name() {
         );
     }
 }
+
+/// The picture's records are made while the tree's points are freed, run
+/// by run (`emit::records_freeing`): they must be the records made from
+/// the whole tree, in every order and blending, on office2 with shadows
+/// (some 120,000 fragments: several runs).
+#[test]
+fn records_made_while_freeing_the_tree_are_the_records_of_the_tree() {
+    use plytrace::emit::{self, Emit};
+    use plytrace::image_tree::{self, TreeOptions};
+    use plytrace::scene::model::SortOrder;
+    let scene = scene::load(&support::scene_fixture("office2.des"))
+        .unwrap()
+        .0;
+    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
+    let options = TreeOptions {
+        max_level: scene.modes.max_level,
+        shadows: true,
+        ..TreeOptions::default()
+    };
+    let tree = image_tree::build(&scene, &view, options);
+    assert!(tree.nodes.len() > 100_000, "{}", tree.nodes.len());
+    for order in [SortOrder::FrontToBack, SortOrder::BackToFront] {
+        for blended in [false, true] {
+            let how = Emit {
+                order,
+                blended,
+                width: 64,
+                height: 64,
+            };
+            let whole = emit::records(&scene, &tree, how, &view);
+            let freeing = emit::records_freeing(&scene, tree.clone(), how, &view);
+            assert!(whole == freeing, "{order:?}, blended {blended}");
+        }
+    }
+}
