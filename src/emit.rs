@@ -55,19 +55,9 @@ pub fn records(
     view: &View,
 ) -> (RecordStream, Vec<Source>) {
     let order = tree.output_order(how.order);
-    let gouraud = if how.blended {
-        blended_vertex_shades(scene, tree, view)
-    } else {
-        Vec::new()
-    };
+    let gouraud = blended_vertex_shades(scene, tree, how, view);
     let (records, sources) = some_records(scene, tree, how, view, &order, &gouraud);
-    let stream = RecordStream {
-        records,
-        background: Some(color_bytes(scene.background)),
-        front_to_back: how.order == SortOrder::FrontToBack,
-        blended: how.blended,
-    };
-    (stream, sources)
+    (stream(scene, how, records), sources)
 }
 
 /// [`records`] from a tree that is not needed afterwards: the fragments'
@@ -81,11 +71,7 @@ pub fn records_freeing(
     view: &View,
 ) -> (RecordStream, Vec<Source>) {
     let order = tree.output_order(how.order);
-    let gouraud = if how.blended {
-        blended_vertex_shades(scene, &tree, view)
-    } else {
-        Vec::new()
-    };
+    let gouraud = blended_vertex_shades(scene, &tree, how, view);
     let mut records = Vec::with_capacity(order.len());
     let mut sources = Vec::with_capacity(order.len());
     for run in order.chunks(FREEING_RUN) {
@@ -97,13 +83,17 @@ pub fn records_freeing(
         }
     }
     drop(tree);
-    let stream = RecordStream {
+    (stream(scene, how, records), sources)
+}
+
+/// `records` as the stream `how` asks for.
+fn stream(scene: &Scene, how: Emit, records: Vec<Record>) -> RecordStream {
+    RecordStream {
         records,
         background: Some(color_bytes(scene.background)),
         front_to_back: how.order == SortOrder::FrontToBack,
         blended: how.blended,
-    };
-    (stream, sources)
+    }
 }
 
 /// Fragments whose records [`records_freeing`] makes before it frees them.
@@ -341,17 +331,18 @@ pub fn color_bytes(c: Color) -> [u8; 3] {
 /// (`setmode v on`): a fragment's vertex shade is its parent's blended
 /// shade at that screen point, interpolated as in 004 figure 4.16 (along
 /// the two parent edges crossing the point's row, then across), plus `k`
-/// times its own vertex shade. `None` for other fragments, or all when
-/// vertex shades are off.
+/// times its own vertex shade. `None` for other fragments; empty when the
+/// records are not pre-blended or vertex shades are off.
 fn blended_vertex_shades(
     scene: &Scene,
     tree: &VirtualImageTree,
+    how: Emit,
     view: &View,
 ) -> Vec<Option<Vec<Color>>> {
-    let mut out: Vec<Option<Vec<Color>>> = vec![None; tree.nodes.len()];
-    if !scene.modes.vertex_shades {
-        return out;
+    if !how.blended || !scene.modes.vertex_shades {
+        return Vec::new();
     }
+    let mut out: Vec<Option<Vec<Color>>> = vec![None; tree.nodes.len()];
     // Parents are pushed before their children.
     for n in 0..tree.nodes.len() {
         let f = &tree.nodes[n];
