@@ -732,7 +732,7 @@ impl<'a> Builder<'a> {
         let (scene, profile, shading, eye) =
             (self.scene, self.profile, self.options.shading, at.eye_real);
         // What a chunk's fragments need that does not depend on the tree
-        // (shades, world points, shadows), found in parallel.
+        // (shades, shadows), found in parallel.
         let prepare = |chunk: Option<&[Candidate]>| {
             let Some(chunk) = chunk else {
                 return PreparedChunk::default();
