@@ -121,11 +121,19 @@ pub fn lookup(word: &str) -> Lookup {
     }
 }
 
+/// The command name nearest `word` by edit distance, if near enough.
+/// The distance is at least the difference in length, so names that
+/// differ more than that are not measured: a 16 MB unknown word costs no
+/// more than a short one.
 fn closest(word: &str) -> Option<&'static str> {
+    let len = word.chars().count();
     COMMANDS
         .iter()
-        .map(|c| (edit_distance(word, c.name), c.name))
-        .filter(|(d, name)| *d <= 2.max(name.len() / 4))
+        .map(|c| (c.name, 2.max(c.name.len() / 4)))
+        .filter(|&(name, limit)| len.abs_diff(name.len()) <= limit)
+        .map(|(name, limit)| (edit_distance(word, name), name, limit))
+        .filter(|&(d, _, limit)| d <= limit)
+        .map(|(d, name, _)| (d, name))
         .min()
         .map(|(_, n)| n)
 }
@@ -178,6 +186,34 @@ mod tests {
         }
         assert_eq!(lookup("tranlate"), Lookup::Unknown(Some("translate")));
         assert_eq!(lookup("zzzz"), Lookup::Unknown(None));
+    }
+
+    /// `closest` skips names by length; it must suggest what measuring
+    /// every name would, on words one, two and three edits from each name.
+    #[test]
+    fn the_length_filter_keeps_every_suggestion() {
+        let every = |w: &str| {
+            COMMANDS
+                .iter()
+                .map(|c| (edit_distance(w, c.name), c.name))
+                .filter(|(d, name)| *d <= 2.max(name.len() / 4))
+                .min()
+                .map(|(_, n)| n)
+        };
+        let mut words = vec![String::new(), "x".repeat(100_000)];
+        for c in COMMANDS {
+            for k in 0..=c.name.len() {
+                let (head, tail) = c.name.split_at(k);
+                words.push(format!("{head}q{tail}"));
+                words.push(format!("{head}qq{tail}"));
+                words.push(format!("{head}qqq{tail}"));
+                words.push(format!("{head}{}", tail.get(1..).unwrap_or("")));
+                words.push(format!("{head}{}", tail.get(3..).unwrap_or("")));
+            }
+        }
+        for w in &words {
+            assert_eq!(closest(w), every(w), "{:.40}", w);
+        }
     }
 
     #[test]
