@@ -78,6 +78,7 @@ fn bench(c: &mut Criterion) {
             transparency: TransparencyRule::Garcia,
             threads: 0,
             ids: false,
+            max_overdraw: u64::MAX,
         };
         group.bench_function(format!("{m:?}"), |b| {
             b.iter(|| scan_convert(&stream, &options, &mut Discard).unwrap())

@@ -21,6 +21,11 @@ pub struct Budgets {
     /// pixel at once (PPM, the id image, `clear`). The default picture
     /// streams bands of rows and is bounded by `pixels` alone.
     pub frame_memory: u64,
+    /// Average records per pixel that one scan conversion tiles, each
+    /// counted by its bounding box within the image (`--max-overdraw`):
+    /// scan conversion time grows with it, and the node budget alone
+    /// allows 500,000 records each covering the whole image.
+    pub overdraw: u64,
 }
 
 impl Default for Budgets {
@@ -32,6 +37,7 @@ impl Default for Budgets {
             splits: 200_000,
             pixels: 1 << 30,
             frame_memory: 1 << 30,
+            overdraw: 4096,
         }
     }
 }

@@ -219,6 +219,8 @@ BUDGETS (a run that would exceed one stops with a message naming its flag):
     --max-tree-nodes N fragments of the virtual image tree
     --max-splits N     face splits of one NNS sort
     --max-pixels N     pixels of one image (checked before rendering)
+    --max-overdraw N   records per pixel on average that scan conversion tiles, each
+                       counted by its bounding box (default 4096; checked before tiling)
     --max-frame-memory MiB  a whole frame held in memory (image-space
                        algorithms, PPM, --id-image, clear; default 1024)
 
@@ -317,6 +319,7 @@ fn parse_args(args: &[String]) -> std::result::Result<Parsed, String> {
             "--max-tree-nodes" => o.budgets.tree_nodes = to_usize(count(arg)?),
             "--max-splits" => o.budgets.splits = to_usize(count(arg)?),
             "--max-pixels" => o.budgets.pixels = count(arg)?,
+            "--max-overdraw" => o.budgets.overdraw = count(arg)?,
             "--max-frame-memory" => {
                 o.budgets.frame_memory = count(arg)?.saturating_mul(1 << 20);
             }

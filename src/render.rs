@@ -513,6 +513,7 @@ pub fn prepare(
         },
         threads: options.threads,
         ids: true,
+        max_overdraw: options.budgets.overdraw,
     };
     // Exact refraction: the refracted branches ray traced before the
     // picture's scan conversion (a failure there is the picture's too).

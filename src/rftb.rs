@@ -387,6 +387,7 @@ pub fn run(program: Program, args: &Args) -> Result<Summary> {
         transparency: TransparencyRule::Garcia,
         threads: 0,
         ids: false,
+        max_overdraw: crate::budget::Budgets::default().overdraw,
     };
     let stats = crate::raster::scan::scan_convert(&stream, &options, &mut outputs)?;
     let notes = outputs.commit()?;

@@ -186,6 +186,7 @@ fn half_covered_white_over_black_is_128() {
             transparency: TransparencyRule::Garcia,
             threads: 1,
             ids: false,
+            max_overdraw: u64::MAX,
         };
         let mut keep = Keep(Vec::new());
         scan_convert(&stream, &options, &mut keep).unwrap();

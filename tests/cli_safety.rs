@@ -580,6 +580,58 @@ fn unsupported_extension_is_refused() {
     );
 }
 
+/// Stacked transparent squares: each is a record over the same pixels, so
+/// scan conversion time grows with their number times the image; the
+/// overdraw budget refuses them before tiling and nothing is written.
+#[test]
+fn stacked_transparent_squares_past_the_overdraw_budget_are_refused() {
+    let mut scene = String::from(
+        "perspective 45 1 0.1 100\npushmatrix\nident\ntype polygon open\ntransmittance 0.9\n",
+    );
+    for _ in 0..60 {
+        scene.push_str(
+            "translate 0 0 -0.01\npushmatrix\ntranslate 0 0 -5\ndefobj square\nendobj\npopmatrix\n",
+        );
+    }
+    scene.push_str("popmatrix\n");
+    let args = |budget: &'static str| {
+        [
+            "-i",
+            "-f",
+            "scene.des",
+            "-o",
+            "x.png",
+            "--size",
+            "16x16",
+            "--max-overdraw",
+            budget,
+        ]
+    };
+    let run = run_with(&scene, &args("10"));
+    assert_eq!(run.code, Some(1), "{}", run.transcript());
+    for m in [
+        "60 records",
+        "times over",
+        "the budget of 10 times",
+        "`--max-overdraw N` raises it",
+    ] {
+        assert!(
+            run.err().contains(m),
+            "expected `{m}`\n{}",
+            run.transcript()
+        );
+    }
+    assert_eq!(run.files(), with_inputs(&[]), "{}", run.transcript());
+    let run = run_with(&scene, &args("20"));
+    assert_eq!(run.code, Some(0), "{}", run.transcript());
+    assert_eq!(
+        run.files(),
+        with_inputs(&["work/x.png"]),
+        "{}",
+        run.transcript()
+    );
+}
+
 // ---------------------------------------------------------------------------
 // 5. Broken pipes
 

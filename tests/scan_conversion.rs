@@ -55,6 +55,7 @@ fn opts(w: u32, h: u32, method: Method) -> ScanOptions {
         transparency: TransparencyRule::Garcia,
         threads: 1,
         ids: true,
+        max_overdraw: u64::MAX,
     }
 }
 

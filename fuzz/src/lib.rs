@@ -438,6 +438,7 @@ pub fn pipeline(data: &[u8]) {
             splits: 2_000,
             pixels: 1 << 20,
             frame_memory: 1 << 26,
+            overdraw: 64,
         },
     };
     let statements = overrides(&mut bytes);

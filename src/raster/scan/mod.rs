@@ -38,8 +38,10 @@ mod tiler;
 use crate::error::{Error, Result};
 use crate::tree::RecordStream;
 use band::{Plan, convert};
+use glam::DVec2;
 use multilevel::MultiLevel;
 use painter::Painter;
+use shade::Prepared;
 use single::{Measure, SingleLevel};
 
 /// How coverage is found and blended (004 sections 5.6-5.9; Donovan 000
@@ -93,6 +95,10 @@ pub struct ScanOptions {
     /// Also produce, per pixel, the 1-based index of the record seen at
     /// the pixel centre (0 for none).
     pub ids: bool,
+    /// Refuse, before tiling, records whose bounding boxes within the
+    /// image add up to more than this many times its pixels
+    /// ([`crate::budget::Budgets::overdraw`]).
+    pub max_overdraw: u64,
 }
 
 /// Figures of one scan conversion.
@@ -185,6 +191,7 @@ pub fn scan_convert(
             Err(_) => prepare(),
         },
     }?;
+    check_overdraw(&records, w, h, options.max_overdraw)?;
     if let Logic::Multi(_) = logic
         && let Some((k, r)) = records
             .iter()
@@ -240,6 +247,41 @@ pub fn scan_convert(
         }
         Logic::Multi(n) => convert(&plan, t, || MultiLevel::new(n), sink),
     }
+}
+
+/// Pixels of the records' bounding boxes within a `width` x `height`
+/// image: an upper bound on the pixel visits of tiling them.
+fn tiled_area(records: &[Prepared], width: u32, height: u32) -> f64 {
+    let (w, h) = (width as f64, height as f64);
+    records
+        .iter()
+        .map(|r| {
+            let (lo, hi) = r.points.iter().fold(
+                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            );
+            let x = hi.x.min(w) - lo.x.max(0.0);
+            let y = hi.y.min(h) - lo.y.max(0.0);
+            if x > 0.0 && y > 0.0 { x * y } else { 0.0 }
+        })
+        .sum()
+}
+
+/// Refuses records that would tile more than `limit` times the image.
+fn check_overdraw(records: &[Prepared], width: u32, height: u32, limit: u64) -> Result<()> {
+    let pixels = f64::from(width) * f64::from(height);
+    let overdraw = tiled_area(records, width, height) / pixels.max(1.0);
+    if overdraw <= limit as f64 {
+        return Ok(());
+    }
+    Err(Error::Invalid(crate::budget::Budgets::exceeded(
+        &format!(
+            "scan converting {} records that cover the {width} x {height} image {overdraw:.1} times over (their bounding boxes)",
+            records.len()
+        ),
+        format!("{limit} times"),
+        "--max-overdraw",
+    )))
 }
 
 /// The hidden-surface logic a run uses.
@@ -323,4 +365,39 @@ fn choose(stream: &RecordStream, o: &ScanOptions) -> Result<Logic> {
         )));
     }
     Ok(logic)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(points: &[[f64; 2]]) -> Prepared {
+        let points: Vec<DVec2> = points.iter().map(|p| DVec2::from(*p)).collect();
+        let (ymin, ymax) = points
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p.y), b.max(p.y))
+            });
+        Prepared {
+            points,
+            shading: shade::Shading::Special,
+            level: 1,
+            ymin,
+            ymax,
+        }
+    }
+
+    /// Bounding boxes clipped to a 16 x 8 image, worked by hand.
+    #[test]
+    fn tiled_area_counts_bounding_boxes_within_the_image() {
+        let inside = record(&[[1.0, 1.0], [3.0, 1.0], [2.0, 4.0]]); // 2 x 3
+        let overhanging = record(&[[-10.0, -10.0], [20.0, 5.0], [5.0, 30.0]]); // 16 x 8
+        let corner = record(&[[14.0, 6.0], [30.0, 6.0], [30.0, 30.0]]); // 2 x 2
+        let outside = record(&[[-5.0, 1.0], [-1.0, 1.0], [-3.0, 4.0]]);
+        let records = [inside, overhanging, corner, outside];
+        assert_eq!(tiled_area(&records, 16, 8), 6.0 + 128.0 + 4.0);
+        assert!(check_overdraw(&records, 16, 8, 2).is_ok()); // 138 / 128
+        let e = check_overdraw(&records, 16, 8, 1).unwrap_err().to_string();
+        assert!(e.contains("1.1 times over") && e.contains("--max-overdraw"), "{e}");
+    }
 }
