@@ -398,6 +398,9 @@ mod tests {
         assert_eq!(tiled_area(&records, 16, 8), 6.0 + 128.0 + 4.0);
         assert!(check_overdraw(&records, 16, 8, 2).is_ok()); // 138 / 128
         let e = check_overdraw(&records, 16, 8, 1).unwrap_err().to_string();
-        assert!(e.contains("1.1 times over") && e.contains("--max-overdraw"), "{e}");
+        assert!(
+            e.contains("1.1 times over") && e.contains("--max-overdraw"),
+            "{e}"
+        );
     }
 }
