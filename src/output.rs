@@ -257,6 +257,44 @@ fn temp_beside(path: &Path, what: &str) -> Result<PathBuf> {
     )))
 }
 
+/// The temporary files of this process not yet renamed or removed, so that
+/// a program ended by a signal can remove them ([`remove_temporaries`]);
+/// `None` once they have been removed, after which no more are made.
+static TEMPORARIES: std::sync::Mutex<Option<Vec<PathBuf>>> =
+    std::sync::Mutex::new(Some(Vec::new()));
+
+/// Notes a temporary file; false when the process is ending.
+fn note_temporary(tmp: &Path) -> bool {
+    let mut live = TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner());
+    match live.as_mut() {
+        Some(list) => {
+            list.push(tmp.to_path_buf());
+            true
+        }
+        None => false,
+    }
+}
+
+/// Forgets a temporary file that was renamed or removed.
+fn forget_temporary(tmp: &Path) {
+    let mut live = TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(list) = live.as_mut()
+        && let Some(i) = list.iter().rposition(|p| p == tmp)
+    {
+        list.swap_remove(i);
+    }
+}
+
+/// Removes every temporary file of this process's outputs not yet renamed
+/// into place, and makes no more: for a program about to end on a signal,
+/// so that nothing of an unfinished run is left on disk.
+pub fn remove_temporaries() {
+    let mut live = TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner());
+    for tmp in live.take().unwrap_or_default() {
+        let _ = std::fs::remove_file(tmp);
+    }
+}
+
 /// A file being written under a temporary name beside its destination; the
 /// temporary is removed when dropped unfinished.
 #[derive(Debug)]
@@ -279,6 +317,11 @@ impl AtomicFile {
             .create_new(true)
             .open(&tmp)
             .map_err(|e| Error::io(path, e))?;
+        if !note_temporary(&tmp) {
+            drop(file);
+            let _ = std::fs::remove_file(&tmp);
+            return Err(Error::Cancelled);
+        }
         Ok(AtomicFile {
             path: path.to_path_buf(),
             tmp,
@@ -333,6 +376,7 @@ impl Drop for AtomicFile {
         if !self.tmp.as_os_str().is_empty() {
             self.file.take();
             let _ = std::fs::remove_file(&self.tmp);
+            forget_temporary(&self.tmp);
         }
     }
 }
@@ -349,10 +393,12 @@ impl Staged {
     /// Renames the file into place.
     pub fn commit(mut self) -> Result<()> {
         let tmp = std::mem::take(&mut self.tmp);
-        std::fs::rename(&tmp, &self.path).map_err(|e| {
+        let renamed = std::fs::rename(&tmp, &self.path).map_err(|e| {
             let _ = std::fs::remove_file(&tmp);
             Error::io(&self.path, e)
-        })
+        });
+        forget_temporary(&tmp);
+        renamed
     }
 
     /// The destination.
@@ -365,6 +411,7 @@ impl Drop for Staged {
     fn drop(&mut self) {
         if !self.tmp.as_os_str().is_empty() {
             let _ = std::fs::remove_file(&self.tmp);
+            forget_temporary(&self.tmp);
         }
     }
 }

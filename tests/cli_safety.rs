@@ -819,7 +819,7 @@ fn help_refers_only_to_sections_that_exist() {
         .map(|l| l.trim_end_matches(':').split(" (").next().unwrap_or(""))
         .collect();
     assert!(
-        sections.contains(&"FLAGS") && sections.contains(&"FILES"),
+        sections.contains(&"The manual's flags") && sections.contains(&"Files"),
         "{sections:?}"
     );
     for (i, _) in help.match_indices("(see ") {

@@ -1,0 +1,860 @@
+//! The program's side of a `run` (the interpreter's [`Host`]): it checks
+//! and creates the outputs, renders through the library, commits the
+//! files together and prints the manual's statistics (004 appendix B:
+//! "the total number of polygons tiled, maximum recursion level, and the
+//! elapsed time").
+
+use std::io::{BufRead, IsTerminal, Write};
+use std::path::{Component, Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use plytrace::budget::Budgets;
+use plytrace::error::{Error, Result, printable};
+use plytrace::output::{self, AtomicFile};
+use plytrace::raster::frame_buffer::FrameBuffer;
+use plytrace::raster::scan::{Row, RowSink};
+use plytrace::render::{self, RenderOptions};
+use plytrace::scene::{Host, Scene};
+use plytrace::visibility::Algorithm;
+
+use crate::stats::RunStats;
+use crate::term::{err, out, out_text};
+
+/// Renders on `run` and writes the image.
+pub struct CliHost {
+    /// The image file named on the command line (for `-o -`, a file in a
+    /// private temporary folder, copied to stdout when the run is done).
+    pub output: Option<PathBuf>,
+    /// `-o -`: the image goes to standard output, the messages to stderr.
+    pub to_stdout: bool,
+    /// `--check`: runs check their outputs and render nothing.
+    pub check: bool,
+    /// The statistics of every run, for `--stats`.
+    pub stats: Vec<RunStats>,
+    pub size: Option<(u32, u32)>,
+    pub id_image: Option<PathBuf>,
+    pub visibility: Option<Algorithm>,
+    pub profile: bool,
+    pub refraction: plytrace::image_tree::Refraction,
+    pub aa: Option<plytrace::raster::scan::Method>,
+    pub threads: usize,
+    pub shading: plytrace::shading::ShadingModel,
+    pub scene_stem: Option<String>,
+    /// The scene file last read, for the log.
+    pub scene_file: Option<PathBuf>,
+    pub quiet: bool,
+    pub interactive: bool,
+    /// `--allow-outside`: the scene's `fname` may leave the working
+    /// directory.
+    pub allow_outside: bool,
+    /// The limits of the session: the interpreter has its own copy
+    /// (polygons, call depth); `run` checks pixels and hands the rest to
+    /// the renderer.
+    pub budgets: Budgets,
+    /// A progress bar on stderr during the scan conversion.
+    pub progress: bool,
+    /// The aspect-ratio warning was given (once per session).
+    pub aspect_warned: bool,
+    /// Every file written by the runs so far, in order.
+    pub written: Vec<PathBuf>,
+    /// `run`s rendered so far.
+    pub runs: usize,
+    /// `--hidden-line`.
+    pub hidden_line: bool,
+    /// Brown's priority orders of the previous frame (003 sections 2-3).
+    pub orders: plytrace::visibility::brown::PriorityCache,
+    /// `--raytrace`.
+    pub raytrace: bool,
+    /// The live display (`disp on`).
+    pub live: plytrace::display::LiveDisplay,
+}
+
+/// The name and place of a scene-chosen output, `fname`, checked: no `..`
+/// and no absolute path, unless `--allow-outside`.
+fn confine(name: &str) -> Result<()> {
+    let p = Path::new(name);
+    let outside = p.is_absolute()
+        || p.components().any(|c| {
+            matches!(
+                c,
+                Component::ParentDir | Component::RootDir | Component::Prefix(_)
+            )
+        });
+    if outside {
+        return Err(Error::Invalid(format!(
+            "fname `{}`: names from a scene file must stay inside the working directory \
+             (no `..`, no absolute path); `--allow-outside` permits it",
+            printable(name, 200)
+        )));
+    }
+    if name.is_empty() {
+        return Err(Error::Invalid("fname: an empty output name".into()));
+    }
+    // A directory on the way that is a link out of the working directory
+    // escapes as surely as `..`.
+    if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty())
+        && let (Ok(real), Ok(cwd)) = (
+            dir.canonicalize(),
+            std::env::current_dir().and_then(|c| c.canonicalize()),
+        )
+        && !real.starts_with(&cwd)
+    {
+        return Err(Error::Invalid(format!(
+            "fname `{}`: its directory leads outside the working directory (through a link); \
+             names from a scene file must stay inside it; `--allow-outside` permits it",
+            printable(name, 200)
+        )));
+    }
+    Ok(())
+}
+
+/// Passes rows on to `inner` and advances a progress bar, one step a row
+/// (a band of rows at a time, as the scan converter finishes them).
+struct ProgressSink<'a> {
+    inner: &'a mut dyn RowSink,
+    bar: Option<indicatif::ProgressBar>,
+}
+
+impl<'a> ProgressSink<'a> {
+    fn new(inner: &'a mut dyn RowSink, rows: u32, show: bool) -> Self {
+        let bar = show.then(|| {
+            let bar = indicatif::ProgressBar::new(u64::from(rows));
+            if let Ok(style) = indicatif::ProgressStyle::with_template(
+                "Scan conversion [{bar:30}] {pos}/{len} rows (eta {eta})",
+            ) {
+                bar.set_style(style.progress_chars("=> "));
+            }
+            bar.tick();
+            bar
+        });
+        ProgressSink { inner, bar }
+    }
+
+    fn finish(self) {
+        if let Some(bar) = self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+impl RowSink for ProgressSink<'_> {
+    fn row(&mut self, row: &Row<'_>) -> Result<()> {
+        plytrace::cancel::check()?;
+        self.inner.row(row)?;
+        if let Some(bar) = &self.bar {
+            bar.inc(1);
+        }
+        Ok(())
+    }
+}
+
+/// The date and time now, UTC, as the logs of every program write it.
+fn utc_now() -> String {
+    plytrace::rftb::utc_timestamp(std::time::SystemTime::now())
+}
+
+/// Appends `line` to `plytrace.log` in the working directory (the manual's
+/// FILES). A log that is a link or special file is left alone; a failure
+/// is a warning, never an error of the run.
+fn append_log(line: &str) {
+    let path = Path::new("plytrace.log");
+    if let Ok(m) = std::fs::symlink_metadata(path)
+        && !m.file_type().is_file()
+    {
+        err("warning: plytrace.log is not a regular file; the run is not logged");
+        return;
+    }
+    let written = std::fs::OpenOptions::new()
+        .append(true)
+        .create(true)
+        .open(path)
+        .and_then(|mut f| f.write_all(format!("{line}\n").as_bytes()));
+    if let Err(e) = written {
+        err(&format!(
+            "warning: plytrace.log: {e}; the run is not logged"
+        ));
+    }
+}
+
+impl CliHost {
+    /// Prints a line of the session's report: on stdout, or on stderr
+    /// when the image goes to stdout; nothing with `--quiet`.
+    pub fn say(&self, s: &str) {
+        if self.quiet {
+        } else if self.to_stdout {
+            err(s);
+        } else {
+            out(s);
+        }
+    }
+
+    /// The stem of the outputs: the scene's `fname` (checked by
+    /// [`confine`]), else the scene file's name, else `plytrace`.
+    fn stem(&self, scene: &Scene) -> Result<String> {
+        if let Some(f) = &scene.fname {
+            if !self.allow_outside {
+                confine(f)?;
+            }
+            return Ok(f.clone());
+        }
+        Ok(self.scene_stem.clone().unwrap_or_else(|| "plytrace".into()))
+    }
+
+    /// The image a run writes: `-o`, else the stem with `.png`.
+    fn image_path(&self, scene: &Scene) -> Result<PathBuf> {
+        match &self.output {
+            Some(p) => Ok(p.clone()),
+            None => Ok(PathBuf::from(format!("{}.png", self.stem(scene)?))),
+        }
+    }
+
+    /// Warns once when `--size` stretches the scene's image.
+    fn warn_aspect(&mut self, scene: &Scene) {
+        let Some((w, h)) = self.size else { return };
+        let (sw, sh) = (scene.viewport.width(), scene.viewport.height());
+        let (a, b) = (f64::from(w) / f64::from(h), f64::from(sw) / f64::from(sh));
+        if !self.aspect_warned && ((a - b) / b).abs() > 0.01 {
+            self.aspect_warned = true;
+            err(&format!(
+                "warning: --size {w}x{h} changes the aspect ratio of the scene's {sw} x {sh} image \
+                 (width/height {} to {}); the picture is stretched",
+                significant(b),
+                significant(a)
+            ));
+        }
+    }
+}
+
+impl CliHost {
+    /// The `--raytrace` render: N x N rays per pixel with `--supersample N`.
+    fn ray_traced(&self, scene: &Scene, shadows: bool) -> Result<render::Rendered> {
+        let samples = match self.aa {
+            Some(plytrace::raster::scan::Method::Supersample(n)) => n,
+            _ => 1,
+        };
+        let options = plytrace::raytrace::RayTraceOptions {
+            size: self.size,
+            samples,
+            shadows,
+            shading: self.shading,
+            threads: self.threads,
+        };
+        let (frame, rays) = plytrace::raytrace::render(scene, &options)?;
+        Ok(render::Rendered {
+            frame,
+            polygons: Vec::new(),
+            shadows: Vec::new(),
+            tree: None,
+            profile: None,
+            stats: render::RenderStats {
+                max_depth: scene.modes.max_level,
+                paint_time: rays.trace_time,
+                raytrace: Some(rays),
+                ..render::RenderStats::default()
+            },
+        })
+    }
+
+    /// Creates every output of a run (each a temporary file beside its
+    /// place) before anything is rendered; `fname` is checked only where
+    /// it names a file. `disp` is the live display (the manual's
+    /// "attached device"): the image file is written either way.
+    fn create_outputs(&self, scene: &Scene) -> Result<RunOutputs> {
+        let named = self.output.is_none() || scene.modes.output_tree;
+        let stem = if named {
+            self.stem(scene)?
+        } else {
+            String::new()
+        };
+        let path = match &self.output {
+            Some(p) => p.clone(),
+            None => PathBuf::from(format!("{stem}.png")),
+        };
+        let image = Some(AtomicFile::create(&path)?);
+        let id = match &self.id_image {
+            Some(p) => Some(AtomicFile::create(p)?),
+            None => None,
+        };
+        let tree = if scene.modes.output_tree {
+            Some((
+                AtomicFile::create(Path::new(&format!("{stem}.out")))?,
+                AtomicFile::create(Path::new(&format!("{stem}.txt")))?,
+            ))
+        } else {
+            None
+        };
+        Ok(RunOutputs {
+            path,
+            image,
+            id,
+            tree,
+        })
+    }
+
+    fn render_options(&self, shadows: bool) -> RenderOptions {
+        RenderOptions {
+            size: self.size,
+            shadows,
+            visibility: self.visibility,
+            profile: self.profile,
+            refraction: self.refraction,
+            aa: self.aa,
+            threads: self.threads,
+            shading: self.shading,
+            budgets: self.budgets,
+        }
+    }
+
+    /// Renders the picture into the run's image file (staged, not yet
+    /// committed): vector output, PNG bands streamed as they are finished,
+    /// or a whole frame. Returns the render and the image's size.
+    fn picture(
+        &mut self,
+        scene: &Scene,
+        shadows: bool,
+        out: &mut RunOutputs,
+        staged: &mut Vec<output::Staged>,
+    ) -> Result<(render::Rendered, (u32, u32))> {
+        let options = self.render_options(shadows);
+        let (w, h) = self
+            .size
+            .unwrap_or((scene.viewport.width(), scene.viewport.height()));
+        if plytrace::vector::Format::from_path(&out.path).is_some() || self.hidden_line {
+            let run =
+                plytrace::vector::render_run(out.image.take(), scene, &options, self.hidden_line)?;
+            staged.extend(run.0);
+            let rendered = render::Rendered {
+                tree: run.2,
+                ..render::Rendered::empty(run.1)
+            };
+            return Ok((rendered, (w, h)));
+        }
+        let streamed = !self.live.wanted()
+            && self.id_image.is_none()
+            && out
+                .path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        if !streamed {
+            // The whole frame is kept; the image-space algorithms check
+            // their larger need themselves.
+            self.budgets
+                .check_frame(w, h, render::FRAME_BYTES_PER_PIXEL)
+                .map_err(Error::Invalid)?;
+        }
+        let plan = if self.raytrace {
+            render::Plan::Painted(Box::new(self.ray_traced(scene, shadows)?))
+        } else {
+            render::plan_with(scene, &options, &self.orders)?
+        };
+        let file = out.image.take().expect("created before the render");
+        match plan {
+            render::Plan::Tree(prepared) if streamed => {
+                let (w, h) = (prepared.scan.width, prepared.scan.height);
+                let rendered = self.streamed(*prepared, file, scene, staged)?;
+                Ok((rendered, (w, h)))
+            }
+            plan => {
+                let rendered = self.whole_frame(plan, w, h)?;
+                staged.push(output::stage_image(file, &rendered.frame, scene.outmode)?);
+                let size = (rendered.frame.width, rendered.frame.height);
+                Ok((rendered, size))
+            }
+        }
+    }
+
+    /// The virtual frame buffer: bands of rows go to the PNG as they are
+    /// finished; the whole image is never in memory.
+    fn streamed(
+        &self,
+        mut prepared: render::Prepared,
+        file: AtomicFile,
+        scene: &Scene,
+        staged: &mut Vec<output::Staged>,
+    ) -> Result<render::Rendered> {
+        prepared.scan.ids = false;
+        let (w, h) = (prepared.scan.width, prepared.scan.height);
+        let mut sink = output::PngSink::from_file(file, w, h, scene.outmode.into())?;
+        let mut progress = ProgressSink::new(&mut sink, h, self.progress);
+        let rendered = render::scan_into(prepared, &mut progress);
+        progress.finish();
+        let rendered = rendered?;
+        let (file, note) = sink.finish()?;
+        if let Some(note) = note {
+            err(&format!("warning: {note}"));
+        }
+        staged.push(file);
+        Ok(rendered)
+    }
+
+    /// A render kept whole in memory, shown level by level in the live
+    /// display when `disp on` opened one.
+    fn whole_frame(&mut self, plan: render::Plan, w: u32, h: u32) -> Result<render::Rendered> {
+        let progress = self.progress;
+        let live = match self.live.observer(w, h) {
+            Ok(o) => o,
+            Err(message) => {
+                err(&format!("warning: {message}"));
+                None
+            }
+        };
+        Ok(match (plan, live) {
+            (render::Plan::Tree(prepared), Some(window)) => {
+                plytrace::display::scan_levels(*prepared, window)?
+            }
+            (render::Plan::Painted(r), Some(window)) => {
+                plytrace::display::show_painted(&r, window);
+                *r
+            }
+            (render::Plan::Tree(prepared), None) => {
+                let (w, h) = (prepared.scan.width, prepared.scan.height);
+                let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
+                let mut sink = render::FrameSink { frame: &mut frame };
+                let mut bar = ProgressSink::new(&mut sink, h, progress);
+                let rendered = render::scan_into(*prepared, &mut bar);
+                bar.finish();
+                let mut rendered = rendered?;
+                rendered.frame = frame;
+                rendered
+            }
+            (render::Plan::Painted(r), None) => *r,
+        })
+    }
+
+    /// Stages the tree files (`setmode o`); the message to print once
+    /// they are committed.
+    fn stage_tree(
+        tree: Option<&plytrace::tree::RecordStream>,
+        files: Option<(AtomicFile, AtomicFile)>,
+        staged: &mut Vec<output::Staged>,
+    ) -> Result<Option<String>> {
+        let (Some(tree), Some((mut bin, mut txt))) = (tree, files) else {
+            return Ok(None);
+        };
+        bin.write_all(&tree.to_bytes())?;
+        txt.write_all(tree.to_text().as_bytes())?;
+        let message = format!(
+            "Wrote the virtual image tree ({} polygons) to {} and {}",
+            tree.records.len(),
+            bin.path().display(),
+            txt.path().display()
+        );
+        staged.push(bin.finish()?);
+        staged.push(txt.finish()?);
+        Ok(Some(message))
+    }
+
+    /// The size of the image a run of `scene` makes, checked against the
+    /// pixel budget.
+    fn run_size(&self, scene: &Scene) -> Result<(u32, u32)> {
+        let (w, h) = self
+            .size
+            .unwrap_or((scene.viewport.width(), scene.viewport.height()));
+        if u64::from(w) * u64::from(h) > self.budgets.pixels {
+            return Err(Error::Invalid(pixels_exceeded(w, h, self.budgets.pixels)));
+        }
+        Ok((w, h))
+    }
+
+    /// One `run`: checks and creates the outputs, renders, commits them
+    /// all together (or none), then reports.
+    fn render(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
+        self.runs += 1;
+        let start = Instant::now();
+        self.run_size(scene)?;
+        let mut out = self.create_outputs(scene)?;
+        self.warn_aspect(scene);
+        self.say("Building image.");
+        if scene.objects.is_empty() {
+            err("warning: the scene has no objects; the image is the background only");
+        }
+        let mut staged = Vec::new();
+        let (rendered, (w, h)) = self.picture(scene, shadows, &mut out, &mut staged)?;
+        let tree_message = Self::stage_tree(rendered.tree.as_ref(), out.tree, &mut staged)?;
+        if let Some(file) = out.id {
+            staged.push(output::stage_id_png(
+                file,
+                &rendered.frame,
+                &rendered.polygons,
+            )?);
+        }
+        let paths: Vec<PathBuf> = staged.iter().map(|s| s.path().to_path_buf()).collect();
+        output::commit_all(staged)?;
+        let shown = if self.to_stdout {
+            crate::stdout_image::send(&out.path)?;
+            PathBuf::from("<stdout>")
+        } else {
+            self.written.extend(paths);
+            out.path.clone()
+        };
+        self.say(&format!("Wrote {} ({w} x {h})", shown.display()));
+        if let Some(m) = tree_message {
+            self.say(&m);
+        }
+        if let Some(p) = &self.id_image {
+            self.say(&format!("Wrote the id image {}", p.display()));
+        }
+        self.report_stats(scene, &rendered);
+        let elapsed = start.elapsed();
+        self.say(&hms(elapsed));
+        self.log_run(&shown, (w, h), &rendered.stats, elapsed);
+        Ok(())
+    }
+
+    /// Appends the run to `plytrace.log` and keeps its statistics.
+    fn log_run(
+        &mut self,
+        image: &Path,
+        (w, h): (u32, u32),
+        s: &render::RenderStats,
+        elapsed: Duration,
+    ) {
+        let field = |p: &Path| printable(&p.display().to_string(), 300).replace(' ', "\\x20");
+        append_log(&format!(
+            "{} scene={} image={} size={w}x{h} polygons_tiled={} max_depth={} seconds={:.3}",
+            utc_now(),
+            self.scene_file
+                .as_deref()
+                .map_or_else(|| "<stdin>".into(), field),
+            field(image),
+            s.polygons_tiled,
+            s.max_depth,
+            elapsed.as_secs_f64()
+        ));
+        self.stats.push(RunStats::new(image, (w, h), s, elapsed));
+    }
+
+    /// `--check`: what a run would do is checked (the image's size
+    /// against the budgets, the outputs' names and places) and said;
+    /// nothing is rendered or written.
+    fn check_run(&mut self, scene: &Scene) -> Result<()> {
+        self.runs += 1;
+        let (w, h) = self.run_size(scene)?;
+        let image = self.image_path(scene)?;
+        let mut outputs = vec![image.clone()];
+        if scene.modes.output_tree {
+            let stem = self.stem(scene)?;
+            outputs.push(PathBuf::from(format!("{stem}.out")));
+            outputs.push(PathBuf::from(format!("{stem}.txt")));
+        }
+        outputs.extend(self.id_image.iter().cloned());
+        for p in &outputs {
+            if !self.to_stdout || p != &image {
+                output::check_target(p)?;
+            }
+        }
+        self.warn_aspect(scene);
+        let shown = if self.to_stdout {
+            "<stdout>".to_string()
+        } else {
+            image.display().to_string()
+        };
+        self.say(&format!("Checked: a run would write {shown} ({w} x {h})"));
+        Ok(())
+    }
+
+    /// The manual's statistics of a run, and this program's own figures.
+    fn report_stats(&self, scene: &Scene, rendered: &render::Rendered) {
+        let s = &rendered.stats;
+        if s.raytrace.is_some() {
+            // Rays, not polygons: the ray tracer's line below says what it did.
+            self.say(&format!("Max depth = {}", s.max_depth));
+        } else {
+            self.say(&format!(
+                "{} Polygons tiled, Max depth = {}",
+                s.polygons_tiled, s.max_depth
+            ));
+        }
+        for w in &s.warnings {
+            err(&format!("warning: {w}"));
+        }
+        if let Some(r) = &s.raytrace {
+            self.say(&format!(
+                "Ray tracing: {} primary rays, {} rays in all, {} shadow rays, {:.0} rays per second \
+                 (hierarchy {:.3} s, tracing {:.3} s)",
+                r.primary,
+                r.rays,
+                r.shadow_rays,
+                r.rays_per_second(),
+                r.build_time.as_secs_f64(),
+                r.trace_time.as_secs_f64()
+            ));
+        }
+        if let Some(m) = &s.refraction {
+            self.say(&format!("Refraction: {m}"));
+        }
+        if let Some(m) = s.method {
+            let fragments = if s.scan.total_fragments > 0 {
+                format!(
+                    ", {} pixel-fragments at most at once, {} in all",
+                    s.scan.peak_fragments, s.scan.total_fragments
+                )
+            } else {
+                String::new()
+            };
+            self.say(&format!("Scan conversion: {}{fragments}", method_name(m)));
+        }
+        if let Some(p) = &rendered.profile {
+            self.say(&p.to_string());
+        } else if self.profile {
+            self.say(
+                "(no profile: the virtual image tree was not built; it is for the depth-sort and nns algorithms)",
+            );
+        }
+        if let Some(n) = &s.nns {
+            self.say(&nns_line(n));
+        }
+        if let Some(b) = &s.brown {
+            self.say(&format!("Brown: {b}"));
+        }
+        if scene.modes.debug > 0 {
+            self.say(&debug_timings(s));
+        }
+    }
+}
+
+/// The `setmode d` timing line: the stages the run measured, by name.
+/// The tree path builds geometry, order and shadows in one pass (the
+/// virtual image tree), then its records and the scan conversion; the
+/// vector painter builds its tree, then paints; the image-space
+/// algorithms have their own stages. Stages a path does not have are left
+/// out rather than shown as zero.
+fn debug_timings(s: &render::RenderStats) -> String {
+    let names = if s.method.is_some() {
+        [
+            "geometry",
+            "virtual image tree (geometry, sort, shadows)",
+            "records (shading)",
+            "scan conversion",
+        ]
+    } else {
+        ["geometry", "sort", "shading", "paint"]
+    };
+    let times = [s.geometry_time, s.sort_time, s.shading_time, s.paint_time];
+    let stages: Vec<String> = names
+        .iter()
+        .zip(times)
+        .filter(|(_, t)| !t.is_zero())
+        .map(|(n, t)| format!("{n} {t:?}"))
+        .collect();
+    format!("  {}; {:?}", stages.join(", "), s.geometry)
+}
+
+/// The NNS statistics line.
+fn nns_line(n: &plytrace::visibility::nns::NnsStats) -> String {
+    format!(
+        "NNS: {} faces in, {} out, {} splits ({} cycles of two, {} longer){}",
+        n.faces_in,
+        n.faces_out,
+        n.splits,
+        n.cycles_of_two,
+        n.longer_cycles,
+        if n.unresolved > 0 {
+            format!(", {} unresolved", n.unresolved)
+        } else {
+            String::new()
+        }
+    )
+}
+
+/// The files of one run, created before it renders.
+struct RunOutputs {
+    /// The image's name.
+    path: PathBuf,
+    /// The image, until the picture takes it.
+    image: Option<AtomicFile>,
+    /// `--id-image`.
+    id: Option<AtomicFile>,
+    /// `setmode o`: FNAME.out and FNAME.txt.
+    tree: Option<(AtomicFile, AtomicFile)>,
+}
+
+impl Host for CliHost {
+    fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
+        if self.check {
+            return self.check_run(scene);
+        }
+        plytrace::cancel::reset();
+        crate::signals::rendering(true);
+        let result = self.render(scene, shadows);
+        crate::signals::rendering(false);
+        plytrace::cancel::reset();
+        result
+    }
+    /// The manual's `clear` empties the display to the background; here
+    /// the display is the image file, so it is written (atomically) in the
+    /// background colour, at the size the next `run` would write.
+    fn clear(&mut self, scene: &Scene) -> Result<()> {
+        let path = self.image_path(scene)?;
+        let (w, h) = self
+            .size
+            .unwrap_or((scene.viewport.width(), scene.viewport.height()));
+        if u64::from(w) * u64::from(h) > self.budgets.pixels {
+            return Err(Error::Invalid(pixels_exceeded(w, h, self.budgets.pixels)));
+        }
+        self.budgets
+            .check_frame(w, h, render::FRAME_BYTES_PER_PIXEL)
+            .map_err(Error::Invalid)?;
+        let file = AtomicFile::create(&path)?;
+        let bg = scene.background;
+        let frame = FrameBuffer::new(w, h, [bg.x as f32, bg.y as f32, bg.z as f32]);
+        output::commit_all(vec![output::stage_image(file, &frame, scene.outmode)?])?;
+        if let Ok(Some(window)) = self.live.observer(w, h) {
+            let cleared = render::Rendered {
+                frame,
+                ..render::Rendered::empty(render::RenderStats::default())
+            };
+            plytrace::display::show_painted(&cleared, window);
+        }
+        self.say(&format!(
+            "Cleared {} to the background ({w} x {h})",
+            path.display()
+        ));
+        Ok(())
+    }
+
+    fn scanning(&mut self, file: &Path) {
+        self.say(&format!("Scanning descriptor file {}", file.display()));
+        self.scene_stem = file.file_stem().map(|s| s.to_string_lossy().into_owned());
+        self.scene_file = Some(file.to_path_buf());
+    }
+
+    fn scanned(&mut self, _file: &Path, scene: &Scene, elapsed: Duration) {
+        self.say(&format!(
+            "{} objects, {} points, {} polygons",
+            scene.objects.len(),
+            scene.point_count(),
+            scene.polygon_count()
+        ));
+        self.say(&hms(elapsed));
+    }
+
+    fn display(&mut self, on: bool) {
+        if let Some(message) = self.live.request(on) {
+            err(&format!("warning: {message}"));
+        }
+    }
+
+    fn wait(&mut self) {
+        if self.live.wait() {
+            return;
+        }
+        if self.interactive && std::io::stdin().is_terminal() {
+            out_text("Press return to continue.", false);
+            let mut line = String::new();
+            let _ = std::io::stdin().lock().read_line(&mut line);
+        }
+    }
+}
+
+/// The manual's timing line, `Time (HR:MIN:SEC) = 00:00:02`, rounded to
+/// the second (`--stats` and `setmode d` give the exact times).
+pub fn hms(d: Duration) -> String {
+    let s = (d.as_secs_f64() + 0.5) as u64;
+    format!(
+        "Time (HR:MIN:SEC) = {:02}:{:02}:{:02}",
+        s / 3600,
+        s / 60 % 60,
+        s % 60
+    )
+}
+
+/// The message of an image over the pixel budget.
+pub fn pixels_exceeded(w: u32, h: u32, limit: u64) -> String {
+    Budgets::exceeded(
+        &format!(
+            "the image of {w} x {h} = {} pixels",
+            u64::from(w) * u64::from(h)
+        ),
+        limit,
+        "--max-pixels",
+    )
+}
+
+/// A ratio with four significant digits: 1.067, 0.0002500.
+fn significant(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let digits = (3 - x.abs().log10().floor() as i32).max(0) as usize;
+    format!("{x:.digits$}")
+}
+
+/// The scan conversion method in words.
+pub fn method_name(m: plytrace::raster::scan::Method) -> String {
+    use plytrace::raster::scan::Method;
+    match m {
+        Method::Point => "point sampled (--aa none)".into(),
+        Method::Area => "method 1, area coverage".into(),
+        Method::Mask => "method 2, 4x4 pixel masks".into(),
+        Method::Hybrid => "method 3, hybrid area/mask".into(),
+        Method::Multilevel => "method 4, multi-level pixel masks".into(),
+        Method::Supersample(n) => format!("Donovan's {n} x {n} supersampling"),
+    }
+}
+
+impl CliHost {
+    /// The host of a session with these settings; `output` is where the
+    /// image goes (a temporary file for `-o -`).
+    pub fn new(s: &crate::args::Settings, output: Option<PathBuf>) -> CliHost {
+        let scene_file = match &s.scene {
+            crate::args::SceneSource::File(p) => Some(p.clone()),
+            _ => None,
+        };
+        CliHost {
+            output,
+            to_stdout: matches!(s.image, crate::args::Image::Stdout(_)),
+            check: s.check,
+            stats: Vec::new(),
+            size: s.size,
+            id_image: s.id_image.clone(),
+            visibility: s.visibility,
+            profile: s.profile,
+            refraction: s.refraction,
+            aa: s.aa,
+            threads: s.threads,
+            shading: s.shading,
+            scene_stem: scene_file
+                .as_ref()
+                .and_then(|p| p.file_stem())
+                .map(|s| s.to_string_lossy().into_owned()),
+            scene_file,
+            quiet: s.quiet,
+            interactive: !s.immediate,
+            allow_outside: s.allow_outside,
+            budgets: s.budgets,
+            progress: !s.quiet && std::io::stderr().is_terminal(),
+            aspect_warned: false,
+            written: Vec::new(),
+            runs: 0,
+            hidden_line: s.hidden_line,
+            orders: Default::default(),
+            raytrace: s.raytrace,
+            live: Default::default(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_manuals_timing_line() {
+        // 004 appendix B, the sample session: "Time (HR:MIN:SEC) = 00:00:02".
+        assert_eq!(
+            hms(Duration::from_millis(2_200)),
+            "Time (HR:MIN:SEC) = 00:00:02"
+        );
+        assert_eq!(
+            hms(Duration::from_secs(3_723)),
+            "Time (HR:MIN:SEC) = 01:02:03"
+        );
+    }
+
+    #[test]
+    fn ratios_keep_four_digits() {
+        assert_eq!(significant(512.0 / 480.0), "1.067");
+        assert_eq!(significant(1.0 / 4000.0), "0.0002500");
+    }
+}

@@ -1,0 +1,291 @@
+//! A session of `plytrace`: the scene read in immediate mode, from a file
+//! or standard input, and the interactive command interpreter (004
+//! appendix B: "Plytrace is usually operated in interactive mode by
+//! simply typing `plytrace <cr>`"), with line editing and history on a
+//! terminal.
+
+use std::io::{BufRead, IsTerminal, Read};
+use std::path::Path;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use plytrace::error::{Error, Result};
+use plytrace::scene::{Flow, Host, Interpreter};
+
+use crate::args::{SceneSource, Settings, StatsTarget};
+use crate::help::help_request;
+use crate::host::CliHost;
+use crate::repl;
+use crate::stats::SceneCounts;
+use crate::term::{err, report};
+
+/// After an error in a scene that had already run: which files the earlier
+/// runs wrote (complete; nothing of the failed part was written).
+fn report_written(host: &CliHost) {
+    if !host.written.is_empty() {
+        let names: Vec<String> = host
+            .written
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect();
+        err(&format!(
+            "note: the runs before the error wrote {} (complete); nothing else was written",
+            names.join(", ")
+        ));
+    }
+}
+
+/// Reports the error that ended a batch run. The status is what a shell
+/// reports for the signal that cancelled it (130 for Ctrl-C, 143 for
+/// SIGTERM, 129 for SIGHUP), 1 for any other error.
+fn failed(e: &Error, host: &CliHost) -> ExitCode {
+    report(e);
+    report_written(host);
+    match (e, crate::signals::ending()) {
+        (Error::Cancelled, Some(code)) => ExitCode::from(code),
+        (Error::Cancelled, None) => ExitCode::from(130),
+        _ => ExitCode::FAILURE,
+    }
+}
+
+fn print_warnings(interp: &mut Interpreter) {
+    for w in interp.take_warnings() {
+        err(&w.to_string());
+    }
+}
+
+/// Reads a scene file (the manual's `get`), or standard input for `-`.
+fn load_scene(interp: &mut Interpreter, host: &mut CliHost, source: &SceneSource) -> Result<Flow> {
+    let start = Instant::now();
+    let path = match source {
+        SceneSource::File(p) => p.as_path(),
+        _ => Path::new("<stdin>"),
+    };
+    host.scanning(path);
+    let flow = match source {
+        SceneSource::File(p) => interp.execute_file(p, true, host),
+        _ => read_stdin().and_then(|text| interp.execute_source(&text, path, Path::new("."), host)),
+    };
+    print_warnings(interp);
+    let flow = flow?;
+    host.scanned(path, interp.current(), start.elapsed());
+    Ok(flow)
+}
+
+/// Keeps the session's lines in `path` (its directory is made if need be);
+/// a failure is a warning, never an error.
+fn save_history(
+    editor: &mut rustyline::Editor<repl::CommandCompleter, rustyline::history::FileHistory>,
+    path: &Path,
+) {
+    let saved = match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => std::fs::create_dir_all(dir)
+            .map_err(rustyline::error::ReadlineError::Io)
+            .and_then(|()| editor.save_history(path)),
+        _ => editor.save_history(path),
+    };
+    if let Err(e) = saved {
+        err(&format!(
+            "warning: the command history was not kept in {}: {e}",
+            path.display()
+        ));
+    }
+}
+
+pub fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
+    let on_terminal = std::io::stdin().is_terminal();
+    let stdin_label = Path::new("<stdin>");
+    let mut line_no = 0usize;
+    let mut failed = false;
+    // Runs one line; errors are reported and remembered, the session goes on.
+    let mut execute =
+        |interp: &mut Interpreter, host: &mut CliHost, line: &str, line_no: usize| -> Flow {
+            if let Some(text) = help_request(line) {
+                host.say(text.trim_end());
+                return Flow::Continue;
+            }
+            let result = interp.execute_source(line, stdin_label, Path::new("."), host);
+            print_warnings(interp);
+            match result {
+                Ok(f) => f,
+                Err(Error::Input(mut d)) => {
+                    for loc in std::iter::once(&mut d.location).chain(d.included_from.iter_mut()) {
+                        if loc.file == stdin_label {
+                            loc.line = line_no;
+                        }
+                    }
+                    report(&Error::Input(d));
+                    failed = true;
+                    Flow::Continue
+                }
+                Err(e) => {
+                    report(&e);
+                    failed = true;
+                    Flow::Continue
+                }
+            }
+        };
+    if on_terminal {
+        host.say(&format!("plytrace - version {}", env!("CARGO_PKG_VERSION")));
+        let Ok(mut editor) = rustyline::Editor::<repl::CommandCompleter, _>::with_history(
+            rustyline::Config::builder()
+                .max_history_size(repl::HISTORY_LINES)
+                .map_or_else(|_| rustyline::Config::default(), |b| b.build()),
+            rustyline::history::FileHistory::new(),
+        ) else {
+            err("error: cannot open the terminal for line editing");
+            return ExitCode::FAILURE;
+        };
+        editor.set_helper(Some(repl::CommandCompleter::new()));
+        let history = repl::history_path();
+        if let Some(p) = &history {
+            // A first session has no history yet.
+            let _ = editor.load_history(p);
+        }
+        let mut interrupted = false;
+        loop {
+            match editor.readline("Command: ") {
+                Ok(line) => {
+                    interrupted = false;
+                    line_no += 1;
+                    let _ = editor.add_history_entry(line.as_str());
+                    if execute(interp, host, &line, line_no) == Flow::Quit
+                        || crate::signals::ending().is_some()
+                    {
+                        break;
+                    }
+                }
+                // Ctrl-C at the prompt drops the line; twice in a row quits.
+                Err(rustyline::error::ReadlineError::Interrupted) if !interrupted => {
+                    interrupted = true;
+                    err("(press Ctrl-C again, or type quit, to leave)");
+                }
+                Err(_) => break,
+            }
+        }
+        if let Some(p) = &history {
+            save_history(&mut editor, p);
+        }
+    } else {
+        for line in std::io::stdin().lock().lines() {
+            let Ok(line) = line else {
+                err("error: standard input is not text");
+                return ExitCode::FAILURE;
+            };
+            line_no += 1;
+            if execute(interp, host, &line, line_no) == Flow::Quit
+                || crate::signals::ending().is_some()
+            {
+                break;
+            }
+        }
+    }
+    if let Some(code) = crate::signals::ending() {
+        ExitCode::from(code)
+    } else if failed && !on_terminal {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// A scene from standard input (`plytrace -`), as much as a scene file may
+/// hold.
+fn read_stdin() -> Result<String> {
+    let limit = plytrace::scene::interpreter::MAX_SCENE_BYTES;
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .lock()
+        .take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(Path::new("<stdin>"), e))?;
+    if bytes.len() as u64 > limit {
+        return Err(Error::Invalid(format!(
+            "<stdin>: the scene is longer than {limit} bytes, the most a scene file may hold"
+        )));
+    }
+    String::from_utf8(bytes)
+        .map_err(|_| Error::Invalid("<stdin>: the scene is not UTF-8 text".into()))
+}
+
+/// The session a command line asks for: the scene read, then rendered
+/// (immediate mode), checked (`--check`) or followed by the prompt.
+pub fn run(settings: &Settings, host: &mut CliHost) -> ExitCode {
+    let mut interp = Interpreter::new();
+    interp.set_budgets(settings.budgets);
+    for (letter, value) in &settings.modes {
+        if let Err(e) = interp.force_mode(*letter, value) {
+            let msg = match e.diagnostic() {
+                Some(d) => d.message.clone(),
+                None => e.to_string(),
+            };
+            err(&format!("error: flag -{letter}: {msg}"));
+            return ExitCode::from(2);
+        }
+    }
+    let mut counts = SceneCounts::default();
+    let code = scene_session(settings, &mut interp, host, &mut counts);
+    if let Some(target) = &settings.stats {
+        let scene = match &settings.scene {
+            SceneSource::File(p) => Some(p.as_path()),
+            SceneSource::Stdin => Some(Path::new("<stdin>")),
+            SceneSource::None => None,
+        };
+        let doc = crate::stats::document(scene, counts, &host.stats, code == ExitCode::SUCCESS);
+        write_stats(target, &doc);
+    }
+    code
+}
+
+fn scene_session(
+    settings: &Settings,
+    interp: &mut Interpreter,
+    host: &mut CliHost,
+    counts: &mut SceneCounts,
+) -> ExitCode {
+    if settings.scene != SceneSource::None {
+        match load_scene(interp, host, &settings.scene) {
+            Ok(Flow::Quit) => return ExitCode::SUCCESS,
+            Ok(Flow::Continue) => {}
+            Err(e) => return failed(&e, host),
+        }
+        let scene = interp.current();
+        *counts = SceneCounts {
+            objects: scene.objects.len(),
+            points: scene.point_count(),
+            polygons: scene.polygon_count(),
+        };
+        // Immediate mode is `get` then `run y` (`run n` with --no-shadows);
+        // a scene that says `run` itself (an animation) is rendered as it
+        // says, each `run` once.
+        if settings.immediate && host.runs > 0 {
+            return ExitCode::SUCCESS;
+        }
+        if settings.immediate {
+            return match host.run(interp.current(), settings.shadows) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => failed(&e, host),
+            };
+        }
+    }
+    interactive(interp, host)
+}
+
+/// Writes the `--stats` document; a failure is a warning.
+fn write_stats(target: &StatsTarget, doc: &str) {
+    match target {
+        StatsTarget::Stderr => {
+            // Whole, not cut to a line's length as messages are.
+            let _ = std::io::Write::write_all(&mut std::io::stderr().lock(), doc.as_bytes());
+        }
+        StatsTarget::File(p) => {
+            let written = plytrace::output::AtomicFile::create(p)
+                .and_then(|mut f| f.write_all(doc.as_bytes()).map(|()| f))
+                .and_then(|f| f.finish())
+                .and_then(|staged| staged.commit());
+            if let Err(e) = written {
+                err(&format!("warning: --stats: {e}"));
+            }
+        }
+    }
+}

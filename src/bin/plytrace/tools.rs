@@ -1,0 +1,99 @@
+//! The tools of `plytrace` besides rendering: Brown's tessellation check
+//! (003 section 3), the patches' continuity (Firebaugh section 8), and
+//! the shell completions and man page made from the command line's
+//! definition.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use plytrace::scene::object_file;
+
+use crate::args::Tool;
+use crate::term::{err, out, print_document, report};
+
+/// Runs a tool.
+pub fn run(tool: Tool) -> ExitCode {
+    use plytrace::scene::object_file::ConvertKind;
+    match tool {
+        Tool::Mkdet { args } => plytrace::convert::main(ConvertKind::Det, &args),
+        Tool::Mkpcl { args } => plytrace::convert::main(ConvertKind::Pcl, &args),
+        Tool::Mkvcl { args } => plytrace::convert::main(ConvertKind::Vcl, &args),
+        Tool::Tessellation { file } => check_tessellation(&file),
+        Tool::Continuity { file, form } => {
+            match plytrace::modeling::patch::continuity_report(&file, form.as_deref()) {
+                Ok(text) => {
+                    out(&text);
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    report(&e);
+                    ExitCode::FAILURE
+                }
+            }
+        }
+        Tool::Completions { shell } => {
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut crate::args::command(), "plytrace", &mut script);
+            print_document(&script)
+        }
+        Tool::Man => {
+            let mut page = Vec::new();
+            match clap_mangen::Man::new(crate::args::command()).render(&mut page) {
+                Ok(()) => print_document(&page),
+                Err(e) => {
+                    err(&format!("error: the man page: {e}"));
+                    ExitCode::FAILURE
+                }
+            }
+        }
+    }
+}
+
+/// `plytrace tessellation FILE`: Brown's Angle and Edge Conditions for a
+/// triangulated surface about its origin.
+fn check_tessellation(path: &Path) -> ExitCode {
+    let is_det = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("det"));
+    let mesh = if is_det {
+        object_file::read_det(path)
+    } else {
+        plytrace::scene::mesh_import::read_mesh(path)
+    };
+    let mesh = match mesh {
+        Ok(m) => m,
+        Err(e) => {
+            report(&e);
+            return ExitCode::FAILURE;
+        }
+    };
+    match plytrace::modeling::geodesic::check_tessellation(&mesh, glam::DVec3::ZERO) {
+        Ok(r) => {
+            let yes = |b: bool| if b { "met" } else { "NOT met" };
+            out(&format!(
+                "{}: {} vertices, {} faces",
+                path.display(),
+                mesh.vertices.len(),
+                mesh.polygons.len()
+            ));
+            out(&format!(
+                "Angle Condition {}: adjacent patch edges at most {:.2} deg (limit 90), nonadjacent at least {:.2} deg (limit 90), degree up to {}",
+                yes(r.angle_condition),
+                r.max_adjacent_angle.to_degrees(),
+                r.min_nonadjacent_angle.to_degrees(),
+                r.max_degree
+            ));
+            out(&format!(
+                "Edge Condition {}: longest patch edge {:.4} rad (limit 1), edge ratio up to {:.4} (limit 1.27)",
+                yes(r.edge_condition),
+                r.max_edge,
+                r.max_edge_ratio
+            ));
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            err(&format!("error: {}: {e}", path.display()));
+            ExitCode::FAILURE
+        }
+    }
+}
