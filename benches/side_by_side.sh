@@ -1,6 +1,6 @@
 #!/bin/sh
-# Issue 10: whole-process wall time of plytrace and POV-Ray 3.7 on the same
-# geometry, in one run (POV-Ray with +A0.0 +AM1 +R3, as the issue says), at
+# Whole-process wall time of plytrace and POV-Ray 3.7 on the same
+# geometry, in one run (POV-Ray with +A0.0 +AM1 +R3), at
 # 512 x 512: office2 with its 2 shadow lights, office2 without shadows
 # (`run` without `y`), gallery with its 4. Median of RUNS runs (default 5).
 # Needs `cargo build --release --example to_pov` and `povray` on the PATH.
@@ -8,8 +8,23 @@
 set -eu
 RUNS=${1:-5}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-PLY=$ROOT/target/release/plytrace
-TOPOV=$ROOT/target/release/examples/to_pov
+TARGET=${CARGO_TARGET_DIR:-$ROOT/target}
+PLY=$TARGET/release/plytrace
+TOPOV=$TARGET/release/examples/to_pov
+for tool in "$PLY" "$TOPOV"; do
+    if [ ! -x "$tool" ]; then
+        echo "side_by_side.sh: $tool is missing; build it first:" >&2
+        echo "    cargo build --release --bin plytrace --example to_pov" >&2
+        exit 2
+    fi
+done
+if [ ! -x /usr/bin/time ]; then
+    echo "side_by_side.sh: /usr/bin/time is needed (Debian: apt-get install time)" >&2
+    exit 2
+fi
+if ! command -v povray >/dev/null; then
+    echo "side_by_side.sh: povray is not on the PATH; its column is left empty" >&2
+fi
 SCENES=$ROOT/tests/data/scenes
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT

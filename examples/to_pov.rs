@@ -1,5 +1,5 @@
 //! Writes a scene's geometry as a POV-Ray 3.7 scene, for the side-by-side
-//! timing of issue 10 (not part of the tests):
+//! timing in benches/side_by_side.sh (not part of the tests):
 //!
 //!     cargo run --release --example to_pov -- office2.des 512 office2.pov
 //!     povray +Ioffice2.pov +W512 +H512 +A0.0 +AM1 +R3 -D

@@ -497,6 +497,13 @@ impl Cli {
         if immediate && scene == SceneSource::None {
             return Err("immediate mode (-i) needs a scene file: plytrace -i -f scene.des".into());
         }
+        if !immediate && matches!(image, Image::Stdout(_)) {
+            return Err(
+                "`-o -` (the image to standard output) is for immediate mode: \
+                 plytrace scene.des -o -"
+                    .into(),
+            );
+        }
         if self.check && scene == SceneSource::None {
             return Err("--check needs a scene file: plytrace --check scene.des".into());
         }
