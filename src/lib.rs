@@ -17,6 +17,7 @@ pub mod emit;
 pub mod error;
 pub mod geometry;
 pub mod image_tree;
+pub mod input_guard;
 pub mod math;
 pub mod modeling;
 pub mod output;

@@ -295,6 +295,26 @@ pub fn remove_temporaries() {
     }
 }
 
+/// Creates a new temporary file beside `path`. A name taken already (left
+/// by a killed process that had this one's process id) is passed over for
+/// the next.
+fn create_temporary(path: &Path) -> Result<(PathBuf, std::fs::File)> {
+    let mut last = None;
+    for _ in 0..64 {
+        let tmp = temp_beside(path, "tmp")?;
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+        {
+            Ok(file) => return Ok((tmp, file)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
+            Err(e) => return Err(Error::io(path, e)),
+        }
+    }
+    Err(Error::io(path, last.expect("tried at least once")))
+}
+
 /// A file being written under a temporary name beside its destination; the
 /// temporary is removed when dropped unfinished.
 #[derive(Debug)]
@@ -311,12 +331,8 @@ impl AtomicFile {
     /// directory) is refused now rather than at the rename.
     pub fn create(path: &Path) -> Result<AtomicFile> {
         check_target(path)?;
-        let tmp = temp_beside(path, "tmp")?;
-        let file = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)
-            .map_err(|e| Error::io(path, e))?;
+        crate::input_guard::check(path)?;
+        let (tmp, file) = create_temporary(path)?;
         if !note_temporary(&tmp) {
             drop(file);
             let _ = std::fs::remove_file(&tmp);
@@ -416,22 +432,61 @@ impl Drop for Staged {
     }
 }
 
-/// Renames all `files` into place; if one fails, those already renamed are
-/// removed and the rest dropped, so that a set of outputs appears whole or
-/// not at all.
+/// Renames all `files` into place, so that a set of outputs appears whole
+/// or not at all: if one fails, those already renamed are taken back, and
+/// a file they replaced (left by an earlier run under the same name) is
+/// put back as it was.
 pub fn commit_all(files: Vec<Staged>) -> Result<()> {
-    let mut done: Vec<PathBuf> = Vec::with_capacity(files.len());
+    // (destination, the earlier file moved aside, if there was one)
+    let mut done: Vec<(PathBuf, Option<PathBuf>)> = Vec::with_capacity(files.len());
+    let mut result = Ok(());
     for f in files {
         let path = f.path().to_path_buf();
-        if let Err(e) = f.commit() {
-            for p in &done {
-                let _ = std::fs::remove_file(p);
+        let kept = match keep_aside(&path) {
+            Ok(k) => k,
+            Err(e) => {
+                result = Err(e);
+                break;
             }
-            return Err(e);
+        };
+        if let Err(e) = f.commit() {
+            if let Some(k) = &kept {
+                let _ = std::fs::rename(k, &path);
+            }
+            result = Err(e);
+            break;
         }
-        done.push(path);
+        done.push((path, kept));
     }
-    Ok(())
+    for (path, kept) in done {
+        match (&result, kept) {
+            (Ok(()), Some(k)) => {
+                let _ = std::fs::remove_file(k);
+            }
+            (Err(_), Some(k)) => {
+                let _ = std::fs::rename(k, &path);
+            }
+            (Err(_), None) => {
+                let _ = std::fs::remove_file(&path);
+            }
+            (Ok(()), None) => {}
+        }
+    }
+    result
+}
+
+/// Keeps an existing file at `path` under a temporary name beside it (a
+/// second link, so that `path` never goes missing; moved where links are
+/// not possible) until the set it is replaced in is committed.
+fn keep_aside(path: &Path) -> Result<Option<PathBuf>> {
+    if std::fs::symlink_metadata(path).is_err() {
+        return Ok(None);
+    }
+    let aside = temp_beside(path, "old")?;
+    std::fs::hard_link(path, &aside)
+        .or_else(|_| std::fs::rename(path, &aside))
+        .map_err(|e| Error::io(path, e))?;
+    Ok(Some(aside))
 }
 
 // ---------------------------------------------------------------------------
@@ -1046,6 +1101,50 @@ mod tests {
         assert_eq!(y, ((0.299 + 0.587 * 0.5) * 255.0f32).round() as u8);
         fb.color[0] = [1.0, 1.0, 0.0];
         assert_eq!(rgb8(&fb, OutMode::Quantized(1)), [255, 255, 0]);
+    }
+
+    #[test]
+    fn a_failed_commit_puts_back_what_it_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        let image = dir.path().join("a.png");
+        std::fs::write(&image, b"earlier run").unwrap();
+        let mut first = AtomicFile::create(&image).unwrap();
+        first.write_all(b"new image").unwrap();
+        let mut second = AtomicFile::create(&dir.path().join("a.out")).unwrap();
+        second.write_all(b"tree").unwrap();
+        let (first, second) = (first.finish().unwrap(), second.finish().unwrap());
+        // The second file's temporary goes missing: its rename fails.
+        std::fs::remove_file(&second.tmp).unwrap();
+        assert!(commit_all(vec![first, second]).is_err());
+        assert_eq!(std::fs::read(&image).unwrap(), b"earlier run");
+        let mut left: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        assert_eq!(left, ["a.png"], "no temporary left");
+        // A set that commits replaces the earlier file and keeps no copy.
+        let mut again = AtomicFile::create(&image).unwrap();
+        again.write_all(b"newer").unwrap();
+        commit_all(vec![again.finish().unwrap()]).unwrap();
+        assert_eq!(std::fs::read(&image).unwrap(), b"newer");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn a_stale_temporary_name_is_passed_over() {
+        let dir = tempfile::tempdir().unwrap();
+        let image = dir.path().join("b.png");
+        // What a killed process with this process id would have left.
+        let n = TEMP_COUNTER.load(std::sync::atomic::Ordering::Relaxed);
+        for k in n..n + 8 {
+            let stale = format!(".b.png.{}.{k}.tmp", std::process::id());
+            std::fs::write(dir.path().join(stale), b"stale").unwrap();
+        }
+        let mut f = AtomicFile::create(&image).unwrap();
+        f.write_all(b"fresh").unwrap();
+        commit_all(vec![f.finish().unwrap()]).unwrap();
+        assert_eq!(std::fs::read(&image).unwrap(), b"fresh");
     }
 
     #[test]

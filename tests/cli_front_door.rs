@@ -482,3 +482,43 @@ fn signals_end_a_render_and_leave_nothing() {
         assert_eq!(files(dir.path()), before, "SIG{signal} x{count} left files");
     }
 }
+
+#[test]
+fn an_output_never_writes_over_an_input() {
+    // `-o on` writes FNAME.out and FNAME.txt; a scene named scene.txt
+    // would be written over by its own tree.
+    let dir = workdir();
+    let scene = std::fs::read(dir.path().join("ccube.des")).unwrap();
+    let scene = String::from_utf8(scene)
+        .unwrap()
+        .replace("fname      ccube", "fname      scene");
+    std::fs::write(dir.path().join("scene.txt"), &scene).unwrap();
+    let before = files(dir.path());
+    let o = run(
+        dir.path(),
+        &args(&["-i", "-f", "scene.txt", "-o", "on"], SMALL),
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stdout));
+    assert!(
+        text(&o.stderr).contains("an input of this run"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("scene.txt")).unwrap(),
+        scene
+    );
+    assert_eq!(files(dir.path()), before, "nothing written");
+    // An object file is an input too.
+    let o = run(
+        dir.path(),
+        &args(&["ccube.des", "-o", "det/cube.ppm"], SMALL),
+        None,
+    );
+    assert!(
+        o.status.success(),
+        "a new file beside the inputs: {}",
+        text(&o.stderr)
+    );
+}

@@ -863,6 +863,7 @@ pub fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>> {
     if !meta.is_file() {
         return Err(refuse(&meta));
     }
+    crate::input_guard::note(path, &meta);
     if meta.len() > limit {
         return Err(Error::at(
             Location::file(path),

@@ -515,7 +515,7 @@ impl CliHost {
             utc_now(),
             self.scene_file
                 .as_deref()
-                .map_or_else(|| "<stdin>".into(), field),
+                .map_or_else(|| crate::session::STDIN.into(), field),
             field(image),
             s.polygons_tiled,
             s.max_depth,
@@ -715,6 +715,12 @@ impl Host for CliHost {
 
     fn scanning(&mut self, file: &Path) {
         self.say(&format!("Scanning descriptor file {}", file.display()));
+        if file == Path::new(crate::session::STDIN) {
+            // A scene without `fname` from standard input writes plytrace.png.
+            self.scene_stem = None;
+            self.scene_file = None;
+            return;
+        }
         self.scene_stem = file.file_stem().map(|s| s.to_string_lossy().into_owned());
         self.scene_file = Some(file.to_path_buf());
     }

@@ -54,12 +54,15 @@ fn print_warnings(interp: &mut Interpreter) {
     }
 }
 
+/// The name standard input goes by in messages.
+pub const STDIN: &str = "<stdin>";
+
 /// Reads a scene file (the manual's `get`), or standard input for `-`.
 fn load_scene(interp: &mut Interpreter, host: &mut CliHost, source: &SceneSource) -> Result<Flow> {
     let start = Instant::now();
     let path = match source {
         SceneSource::File(p) => p.as_path(),
-        _ => Path::new("<stdin>"),
+        _ => Path::new(STDIN),
     };
     host.scanning(path);
     let flow = match source {
@@ -72,29 +75,9 @@ fn load_scene(interp: &mut Interpreter, host: &mut CliHost, source: &SceneSource
     Ok(flow)
 }
 
-/// Keeps the session's lines in `path` (its directory is made if need be);
-/// a failure is a warning, never an error.
-fn save_history(
-    editor: &mut rustyline::Editor<repl::CommandCompleter, rustyline::history::FileHistory>,
-    path: &Path,
-) {
-    let saved = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => std::fs::create_dir_all(dir)
-            .map_err(rustyline::error::ReadlineError::Io)
-            .and_then(|()| editor.save_history(path)),
-        _ => editor.save_history(path),
-    };
-    if let Err(e) = saved {
-        err(&format!(
-            "warning: the command history was not kept in {}: {e}",
-            path.display()
-        ));
-    }
-}
-
 pub fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
     let on_terminal = std::io::stdin().is_terminal();
-    let stdin_label = Path::new("<stdin>");
+    let stdin_label = Path::new(STDIN);
     let mut line_no = 0usize;
     let mut failed = false;
     // Runs one line; errors are reported and remembered, the session goes on.
@@ -138,9 +121,13 @@ pub fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
         };
         editor.set_helper(Some(repl::CommandCompleter::new()));
         let history = repl::history_path();
-        if let Some(p) = &history {
-            // A first session has no history yet.
-            let _ = editor.load_history(p);
+        if let Some(p) = &history
+            && let Err(e) = repl::load_history(editor.history_mut(), p)
+        {
+            err(&format!(
+                "warning: the command history in {} was not read: {e}",
+                p.display()
+            ));
         }
         let mut interrupted = false;
         loop {
@@ -163,14 +150,24 @@ pub fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
                 Err(_) => break,
             }
         }
-        if let Some(p) = &history {
-            save_history(&mut editor, p);
+        if let Some(p) = &history
+            && let Err(e) = repl::save_history(editor.history(), p)
+        {
+            err(&format!(
+                "warning: the command history was not kept in {}: {e}",
+                p.display()
+            ));
         }
     } else {
-        for line in std::io::stdin().lock().lines() {
-            let Ok(line) = line else {
-                err("error: standard input is not text");
-                return ExitCode::FAILURE;
+        let mut input = std::io::stdin().lock();
+        loop {
+            let line = match read_line(&mut input, line_no + 1) {
+                Ok(Some(line)) => line,
+                Ok(None) => break,
+                Err(message) => {
+                    err(&format!("error: {message}"));
+                    return ExitCode::FAILURE;
+                }
             };
             line_no += 1;
             if execute(interp, host, &line, line_no) == Flow::Quit
@@ -198,7 +195,7 @@ fn read_stdin() -> Result<String> {
         .lock()
         .take(limit + 1)
         .read_to_end(&mut bytes)
-        .map_err(|e| Error::io(Path::new("<stdin>"), e))?;
+        .map_err(|e| Error::io(Path::new(STDIN), e))?;
     if bytes.len() as u64 > limit {
         return Err(Error::Invalid(format!(
             "<stdin>: the scene is longer than {limit} bytes, the most a scene file may hold"
@@ -228,7 +225,7 @@ pub fn run(settings: &Settings, host: &mut CliHost) -> ExitCode {
     if let Some(target) = &settings.stats {
         let scene = match &settings.scene {
             SceneSource::File(p) => Some(p.as_path()),
-            SceneSource::Stdin => Some(Path::new("<stdin>")),
+            SceneSource::Stdin => Some(Path::new(STDIN)),
             SceneSource::None => None,
         };
         let doc = crate::stats::document(scene, counts, &host.stats, code == ExitCode::SUCCESS);
@@ -287,5 +284,59 @@ fn write_stats(target: &StatsTarget, doc: &str) {
                 err(&format!("warning: --stats: {e}"));
             }
         }
+    }
+}
+
+/// The longest command line read from standard input, in bytes.
+const MAX_COMMAND_LINE: u64 = 1 << 20;
+
+/// The next line of commands from standard input, at most
+/// [`MAX_COMMAND_LINE`] bytes (an endless line is refused, not held in
+/// memory); `None` at the end.
+fn read_line(
+    input: &mut impl BufRead,
+    line_no: usize,
+) -> std::result::Result<Option<String>, String> {
+    let mut bytes = Vec::new();
+    let n = input
+        .take(MAX_COMMAND_LINE + 1)
+        .read_until(b'\n', &mut bytes)
+        .map_err(|e| format!("{STDIN}: {e}"))?;
+    if n == 0 {
+        return Ok(None);
+    }
+    if bytes.len() as u64 > MAX_COMMAND_LINE {
+        return Err(format!(
+            "{STDIN}:{line_no}: the line is longer than {MAX_COMMAND_LINE} bytes; \
+             the rest of the input is not read"
+        ));
+    }
+    while bytes.last().is_some_and(|b| *b == b'\n' || *b == b'\r') {
+        bytes.pop();
+    }
+    String::from_utf8(bytes)
+        .map(Some)
+        .map_err(|_| format!("{STDIN}:{line_no}: the line is not UTF-8 text"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_endless_line_is_refused_without_holding_it() {
+        let mut endless = std::io::BufReader::new(std::io::repeat(b'x'));
+        let e = read_line(&mut endless, 1).unwrap_err();
+        assert!(e.contains("longer than"), "{e}");
+        let mut two = std::io::Cursor::new(b"ident\r\nquit".to_vec());
+        assert_eq!(read_line(&mut two, 1).unwrap().as_deref(), Some("ident"));
+        assert_eq!(read_line(&mut two, 2).unwrap().as_deref(), Some("quit"));
+        assert_eq!(read_line(&mut two, 3).unwrap(), None);
+        let mut latin1 = std::io::Cursor::new(b"get caf\xe9\n".to_vec());
+        assert!(
+            read_line(&mut latin1, 1)
+                .unwrap_err()
+                .contains(":1: the line is not UTF-8")
+        );
     }
 }

@@ -33,7 +33,11 @@ pub fn send(path: &Path) -> Result<()> {
         std::io::Write::flush(&mut o)
     });
     let _ = std::fs::remove_file(path);
-    copied.map_err(|e| Error::io(Path::new("<stdout>"), e))
+    match copied {
+        // The reader left (`| head -c 100`): not an error of the render.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other.map_err(|e| Error::io(Path::new("<stdout>"), e)),
+    }
 }
 
 /// Removes the private folder and what is in it.
