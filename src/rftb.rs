@@ -258,23 +258,38 @@ pub fn parse_args(
     Ok(Command::Run(args))
 }
 
-/// Checks that `stream` suits `program`: front to back, pre-blended for
-/// rftb1-3, post-blended for rftb4.
+/// Checks that `stream` suits `program`: front to back, and pre-blended
+/// for rftb1-3, post-blended for rftb4, unless the tree has only level-1
+/// records. Pre-blending (`setmode b on`) blends "higher tree level parent
+/// polygon intensities ... with each lower level children polygon" (004
+/// appendix, SETMODE COMMANDS, `b`): with no record below level 1 there
+/// is nothing to blend and both modes write the same shades, so either is
+/// accepted (the manual's default, `setmode b off`, then works with every
+/// tiler).
 pub fn check_tree(program: Program, stream: &RecordStream, input: &Path) -> Result<()> {
     let mut wrong = Vec::new();
     if !stream.front_to_back {
         wrong.push("its polygons are back to front; write it with `sort ftb`".to_string());
     }
+    let children = stream.records.iter().filter(|r| r.level > 1).count();
+    let sub_level = |n: usize| {
+        format!(
+            "{n} of its records lie below level 1 (reflections or refractions), so the \
+             blending mode matters"
+        )
+    };
     match (program.wants_preblended(), stream.blended) {
-        (true, false) => wrong.push(format!(
-            "its shades are post-blended, and {} blends nothing; write it with `setmode b on`",
+        (true, false) if children > 0 => wrong.push(format!(
+            "its shades are post-blended and {}; {} blends nothing, so children would not \
+             get their parents' shades: write it with `setmode b on` (or use rftb4)",
+            sub_level(children),
             program.name()
         )),
-        (false, true) => wrong.push(
-            "its shades are pre-blended, and rftb4 blends children with parents itself; \
-             write it with `setmode b off`"
-                .to_string(),
-        ),
+        (false, true) if children > 0 => wrong.push(format!(
+            "its shades are pre-blended and {}; rftb4 blends children with parents itself, \
+             so parents would count twice: write it with `setmode b off`",
+            sub_level(children)
+        )),
         _ => {}
     }
     if wrong.is_empty() {
@@ -369,8 +384,11 @@ pub struct Summary {
 pub fn run(program: Program, args: &Args) -> Result<Summary> {
     let start = Instant::now();
     let bytes = std::fs::read(&args.input).map_err(|e| Error::io(&args.input, e))?;
-    let stream = RecordStream::from_bytes(&bytes, &args.input)?;
+    let mut stream = RecordStream::from_bytes(&bytes, &args.input)?;
     check_tree(program, &stream, &args.input)?;
+    // Accepted with the other blending mode only when one-level, where the
+    // modes agree (see `check_tree`): scan it as the mode the method wants.
+    stream.blended = program.wants_preblended();
     if args.background && stream.background.is_none() {
         return Err(Error::Invalid(format!(
             "{}: -B paints the background record, and this file has none",
@@ -644,6 +662,7 @@ pub fn getrgb_main() -> ExitCode {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tree::{Record, Shades};
 
     fn argv(s: &str) -> Vec<OsString> {
         s.split_whitespace().map(OsString::from).collect()
@@ -710,12 +729,34 @@ mod tests {
             blended: true,
         };
         let p = Path::new("t.out");
+        let square = |level| Record {
+            level,
+            points: vec![[0.1, 0.1], [0.1, 0.9], [0.9, 0.9], [0.9, 0.1]],
+            shades: Shades::Faceted([1, 2, 3]),
+        };
+        // One level: both blending modes suit every tiler.
+        s.records = vec![square(1), square(1)];
+        for program in [Program::Rftb1, Program::Rftb2, Program::Rftb4] {
+            for blended in [false, true] {
+                s.blended = blended;
+                assert!(check_tree(program, &s, p).is_ok(), "{program:?} {blended}");
+            }
+        }
+        // A child (level 2): the mode matters.
+        s.records = vec![square(2), square(1)];
+        s.blended = true;
         assert!(check_tree(Program::Rftb2, &s, p).is_ok());
         let e = check_tree(Program::Rftb4, &s, p).unwrap_err().to_string();
-        assert!(e.contains("setmode b off"), "{e}");
+        assert!(
+            e.contains("setmode b off") && e.contains("1 of its records"),
+            "{e}"
+        );
         s.front_to_back = false;
         s.blended = false;
         let e = check_tree(Program::Rftb1, &s, p).unwrap_err().to_string();
         assert!(e.contains("sort ftb") && e.contains("setmode b on"), "{e}");
+        s.records = vec![square(1)];
+        let e = check_tree(Program::Rftb1, &s, p).unwrap_err().to_string();
+        assert!(e.contains("sort ftb") && !e.contains("setmode"), "{e}");
     }
 }
