@@ -91,6 +91,19 @@ impl Program {
         self != Program::Rftb4
     }
 
+    /// How it blends transparent surfaces: rftb1 "simulates linear and
+    /// non-linear transparency using a pixel-coverage byte" and rftb3
+    /// "combines the features of rftb1 and rftb2" (the rftb manual page),
+    /// by section 5.6 (`Ā = A (1 - T)`, section 5.8 for rftb3). The manual
+    /// gives rftb2 and rftb4 no transparency; they keep plytrace's
+    /// section 4.9 rule (`I = I_cur + k_t I_behind`).
+    pub fn transparency(self) -> TransparencyRule {
+        match self {
+            Program::Rftb1 | Program::Rftb3 => TransparencyRule::Coverage,
+            Program::Rftb2 | Program::Rftb4 => TransparencyRule::Garcia,
+        }
+    }
+
     /// The usage line.
     pub fn usage(self) -> String {
         format!(
@@ -402,7 +415,7 @@ pub fn run(program: Program, args: &Args) -> Result<Summary> {
         method: program.method(),
         act_lines: args.act_lines,
         paint_background: args.background,
-        transparency: TransparencyRule::Garcia,
+        transparency: program.transparency(),
         threads: 0,
         ids: false,
         max_overdraw: crate::budget::Budgets::default().overdraw,
