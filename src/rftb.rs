@@ -17,7 +17,15 @@
 //! - rftb2 (method 2, pixel masks): `OUTPUT.r .g .b .m` (the manual's
 //!   FILES section; its example says `.a`, but a mask tiler has masks);
 //! - rftb3 (method 3, both): `OUTPUT.r .g .b .a .m`;
-//! - rftb4 (method 4, pixel-structs): the pixel-struct file `OUTPUT`.
+//! - rftb4 (method 4, pixel-structs): the pixel-struct file `OUTPUT`,
+//!   exactly `hres x vres` 8-byte structs as getrgb's manual page says,
+//!   and beside it `OUTPUT.frag`, the resolution and the fragment lists
+//!   that the structs' `flist` fields point into.
+//!
+//! getrgb, like the manual's (`getrgb [fname]`), needs no resolution: it
+//! writes the colours of the linear list of structs to `NAME.r .g .b`.
+//! The PNG (`-p`, `--png`), an extension, needs the width: from the
+//! optional `hres vres`, or else from `NAME.frag`.
 //!
 //! Layouts are in [`crate::output`]. With a display flag (`-a BITS`, `-r`,
 //! `-g`, `-b`, `-y`, `-c`) the image is also written as `OUTPUT.png` in
@@ -367,7 +375,7 @@ impl Outputs {
     fn commit(self) -> Result<Vec<String>> {
         let mut staged: Vec<Staged> = match self.main {
             MainSink::Separations(s) => s.finish()?,
-            MainSink::PixelStructs(s) => vec![s.finish()?],
+            MainSink::PixelStructs(s) => s.finish()?,
         };
         let mut notes = Vec::new();
         if let Some(p) = self.png {
@@ -543,10 +551,9 @@ fn finish_log(name: &str, line: &str) -> ExitCode {
 pub struct GetrgbArgs {
     /// The pixel-struct file, also the seed of `.r .g .b`.
     pub name: PathBuf,
-    /// Width.
-    pub hres: u32,
-    /// Height.
-    pub vres: u32,
+    /// `hres vres` when given: checked against the file (and its side
+    /// file); needed for a PNG when there is no side file.
+    pub resolution: Option<(u32, u32)>,
     /// Also write this PNG.
     pub png: Option<PathBuf>,
 }
@@ -576,12 +583,11 @@ pub fn parse_getrgb_args(
             _ => positional.push(arg),
         }
     }
-    let (name, hres, vres) = match positional.as_slice() {
-        [name] => (PathBuf::from(name), 256, 256),
+    let (name, resolution) = match positional.as_slice() {
+        [name] => (PathBuf::from(name), None),
         [name, h, v] => (
             PathBuf::from(name),
-            number(h, "hres", 1)?,
-            number(v, "vres", 1)?,
+            Some((number(h, "hres", 1)?, number(v, "vres", 1)?)),
         ),
         [] => return usage_err("no pixel-struct file given"),
         [_, _] => return usage_err("give both hres and vres, or neither"),
@@ -590,25 +596,103 @@ pub fn parse_getrgb_args(
     let png = png_file.or_else(|| png_flag.then(|| with_suffix(&name, "png")));
     Ok(Command::Run(GetrgbArgs {
         name,
-        hres,
-        vres,
+        resolution,
         png,
     }))
 }
 
-/// Extracts `NAME.r .g .b` (and the PNG) from the pixel-struct file;
-/// returns the pixels and the pixels with fragments.
-pub fn run_getrgb(args: &GetrgbArgs) -> Result<(usize, usize)> {
+/// What a getrgb run did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GetrgbSummary {
+    /// Pixel-structs read.
+    pub pixels: usize,
+    /// Those with fragments (known only with the side file).
+    pub complex: usize,
+    /// `(hres, vres)`, when known (arguments or side file).
+    pub resolution: Option<(u32, u32)>,
+}
+
+/// Reads `path`'s fragment side file `path.frag`, if there is one.
+fn read_side_file(path: &Path) -> Result<Option<(PathBuf, Vec<u8>)>> {
+    let side = with_suffix(path, crate::output::FRAGMENT_SUFFIX);
+    match std::fs::read(&side) {
+        Ok(bytes) => Ok(Some((side, bytes))),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(Error::io(&side, e)),
+    }
+}
+
+/// Extracts `NAME.r .g .b` (and the PNG) from the pixel-struct file.
+///
+/// The manual's getrgb takes only the file name (`getrgb [fname]`) and
+/// the file is "a linear list of 64-bit data structures": the separations
+/// are that list's colours in order, one byte per pixel-struct, whatever
+/// the resolution. The resolution, needed for the PNG only, is the
+/// optional `hres vres` or else the one rftb4 wrote in the side file
+/// `NAME.frag`; when both are there they must agree.
+pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
     let bytes = std::fs::read(&args.name).map_err(|e| Error::io(&args.name, e))?;
-    let pixels = crate::output::read_pixel_structs(&bytes, args.hres, args.vres, &args.name)?;
-    let (w, h) = (args.hres, args.vres);
+    let side = read_side_file(&args.name)?;
+    let read = crate::output::read_pixel_structs(
+        &bytes,
+        &args.name,
+        side.as_ref().map(|(p, b)| (b.as_slice(), p.as_path())),
+    )?;
+    let n = read.pixels.len();
+    let resolution = match (args.resolution, read.resolution) {
+        (Some((w, h)), _) if u64::from(w) * u64::from(h) != n as u64 => {
+            return Err(Error::Invalid(format!(
+                "{}: {} bytes hold {n} pixel-structs, but {w} x {h} takes {}: is the \
+                 resolution right?",
+                args.name.display(),
+                bytes.len(),
+                u64::from(w) * u64::from(h)
+            )));
+        }
+        (Some(given), Some(side)) if given != side => {
+            return Err(Error::Invalid(format!(
+                "{}: the resolution given, {} x {}, is not the {} x {} of {}.{}: is the \
+                 resolution right?",
+                args.name.display(),
+                given.0,
+                given.1,
+                side.0,
+                side.1,
+                args.name.display(),
+                crate::output::FRAGMENT_SUFFIX
+            )));
+        }
+        (given, side) => given.or(side),
+    };
+    let (w, h) = match resolution {
+        Some(r) => r,
+        None if args.png.is_some() => {
+            return Err(Error::Invalid(format!(
+                "{}: a PNG needs the image's width, and there is no {}.{} (rftb4 writes the \
+                 resolution there): give it, `getrgb NAME HRES VRES --png FILE`",
+                args.name.display(),
+                args.name.display(),
+                crate::output::FRAGMENT_SUFFIX
+            )));
+        }
+        // The linear list as one row: the separations do not depend on it.
+        None => (
+            u32::try_from(n).map_err(|_| {
+                Error::Invalid(format!(
+                    "{}: {n} pixel-structs are more than getrgb can take",
+                    args.name.display()
+                ))
+            })?,
+            1,
+        ),
+    };
     let mut seps = SeparationSink::create(&args.name, w, h, Planes::default())?;
     let mut png = match &args.png {
         Some(p) => Some(PngSink::create(p, w, h, DisplayMode::Color)?),
         None => None,
     };
     let mut rgb = vec![[0.0f32; 3]; w as usize];
-    for (y, row) in pixels.chunks_exact(w as usize).enumerate() {
+    for (y, row) in read.pixels.chunks_exact(w as usize).enumerate() {
         for (c, p) in rgb.iter_mut().zip(row) {
             *c = p.rgb.map(|v| f32::from(v) / 255.0);
         }
@@ -630,8 +714,16 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<(usize, usize)> {
         staged.push(p.finish()?.0);
     }
     commit_all(staged)?;
-    let complex = pixels.iter().filter(|p| !p.fragments.is_empty()).count();
-    Ok((pixels.len(), complex))
+    let complex = read
+        .pixels
+        .iter()
+        .filter(|p| !p.fragments.is_empty())
+        .count();
+    Ok(GetrgbSummary {
+        pixels: n,
+        complex,
+        resolution,
+    })
 }
 
 /// The whole of getrgb's `main`.
@@ -649,18 +741,21 @@ pub fn getrgb_main() -> ExitCode {
     };
     let start = Instant::now();
     match run_getrgb(&args) {
-        Ok((n, complex)) => {
+        Ok(s) => {
             let line = format!(
-                "{}  input {}  output {}.[rgb]{}  {}x{}  pixels {n}  with fragments {complex}  \
-                 {:.3} s",
+                "{}  input {}  output {}.[rgb]{}  {}  pixels {}  with fragments {}  {:.3} s",
                 utc_timestamp(SystemTime::now()),
                 args.name.display(),
                 args.name.display(),
                 args.png
                     .as_ref()
                     .map_or(String::new(), |p| format!(" {}", p.display())),
-                args.hres,
-                args.vres,
+                s.resolution
+                    .map_or("resolution unknown".to_string(), |(w, h)| format!(
+                        "{w}x{h}"
+                    )),
+                s.pixels,
+                s.complex,
                 start.elapsed().as_secs_f64()
             );
             finish_log("getrgb", &line)
