@@ -363,3 +363,76 @@ fn rftb2_keeps_the_section_4_9_rule() {
     ok(&run(RFTB2, d, &["glass", "two", "8", "8"]));
     assert_eq!(read(d, "two.r"), vec![255; 64]);
 }
+
+// ---------------------------------------------------------------------------
+// 4. mkdet, mkpcl and mkvcl refuse what a short cannot hold
+
+const MKDET: &str = env!("CARGO_BIN_EXE_mkdet");
+const MKPCL: &str = env!("CARGO_BIN_EXE_mkpcl");
+const MKVCL: &str = env!("CARGO_BIN_EXE_mkvcl");
+
+/// An ASCII geometry file (the mkdet manual page's format: "data", then
+/// "the number of vertices and polygons", the vertices, then "<# of
+/// vertices in polygon> <vertex-index list>") of `vertices` points and one
+/// polygon of `nvtx` indices (cycling 1, 2, 3).
+fn ascii_det(vertices: usize, nvtx: usize) -> String {
+    let mut s = format!("title big\ndata\n{vertices} 1\n");
+    for k in 0..vertices {
+        s.push_str(&format!("{} {} 0\n", k % 7, k % 5));
+    }
+    s.push_str(&nvtx.to_string());
+    for k in 0..nvtx {
+        s.push_str(&format!(" {}", k % 3 + 1));
+    }
+    s.push('\n');
+    s
+}
+
+/// The mkdet manual page: "short num_vtx, num_polys; /* #-vertices,
+/// #-polygons */" and "short nvtx, index[nvtx]; /* For each polygon */";
+/// mkpcl/mkvcl: "short num_clr; /* Number of colors in file */". A C
+/// short holds -32768 to 32767; 33000 would read back as 33000 - 65536 =
+/// -32536. Each is refused with the field, the value and the limit, exit
+/// status 1, and no output file; 32767 is written and reads back as the
+/// short 32767.
+#[test]
+fn mkdet_mkpcl_mkvcl_refuse_counts_a_short_cannot_hold() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    assert_eq!(i16::from_le_bytes(33000u16.to_le_bytes()), -32536);
+    std::fs::write(d.join("v.det"), ascii_det(33_000, 3)).unwrap();
+    std::fs::write(d.join("n.det"), ascii_det(3, 32_768)).unwrap();
+    let colours = |n: usize| {
+        let mut s = format!("title colours\ndata {n}\n");
+        s.push_str(&".9 .8 .2 .0 .0 .0\n".repeat(n));
+        s
+    };
+    std::fs::write(d.join("c.pcl"), colours(40_000)).unwrap();
+    for (bin, input, field, value) in [
+        (MKDET, "v.det", "num_vtx", "33000"),
+        (MKDET, "n.det", "nvtx", "32768"),
+        (MKPCL, "c.pcl", "num_clr", "40000"),
+        (MKVCL, "c.pcl", "num_clr", "40000"),
+    ] {
+        let o = run(bin, d, &[input, "out.bin"]);
+        assert_eq!(o.status.code(), Some(1), "{bin} {input}");
+        let e = stderr(&o);
+        assert!(
+            e.contains(&format!("`{field}`")) && e.contains(value) && e.contains("32767"),
+            "{bin} {input}: {e}"
+        );
+        assert!(!d.join("out.bin").exists(), "{bin} left an output");
+    }
+    assert_eq!(listing(d), ["c.pcl", "n.det", "v.det"]);
+    // The largest count that fits.
+    std::fs::write(d.join("m.det"), ascii_det(32_767, 3)).unwrap();
+    ok(&run(MKDET, d, &["m.det", "m.bin"]));
+    let b = read(d, "m.bin");
+    assert_eq!(&b[..3], b"DET");
+    assert_eq!(
+        i16::from_le_bytes([b[3], b[4]]),
+        32_767,
+        "num_vtx as a short"
+    );
+    assert_eq!(i16::from_le_bytes([b[5], b[6]]), 1, "num_polys");
+}
