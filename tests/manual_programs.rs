@@ -436,3 +436,70 @@ fn mkdet_mkpcl_mkvcl_refuse_counts_a_short_cannot_hold() {
     );
     assert_eq!(i16::from_le_bytes([b[5], b[6]]), 1, "num_polys");
 }
+
+// ---------------------------------------------------------------------------
+// 5. Tree-file coordinates run from 0 to 1
+
+const PLYTRACE: &str = env!("CARGO_BIN_EXE_plytrace");
+
+/// The bundled scenes: the benchmark scenes and the examples.
+fn bundled_scenes() -> Vec<std::path::PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut v = Vec::new();
+    for dir in ["tests/data/scenes", "examples"] {
+        for e in std::fs::read_dir(root.join(dir)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "des") {
+                v.push(p);
+            }
+        }
+    }
+    v.sort();
+    assert!(v.len() >= 10, "{v:?}");
+    v
+}
+
+/// Figure 4.14 (virtual image tree polygon formats): "x,y floats 0 to 1".
+/// Every bundled scene, written with `setmode o on` in both blending
+/// modes: every vertex of every record of `FNAME.out` lies in [0, 1] (no
+/// negative zero either, which the text form would print as `-0`), and
+/// `FNAME.txt` holds the same records, bit for bit.
+#[test]
+fn tree_file_coordinates_of_every_bundled_scene_are_within_0_and_1() {
+    let mut files = 0;
+    for scene in bundled_scenes() {
+        for blend in ["on", "off"] {
+            let dir = tempfile::tempdir().unwrap();
+            let d = dir.path();
+            let o = run(
+                PLYTRACE,
+                d,
+                &["-i", "-f", scene.to_str().unwrap(), "-o", "on", "-b", blend],
+            );
+            ok(&o);
+            for name in listing(d) {
+                let Some(stem) = name.strip_suffix(".out") else {
+                    continue;
+                };
+                files += 1;
+                let out = d.join(&name);
+                let bin = RecordStream::from_bytes(&read(d, &name), &out).unwrap();
+                let text = String::from_utf8(read(d, &format!("{stem}.txt"))).unwrap();
+                let txt = RecordStream::from_text(&text, &out).unwrap();
+                assert_eq!(bin, txt, "{}: {name} and its .txt differ", scene.display());
+                // (As read, not through `file_records`, which snaps.)
+                for (k, r) in bin.records.iter().enumerate() {
+                    for c in r.points.iter().flatten() {
+                        assert!(
+                            (0.0..=1.0).contains(c) && c.is_sign_positive(),
+                            "{} (-b {blend}) {name} record {}: coordinate {c:e}",
+                            scene.display(),
+                            k + 1
+                        );
+                    }
+                }
+            }
+        }
+    }
+    assert!(files >= 20, "{files} tree files");
+}
