@@ -503,3 +503,114 @@ fn tree_file_coordinates_of_every_bundled_scene_are_within_0_and_1() {
     }
     assert!(files >= 20, "{files} tree files");
 }
+
+// ---------------------------------------------------------------------------
+// 6. The manual's example chain, from `examples/`
+
+/// An 8-bit RGB PNG's size and pixels.
+fn decode_png(bytes: Vec<u8>) -> (u32, u32, Vec<u8>) {
+    let mut r = png::Decoder::new(std::io::Cursor::new(bytes))
+        .read_info()
+        .unwrap();
+    let mut buf = vec![0; r.output_buffer_size().unwrap()];
+    let info = r.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    buf.truncate(info.buffer_size());
+    (info.width, info.height, buf)
+}
+
+/// The largest difference between separations `seed.r .g .b` and the RGB
+/// pixels `rgb`.
+fn max_difference(dir: &Path, seed: &str, rgb: &[u8]) -> u8 {
+    let planes: Vec<Vec<u8>> = ["r", "g", "b"]
+        .iter()
+        .map(|e| read(dir, &format!("{seed}.{e}")))
+        .collect();
+    let mut worst = 0;
+    for (i, px) in rgb.chunks(3).enumerate() {
+        for k in 0..3 {
+            worst = worst.max(planes[k][i].abs_diff(px[k]));
+        }
+    }
+    worst
+}
+
+/// The scene the manual's example renders is the thesis's figure 4.2(a)
+/// ("fname test"), `examples/test.des`; the rftb manual page: "To render
+/// a virtual image tree file, test.out, using rftb2 at 512 x 512 display
+/// resolution and with the background color painted, the following
+/// command is issued: rftb2 test test2 512 512 -B"; rftb4 "produces a
+/// single composite file ... which must be processed by getrgb". Run as
+/// on a fresh clone: `plytrace -i -f examples/test.des -o on`, `rftb2
+/// test test2 512 512 -B`, `rftb4 test test4 512 512 -B`, `getrgb test4`.
+///
+/// Tolerance: plytrace's own picture is method 4 (16-sample masks, the
+/// background painted) over the very records it writes to test.out, so
+/// getrgb's image may differ only by a rounding level (the file's
+/// coordinates are the same f32s, snapped into [0, 1] by at most a
+/// rounding error): 1. rftb2's 4 x 4 masks at one tree level are method
+/// 4's cases 1 and 3 (section 5.9: the tilers "are identical in both
+/// methods"), so the same bound holds for it.
+#[test]
+fn the_manual_example_chain_runs_from_examples() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::fs::create_dir_all(d.join("examples/det")).unwrap();
+    std::fs::copy(root.join("examples/test.des"), d.join("examples/test.des")).unwrap();
+    for f in ["cube.det", "cutcube.det"] {
+        std::fs::copy(
+            root.join("examples/det").join(f),
+            d.join("examples/det").join(f),
+        )
+        .unwrap();
+    }
+
+    ok(&run(
+        PLYTRACE,
+        d,
+        &["-i", "-f", "examples/test.des", "-o", "on"],
+    ));
+    let out = d.join("test.out");
+    let tree = RecordStream::from_bytes(&read(d, "test.out"), &out).unwrap();
+    assert!(tree.front_to_back, "sort ftb");
+    assert!(!tree.blended, "the manual's default, setmode b off");
+    assert!(tree.background.is_some(), "-B needs the background record");
+    assert!(!tree.records.is_empty() && tree.records.iter().all(|r| r.level == 1));
+
+    ok(&run(RFTB2, d, &["test", "test2", "512", "512", "-B"]));
+    for e in ["r", "g", "b"] {
+        assert_eq!(read(d, &format!("test2.{e}")).len(), 512 * 512);
+    }
+    assert_eq!(read(d, "test2.m").len(), 512 * 512 * 2);
+
+    ok(&run(RFTB4, d, &["test", "test4", "512", "512", "-B"]));
+    assert_eq!(read(d, "test4").len(), 512 * 512 * 8);
+    assert_eq!(read(d, "test4.frag").len(), 12, "no fragments after -B");
+
+    ok(&run(GETRGB, d, &["test4"]));
+    for e in ["r", "g", "b"] {
+        assert_eq!(read(d, &format!("test4.{e}")).len(), 512 * 512);
+    }
+
+    let (w, h, rgb) = decode_png(read(d, "test.png"));
+    assert_eq!((w, h), (512, 512));
+    assert!(max_difference(d, "test4", &rgb) <= 1);
+    assert!(max_difference(d, "test2", &rgb) <= 1);
+    // Sane: the green cut cube, the white table top and the background
+    // are all there.
+    let (r, g) = (read(d, "test4.r"), read(d, "test4.g"));
+    assert!(
+        (0..512 * 512).any(|i| g[i] > 100 && r[i] < 30),
+        "green cube"
+    );
+    assert!(
+        (0..512 * 512).any(|i| r[i] > 100 && g[i] > 100),
+        "white table"
+    );
+    let bg = tree.background.unwrap();
+    assert_eq!([r[0], g[0]], [bg[0], bg[1]], "top-left corner: background");
+    for log in ["plytrace.log", "rftb2.log", "rftb4.log", "getrgb.log"] {
+        assert!(d.join(log).exists(), "{log}");
+    }
+}
