@@ -487,7 +487,6 @@ fn tree_file_coordinates_of_every_bundled_scene_are_within_0_and_1() {
                 let text = String::from_utf8(read(d, &format!("{stem}.txt"))).unwrap();
                 let txt = RecordStream::from_text(&text, &out).unwrap();
                 assert_eq!(bin, txt, "{}: {name} and its .txt differ", scene.display());
-                // (As read, not through `file_records`, which snaps.)
                 for (k, r) in bin.records.iter().enumerate() {
                     for c in r.points.iter().flatten() {
                         assert!(

@@ -17,10 +17,11 @@
 //!
 //! x and y are normalized screen coordinates, 0 to 1 from the lower left
 //! corner, as the figure says ("x,y floats 0 to 1"), so one file renders
-//! at any resolution. The writer snaps them into [0, 1] in one place,
-//! [`RecordStream::file_records`], which both forms are written from: a
-//! vertex clipped to the screen's edge can come out a rounding error
-//! beyond it (`-1.1e-16`, or `-0`), which the figure does not allow.
+//! at any resolution. They are snapped into [0, 1] ([`unit`]) in one
+//! place, where plytrace makes them (`crate::emit`): a vertex clipped to
+//! the screen's edge can come out a rounding error beyond it (`-1.1e-16`,
+//! or `-0`), which the figure does not allow. Both forms then write the
+//! same bits, and the tree in memory is the tree in the files.
 //!
 //! The background polygon. The rftb manual page's `-B` paints "a
 //! background polygon, with color specified in the input data file": it is
@@ -51,6 +52,7 @@ const UNIT_SQUARE: [[f32; 2]; 4] = [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.
 /// (negative zero included) is 0, above 1 is 1. Only a rounding error is
 /// expected beyond the range, the clipper having cut everything to the
 /// screen. A NaN is kept (a tree holds none; the readers refuse one).
+/// `crate::emit` applies it to every coordinate it makes.
 pub fn unit(v: f32) -> f32 {
     if v.is_nan() {
         v
@@ -63,27 +65,10 @@ pub fn unit(v: f32) -> f32 {
 
 impl RecordStream {
     /// The records as written: the background record (if any) first for
-    /// back to front, last for front to back, and every coordinate snapped
-    /// into [0, 1] (figure 4.14: "x,y floats 0 to 1"; see [`unit`]).
+    /// back to front, last for front to back.
     pub fn file_records(&self) -> Vec<std::borrow::Cow<'_, Record>> {
         use std::borrow::Cow;
-        let mut out: Vec<Cow<'_, Record>> = self
-            .records
-            .iter()
-            .map(|r| {
-                let snapped = |p: &[f32; 2]| p.map(unit);
-                if r.points
-                    .iter()
-                    .all(|p| snapped(p).map(f32::to_bits) == p.map(f32::to_bits))
-                {
-                    Cow::Borrowed(r)
-                } else {
-                    let mut owned = r.clone();
-                    owned.points = r.points.iter().map(snapped).collect();
-                    Cow::Owned(owned)
-                }
-            })
-            .collect();
+        let mut out: Vec<Cow<'_, Record>> = self.records.iter().map(Cow::Borrowed).collect();
         if let Some(c) = self.background {
             let shades = if self.blended {
                 Shades::Faceted(c)
@@ -696,12 +681,11 @@ mod tests {
             prop_assert_eq!(RecordStream::from_text(&t.to_text(), Path::new("x")).unwrap(), t);
         }
 
-        /// Figure 4.14: "x,y floats 0 to 1". Coordinates a little beyond
-        /// the range (rounding errors of the clipper, negative zero) are
-        /// written as 0 or 1, the same in both forms; those within are
-        /// written unchanged.
+        /// Figure 4.14: "x,y floats 0 to 1". Coordinates snapped by
+        /// [`unit`] lie within [0, 1], with no negative zero, and both
+        /// forms write them bit for bit; those already within are kept.
         #[test]
-        fn written_coordinates_are_within_0_and_1_in_both_forms(
+        fn snapped_coordinates_are_within_0_and_1_in_both_forms(
             pts in prop::collection::vec(
                 prop_oneof![
                     -1e-6f32..1.0 + 1e-6,
@@ -714,17 +698,19 @@ mod tests {
             ),
             ftb in any::<bool>(),
         ) {
-            let points: Vec<[f32; 2]> = pts.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+            let points: Vec<[f32; 2]> =
+                pts.chunks_exact(2).map(|p| [unit(p[0]), unit(p[1])]).collect();
             let t = RecordStream {
-                records: vec![Record { level: 1, points: points.clone(), shades: Shades::Faceted([1, 2, 3]) }],
+                records: vec![Record { level: 1, points, shades: Shades::Faceted([1, 2, 3]) }],
                 background: Some([0, 0, 0]),
                 front_to_back: ftb,
                 blended: true,
             };
             let bin = RecordStream::from_bytes(&t.to_bytes(), Path::new("x")).unwrap();
             let txt = RecordStream::from_text(&t.to_text(), Path::new("x")).unwrap();
-            prop_assert_eq!(&bin, &txt);
-            for (got, was) in bin.records[0].points.iter().flatten().zip(points.iter().flatten()) {
+            prop_assert_eq!(&bin, &t);
+            prop_assert_eq!(&txt, &t);
+            for (got, was) in bin.records[0].points.iter().flatten().zip(pts.iter()) {
                 prop_assert!((0.0..=1.0).contains(got) && got.is_sign_positive(), "{got:e}");
                 if (0.0..=1.0).contains(was) && was.is_sign_positive() {
                     prop_assert_eq!(got.to_bits(), was.to_bits());
