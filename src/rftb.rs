@@ -9,9 +9,11 @@
 //!
 //! rftbN reads `<input>.out` (a virtual image tree file, [`crate::tree`];
 //! an input given as `X.out` is taken as `X`),
-//! refuses a tree made for another method (order and blending, from its
-//! background record), and writes, under the output seed (default: the
-//! input name):
+//! refuses a tree made for another method (back to front, or, with a
+//! record below level 1, the other blending mode; both read from its
+//! background record, see [`check_tree`]), blends transparency by
+//! [`Program::transparency`] (section 5.6 for rftb1 and rftb3), and
+//! writes, under the output seed (default: the input name):
 //!
 //! - rftb1 (method 1, area coverage): `OUTPUT.r .g .b .a`;
 //! - rftb2 (method 2, pixel masks): `OUTPUT.r .g .b .m` (the manual's
