@@ -143,9 +143,11 @@ fn record(
         .iter()
         .map(|&v| {
             let p = view.project(v);
+            // Figure 4.14's "x,y floats 0 to 1": a vertex clipped to the
+            // screen's edge can land a rounding error beyond it.
             [
-                (p.x / how.width as f64) as f32,
-                (p.y / how.height as f64) as f32,
+                crate::tree::file::unit((p.x / how.width as f64) as f32),
+                crate::tree::file::unit((p.y / how.height as f64) as f32),
             ]
         })
         .collect();

@@ -18,21 +18,30 @@
 //!   row first, no header), `SEED.a` (one coverage byte per pixel) and
 //!   `SEED.m` (one 4x4 pixel mask per pixel, u16 little-endian, bit
 //!   `4 * row + column`).
-//! - [`PixelStructSink`]: the pixel-struct file of rftb4 (004 figure 5.15,
-//!   the getrgb manual page), laid out, all integers little-endian, as
+//! - [`PixelStructSink`]: the pixel-struct file of rftb4 (004 figure 5.15)
+//!   and its fragment side file. The getrgb manual page: "A pixel-struct
+//!   file is assumed to contain a linear list of 64-bit data structures",
+//!   so the file `OUTPUT` is exactly `hres * vres` of them and nothing
+//!   else (getrgb can read it without knowing the resolution); what a
+//!   pointer cannot carry into a file, the fragment lists, and the
+//!   resolution go to the side file `OUTPUT.frag`. All integers
+//!   little-endian:
 //!
 //! ```text
-//! pixel array:      hres * vres pixel-structs, top row first, 8 bytes each:
-//!                     flist u32, r u8, g u8, b u8, pixstat u8
-//! fragment section: the fragment lists, one after the other, each
-//!                     count u32, then count x (pmask u16, pstat u8, pcover u8)
+//! OUTPUT:       hres * vres pixel-structs, top row first, 8 bytes each:
+//!                 flist u32, r u8, g u8, b u8, pixstat u8
+//! OUTPUT.frag:  "FRAG", hres u32, vres u32 (12 bytes), then the fragment
+//!                 lists one after the other, each
+//!                 count u32, then count x (pmask u16, pstat u8, pcover u8)
 //! ```
 //!
 //! `flist` is 0 for a pixel without fragments, else 1 + the byte offset of
-//! its list (of the count) from the start of the fragment section. Lists
-//! are stored in pixel order, so the section is exactly the lists that the
+//! its list (of the count) from the first list (byte 12 of the side file).
+//! Lists are stored in pixel order, so the lists are exactly those that the
 //! pixels point to. A fragment list keeps the order of
-//! [`PixelStruct::fragments`] (head, the deepest level, first).
+//! [`PixelStruct::fragments`] (head, the deepest level, first). After
+//! `-B` (the background pass frees every fragment, 004 section 5.9) the
+//! side file is its 12-byte header.
 //!
 //! # Fewer bits than computed
 //!
@@ -915,14 +924,19 @@ fn plane<'a, T>(p: Option<&'a [T]>, w: usize, file: &AtomicFile, what: &str) -> 
 pub const FRAGMENT_BYTES: usize = 4;
 /// Bytes of one pixel-struct.
 pub const PIXEL_STRUCT_BYTES: usize = 8;
+/// The suffix of rftb4's fragment side file, `OUTPUT.frag`.
+pub const FRAGMENT_SUFFIX: &str = "frag";
+/// The tag that starts a fragment side file.
+pub const FRAGMENT_TAG: &[u8; 4] = b"FRAG";
+/// Bytes of the side file's header: the tag, hres u32, vres u32.
+pub const FRAGMENT_HEADER_BYTES: usize = 12;
 
-/// Writes the pixel-struct file of rftb4 (layout in the module doc): the
-/// pixel array is streamed, the fragment lists spooled to a temporary file
-/// beside it and appended at [`PixelStructSink::finish`].
+/// Writes the pixel-struct file of rftb4 and its fragment side file
+/// `PATH.frag` (layouts in the module doc), both streamed.
 pub struct PixelStructSink {
     file: AtomicFile,
-    spool: AtomicFile,
-    spool_len: u64,
+    side: AtomicFile,
+    side_len: u64,
     width: u32,
     height: u32,
     next: u32,
@@ -931,15 +945,18 @@ pub struct PixelStructSink {
 }
 
 impl PixelStructSink {
-    /// Starts the file `path`.
+    /// Starts the files `path` and `path.frag`.
     pub fn create(path: &Path, width: u32, height: u32) -> Result<PixelStructSink> {
         let file = AtomicFile::create(path)?;
-        let spool_path = temp_beside(path, "frag")?;
-        let spool = AtomicFile::create(&spool_path)?;
+        let mut side = AtomicFile::create(&with_suffix(path, FRAGMENT_SUFFIX))?;
+        let mut header = FRAGMENT_TAG.to_vec();
+        header.extend_from_slice(&width.to_le_bytes());
+        header.extend_from_slice(&height.to_le_bytes());
+        side.write_all(&header)?;
         Ok(PixelStructSink {
             file,
-            spool,
-            spool_len: 0,
+            side,
+            side_len: 0,
             width,
             height,
             next: 0,
@@ -948,22 +965,11 @@ impl PixelStructSink {
         })
     }
 
-    /// Appends the fragment section and completes the file under its
-    /// temporary name.
-    pub fn finish(self) -> Result<Staged> {
+    /// Completes both files under their temporary names: the pixel-struct
+    /// file, then the side file.
+    pub fn finish(self) -> Result<Vec<Staged>> {
         check_complete(self.next, self.height, self.file.path())?;
-        let spool = self.spool.finish()?;
-        let mut src = std::fs::File::open(&spool.tmp).map_err(|e| Error::io(&spool.tmp, e))?;
-        let mut dst = self.file.file();
-        let n = std::io::copy(&mut src, &mut dst).map_err(|e| Error::io(&self.file.path, e))?;
-        if n != self.spool_len {
-            return Err(Error::io(
-                &self.file.path,
-                std::io::Error::other("the fragment spool was cut short"),
-            ));
-        }
-        drop(spool);
-        self.file.finish()
+        Ok(vec![self.file.finish()?, self.side.finish()?])
     }
 }
 
@@ -978,11 +984,11 @@ impl RowSink for PixelStructSink {
             let flist = if p.fragments.is_empty() {
                 0
             } else {
-                let at = self.spool_len + self.frag_buf.len() as u64 + 1;
+                let at = self.side_len + self.frag_buf.len() as u64 + 1;
                 let at = u32::try_from(at).map_err(|_| {
                     Error::Invalid(format!(
-                        "{}: the fragment section passes 4 GiB",
-                        self.file.path().display()
+                        "{}: the fragment lists pass 4 GiB",
+                        self.side.path().display()
                     ))
                 })?;
                 push_fragments(&p.fragments, &mut self.frag_buf);
@@ -993,8 +999,8 @@ impl RowSink for PixelStructSink {
                 .extend_from_slice(&[p.rgb[0], p.rgb[1], p.rgb[2], p.pixstat]);
         }
         self.file.write_all(&self.buf)?;
-        self.spool.write_all(&self.frag_buf)?;
-        self.spool_len += self.frag_buf.len() as u64;
+        self.side.write_all(&self.frag_buf)?;
+        self.side_len += self.frag_buf.len() as u64;
         Ok(())
     }
 }
@@ -1008,44 +1014,98 @@ fn push_fragments(fragments: &[SavedFragment], out: &mut Vec<u8>) {
     }
 }
 
-/// Reads a pixel-struct file of `width` x `height` pixels (layout in the
-/// module doc), checking that its size fits the resolution and that its
-/// fragment section is exactly the lists its pixels point to.
+/// A pixel-struct file as read back.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PixelStructs {
+    /// `(hres, vres)` from the side file, when there was one.
+    pub resolution: Option<(u32, u32)>,
+    /// The pixels, top row first; without a side file no pixel has
+    /// fragments (`flist` is not followed).
+    pub pixels: Vec<PixelStruct>,
+}
+
+/// Reads a pixel-struct file (`bytes`, named `path` in errors) and, when
+/// given, its fragment side file (`side`: bytes and name), checking that
+/// the file is a whole number of 8-byte pixel-structs, that the side file
+/// is for as many pixels, and that its lists are exactly those the pixels
+/// point to (layouts in the module doc).
 pub fn read_pixel_structs(
     bytes: &[u8],
-    width: u32,
-    height: u32,
     path: &Path,
-) -> Result<Vec<PixelStruct>> {
-    let err = |msg: String| Error::at(Location::file(path), msg);
-    let n = width as usize * height as usize;
-    let array = n * PIXEL_STRUCT_BYTES;
-    if bytes.len() < array {
-        return Err(err(format!(
-            "{} bytes, but {width} x {height} pixel-structs take {array}: is the resolution right?",
-            bytes.len()
-        )));
+    side: Option<(&[u8], &Path)>,
+) -> Result<PixelStructs> {
+    if bytes.is_empty() || !bytes.len().is_multiple_of(PIXEL_STRUCT_BYTES) {
+        return Err(Error::at(
+            Location::file(path),
+            format!(
+                "{} bytes is not a whole, non-zero number of 8-byte pixel-structs (a \
+                 pixel-struct file is \"a linear list of 64-bit data structures\")",
+                bytes.len()
+            ),
+        ));
     }
-    let section = &bytes[array..];
-    let starts = fragment_lists(section).map_err(|at| {
-        err(format!(
-            "the fragment section (from byte {array}) is broken at its byte {at}: \
-             is the resolution right?"
-        ))
-    })?;
+    let n = bytes.len() / PIXEL_STRUCT_BYTES;
+    let (resolution, section, side_path) = match side {
+        None => (None, None, path),
+        Some((side, side_path)) => {
+            let err = |msg: String| Error::at(Location::file(side_path), msg);
+            if side.len() < FRAGMENT_HEADER_BYTES || &side[..4] != FRAGMENT_TAG {
+                return Err(err(format!(
+                    "not an rftb4 fragment file: it must start with `FRAG` and the \
+                     resolution ({FRAGMENT_HEADER_BYTES} bytes)"
+                )));
+            }
+            let w = u32::from_le_bytes([side[4], side[5], side[6], side[7]]);
+            let h = u32::from_le_bytes([side[8], side[9], side[10], side[11]]);
+            let pixels = u64::from(w) * u64::from(h);
+            if pixels != n as u64 {
+                return Err(err(format!(
+                    "it is for a {w} x {h} image ({pixels} pixel-structs), but {} holds \
+                     {n}: the two files are not from the same rftb4 run",
+                    path.display()
+                )));
+            }
+            (
+                Some((w, h)),
+                Some(&side[FRAGMENT_HEADER_BYTES..]),
+                side_path,
+            )
+        }
+    };
+    let starts = match section {
+        Some(section) => fragment_lists(section).map_err(|at| {
+            Error::at(
+                Location::file(side_path),
+                format!(
+                    "the fragment lists are broken at byte {}",
+                    at + FRAGMENT_HEADER_BYTES
+                ),
+            )
+        })?,
+        None => Vec::new(),
+    };
+    let width = resolution.map_or(n, |(w, _)| w as usize).max(1);
     let mut pixels = Vec::with_capacity(n);
-    for (i, p) in bytes[..array].chunks_exact(PIXEL_STRUCT_BYTES).enumerate() {
+    for (i, p) in bytes.chunks_exact(PIXEL_STRUCT_BYTES).enumerate() {
         let flist = u32::from_le_bytes([p[0], p[1], p[2], p[3]]);
-        let fragments = if flist == 0 {
-            Vec::new()
-        } else if starts.binary_search(&(flist - 1)).is_ok() {
-            read_fragments(&section[(flist - 1) as usize..])
-        } else {
-            return Err(err(format!(
-                "pixel {i} (x {}, y {}): flist {flist} points at no fragment list",
-                i % width as usize,
-                i / width as usize
-            )));
+        let fragments = match section {
+            Some(_) if flist == 0 => Vec::new(),
+            Some(section) if starts.binary_search(&(flist - 1)).is_ok() => {
+                read_fragments(&section[(flist - 1) as usize..])
+            }
+            Some(_) => {
+                return Err(Error::at(
+                    Location::file(path),
+                    format!(
+                        "pixel {i} (x {}, y {}): flist {flist} points at no fragment list \
+                         of {}",
+                        i % width,
+                        i / width,
+                        side_path.display()
+                    ),
+                ));
+            }
+            None => Vec::new(),
         };
         pixels.push(PixelStruct {
             rgb: [p[4], p[5], p[6]],
@@ -1053,7 +1113,7 @@ pub fn read_pixel_structs(
             fragments,
         });
     }
-    Ok(pixels)
+    Ok(PixelStructs { resolution, pixels })
 }
 
 /// The offsets of the lists that tile `section`, or the offset where it
@@ -1304,7 +1364,7 @@ mod tests {
             row.pixels = Some(r);
             sink.row(&row).unwrap();
         }
-        sink.finish().unwrap().commit().unwrap();
+        commit_all(sink.finish().unwrap()).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         #[rustfmt::skip]
         let expected: Vec<u8> = vec![
@@ -1312,15 +1372,29 @@ mod tests {
             1, 0, 0, 0, 4, 5, 6, 0x62,
             13, 0, 0, 0, 7, 8, 9, 0x63,
             0, 0, 0, 0, 0, 0, 0, 0,
+        ];
+        assert_eq!(bytes, expected, "exactly 2 x 2 pixel-structs");
+        let side_path = with_suffix(&path, "frag");
+        let side = std::fs::read(&side_path).unwrap();
+        #[rustfmt::skip]
+        let expected_side: Vec<u8> = vec![
+            b'F', b'R', b'A', b'G', 2, 0, 0, 0, 2, 0, 0, 0,
             2, 0, 0, 0, 0x34, 0x12, 7, 8, 0xFF, 0xFF, 9, 10,
             1, 0, 0, 0, 1, 0, 2, 3,
         ];
-        assert_eq!(bytes, expected);
-        let back = read_pixel_structs(&bytes, 2, 2, &path).unwrap();
-        assert_eq!(back, rows.concat());
-        assert!(read_pixel_structs(&bytes, 3, 2, &path).is_err());
-        assert!(read_pixel_structs(&bytes[..bytes.len() - 1], 2, 2, &path).is_err());
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        assert_eq!(side, expected_side);
+        let back = read_pixel_structs(&bytes, &path, Some((&side, &side_path))).unwrap();
+        assert_eq!(back.resolution, Some((2, 2)));
+        assert_eq!(back.pixels, rows.concat());
+        let alone = read_pixel_structs(&bytes, &path, None).unwrap();
+        assert_eq!(alone.resolution, None);
+        assert!(alone.pixels.iter().all(|p| p.fragments.is_empty()));
+        assert!(read_pixel_structs(&bytes[..24], &path, Some((&side, &side_path))).is_err());
+        assert!(read_pixel_structs(&bytes[..31], &path, None).is_err());
+        assert!(read_pixel_structs(&[], &path, None).is_err());
+        let cut = &side[..side.len() - 1];
+        assert!(read_pixel_structs(&bytes, &path, Some((cut, &side_path))).is_err());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
     }
 
     #[test]

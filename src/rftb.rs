@@ -9,15 +9,25 @@
 //!
 //! rftbN reads `<input>.out` (a virtual image tree file, [`crate::tree`];
 //! an input given as `X.out` is taken as `X`),
-//! refuses a tree made for another method (order and blending, from its
-//! background record), and writes, under the output seed (default: the
-//! input name):
+//! refuses a tree made for another method (back to front, or, with a
+//! record below level 1, the other blending mode; both read from its
+//! background record, see [`check_tree`]), blends transparency by
+//! [`Program::transparency`] (section 5.6 for rftb1 and rftb3), and
+//! writes, under the output seed (default: the input name):
 //!
 //! - rftb1 (method 1, area coverage): `OUTPUT.r .g .b .a`;
 //! - rftb2 (method 2, pixel masks): `OUTPUT.r .g .b .m` (the manual's
 //!   FILES section; its example says `.a`, but a mask tiler has masks);
 //! - rftb3 (method 3, both): `OUTPUT.r .g .b .a .m`;
-//! - rftb4 (method 4, pixel-structs): the pixel-struct file `OUTPUT`.
+//! - rftb4 (method 4, pixel-structs): the pixel-struct file `OUTPUT`,
+//!   exactly `hres x vres` 8-byte structs as getrgb's manual page says,
+//!   and beside it `OUTPUT.frag`, the resolution and the fragment lists
+//!   that the structs' `flist` fields point into.
+//!
+//! getrgb, like the manual's (`getrgb [fname]`), needs no resolution: it
+//! writes the colours of the linear list of structs to `NAME.r .g .b`.
+//! The PNG (`-p`, `--png`), an extension, needs the width: from the
+//! optional `hres vres`, or else from `NAME.frag`.
 //!
 //! Layouts are in [`crate::output`]. With a display flag (`-a BITS`, `-r`,
 //! `-g`, `-b`, `-y`, `-c`) the image is also written as `OUTPUT.png` in
@@ -89,6 +99,19 @@ impl Program {
     /// rftb4 blends itself.
     pub fn wants_preblended(self) -> bool {
         self != Program::Rftb4
+    }
+
+    /// How it blends transparent surfaces: rftb1 "simulates linear and
+    /// non-linear transparency using a pixel-coverage byte" and rftb3
+    /// "combines the features of rftb1 and rftb2" (the rftb manual page),
+    /// by section 5.6 (`Ā = A (1 - T)`, section 5.8 for rftb3). The manual
+    /// gives rftb2 and rftb4 no transparency; they keep plytrace's
+    /// section 4.9 rule (`I = I_cur + k_t I_behind`).
+    pub fn transparency(self) -> TransparencyRule {
+        match self {
+            Program::Rftb1 | Program::Rftb3 => TransparencyRule::Coverage,
+            Program::Rftb2 | Program::Rftb4 => TransparencyRule::Garcia,
+        }
     }
 
     /// The usage line.
@@ -258,23 +281,38 @@ pub fn parse_args(
     Ok(Command::Run(args))
 }
 
-/// Checks that `stream` suits `program`: front to back, pre-blended for
-/// rftb1-3, post-blended for rftb4.
+/// Checks that `stream` suits `program`: front to back, and pre-blended
+/// for rftb1-3, post-blended for rftb4, unless the tree has only level-1
+/// records. Pre-blending (`setmode b on`) blends "higher tree level parent
+/// polygon intensities ... with each lower level children polygon" (004
+/// appendix, SETMODE COMMANDS, `b`): with no record below level 1 there
+/// is nothing to blend and both modes write the same shades, so either is
+/// accepted (the manual's default, `setmode b off`, then works with every
+/// tiler).
 pub fn check_tree(program: Program, stream: &RecordStream, input: &Path) -> Result<()> {
     let mut wrong = Vec::new();
     if !stream.front_to_back {
         wrong.push("its polygons are back to front; write it with `sort ftb`".to_string());
     }
+    let children = stream.records.iter().filter(|r| r.level > 1).count();
+    let sub_level = |n: usize| {
+        format!(
+            "{n} of its records lie below level 1 (reflections or refractions), so the \
+             blending mode matters"
+        )
+    };
     match (program.wants_preblended(), stream.blended) {
-        (true, false) => wrong.push(format!(
-            "its shades are post-blended, and {} blends nothing; write it with `setmode b on`",
+        (true, false) if children > 0 => wrong.push(format!(
+            "its shades are post-blended and {}; {} blends nothing, so children would not \
+             get their parents' shades: write it with `setmode b on` (or use rftb4)",
+            sub_level(children),
             program.name()
         )),
-        (false, true) => wrong.push(
-            "its shades are pre-blended, and rftb4 blends children with parents itself; \
-             write it with `setmode b off`"
-                .to_string(),
-        ),
+        (false, true) if children > 0 => wrong.push(format!(
+            "its shades are pre-blended and {}; rftb4 blends children with parents itself, \
+             so parents would count twice: write it with `setmode b off`",
+            sub_level(children)
+        )),
         _ => {}
     }
     if wrong.is_empty() {
@@ -339,7 +377,7 @@ impl Outputs {
     fn commit(self) -> Result<Vec<String>> {
         let mut staged: Vec<Staged> = match self.main {
             MainSink::Separations(s) => s.finish()?,
-            MainSink::PixelStructs(s) => vec![s.finish()?],
+            MainSink::PixelStructs(s) => s.finish()?,
         };
         let mut notes = Vec::new();
         if let Some(p) = self.png {
@@ -369,8 +407,11 @@ pub struct Summary {
 pub fn run(program: Program, args: &Args) -> Result<Summary> {
     let start = Instant::now();
     let bytes = std::fs::read(&args.input).map_err(|e| Error::io(&args.input, e))?;
-    let stream = RecordStream::from_bytes(&bytes, &args.input)?;
+    let mut stream = RecordStream::from_bytes(&bytes, &args.input)?;
     check_tree(program, &stream, &args.input)?;
+    // Accepted with the other blending mode only when one-level, where the
+    // modes agree (see `check_tree`): scan it as the mode the method wants.
+    stream.blended = program.wants_preblended();
     if args.background && stream.background.is_none() {
         return Err(Error::Invalid(format!(
             "{}: -B paints the background record, and this file has none",
@@ -384,7 +425,7 @@ pub fn run(program: Program, args: &Args) -> Result<Summary> {
         method: program.method(),
         act_lines: args.act_lines,
         paint_background: args.background,
-        transparency: TransparencyRule::Garcia,
+        transparency: program.transparency(),
         threads: 0,
         ids: false,
         max_overdraw: crate::budget::Budgets::default().overdraw,
@@ -512,10 +553,9 @@ fn finish_log(name: &str, line: &str) -> ExitCode {
 pub struct GetrgbArgs {
     /// The pixel-struct file, also the seed of `.r .g .b`.
     pub name: PathBuf,
-    /// Width.
-    pub hres: u32,
-    /// Height.
-    pub vres: u32,
+    /// `hres vres` when given: checked against the file (and its side
+    /// file); needed for a PNG when there is no side file.
+    pub resolution: Option<(u32, u32)>,
     /// Also write this PNG.
     pub png: Option<PathBuf>,
 }
@@ -545,12 +585,11 @@ pub fn parse_getrgb_args(
             _ => positional.push(arg),
         }
     }
-    let (name, hres, vres) = match positional.as_slice() {
-        [name] => (PathBuf::from(name), 256, 256),
+    let (name, resolution) = match positional.as_slice() {
+        [name] => (PathBuf::from(name), None),
         [name, h, v] => (
             PathBuf::from(name),
-            number(h, "hres", 1)?,
-            number(v, "vres", 1)?,
+            Some((number(h, "hres", 1)?, number(v, "vres", 1)?)),
         ),
         [] => return usage_err("no pixel-struct file given"),
         [_, _] => return usage_err("give both hres and vres, or neither"),
@@ -559,25 +598,103 @@ pub fn parse_getrgb_args(
     let png = png_file.or_else(|| png_flag.then(|| with_suffix(&name, "png")));
     Ok(Command::Run(GetrgbArgs {
         name,
-        hres,
-        vres,
+        resolution,
         png,
     }))
 }
 
-/// Extracts `NAME.r .g .b` (and the PNG) from the pixel-struct file;
-/// returns the pixels and the pixels with fragments.
-pub fn run_getrgb(args: &GetrgbArgs) -> Result<(usize, usize)> {
+/// What a getrgb run did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GetrgbSummary {
+    /// Pixel-structs read.
+    pub pixels: usize,
+    /// Those with fragments (known only with the side file).
+    pub complex: usize,
+    /// `(hres, vres)`, when known (arguments or side file).
+    pub resolution: Option<(u32, u32)>,
+}
+
+/// Reads `path`'s fragment side file `path.frag`, if there is one.
+fn read_side_file(path: &Path) -> Result<Option<(PathBuf, Vec<u8>)>> {
+    let side = with_suffix(path, crate::output::FRAGMENT_SUFFIX);
+    match std::fs::read(&side) {
+        Ok(bytes) => Ok(Some((side, bytes))),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(Error::io(&side, e)),
+    }
+}
+
+/// Extracts `NAME.r .g .b` (and the PNG) from the pixel-struct file.
+///
+/// The manual's getrgb takes only the file name (`getrgb [fname]`) and
+/// the file is "a linear list of 64-bit data structures": the separations
+/// are that list's colours in order, one byte per pixel-struct, whatever
+/// the resolution. The resolution, needed for the PNG only, is the
+/// optional `hres vres` or else the one rftb4 wrote in the side file
+/// `NAME.frag`; when both are there they must agree.
+pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
     let bytes = std::fs::read(&args.name).map_err(|e| Error::io(&args.name, e))?;
-    let pixels = crate::output::read_pixel_structs(&bytes, args.hres, args.vres, &args.name)?;
-    let (w, h) = (args.hres, args.vres);
+    let side = read_side_file(&args.name)?;
+    let read = crate::output::read_pixel_structs(
+        &bytes,
+        &args.name,
+        side.as_ref().map(|(p, b)| (b.as_slice(), p.as_path())),
+    )?;
+    let n = read.pixels.len();
+    let resolution = match (args.resolution, read.resolution) {
+        (Some((w, h)), _) if u64::from(w) * u64::from(h) != n as u64 => {
+            return Err(Error::Invalid(format!(
+                "{}: {} bytes hold {n} pixel-structs, but {w} x {h} takes {}: is the \
+                 resolution right?",
+                args.name.display(),
+                bytes.len(),
+                u64::from(w) * u64::from(h)
+            )));
+        }
+        (Some(given), Some(side)) if given != side => {
+            return Err(Error::Invalid(format!(
+                "{}: the resolution given, {} x {}, is not the {} x {} of {}.{}: is the \
+                 resolution right?",
+                args.name.display(),
+                given.0,
+                given.1,
+                side.0,
+                side.1,
+                args.name.display(),
+                crate::output::FRAGMENT_SUFFIX
+            )));
+        }
+        (given, side) => given.or(side),
+    };
+    let (w, h) = match resolution {
+        Some(r) => r,
+        None if args.png.is_some() => {
+            return Err(Error::Invalid(format!(
+                "{}: a PNG needs the image's width, and there is no {}.{} (rftb4 writes the \
+                 resolution there): give it, `getrgb NAME HRES VRES --png FILE`",
+                args.name.display(),
+                args.name.display(),
+                crate::output::FRAGMENT_SUFFIX
+            )));
+        }
+        // The linear list as one row: the separations do not depend on it.
+        None => (
+            u32::try_from(n).map_err(|_| {
+                Error::Invalid(format!(
+                    "{}: {n} pixel-structs are more than getrgb can take",
+                    args.name.display()
+                ))
+            })?,
+            1,
+        ),
+    };
     let mut seps = SeparationSink::create(&args.name, w, h, Planes::default())?;
     let mut png = match &args.png {
         Some(p) => Some(PngSink::create(p, w, h, DisplayMode::Color)?),
         None => None,
     };
     let mut rgb = vec![[0.0f32; 3]; w as usize];
-    for (y, row) in pixels.chunks_exact(w as usize).enumerate() {
+    for (y, row) in read.pixels.chunks_exact(w as usize).enumerate() {
         for (c, p) in rgb.iter_mut().zip(row) {
             *c = p.rgb.map(|v| f32::from(v) / 255.0);
         }
@@ -599,8 +716,16 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<(usize, usize)> {
         staged.push(p.finish()?.0);
     }
     commit_all(staged)?;
-    let complex = pixels.iter().filter(|p| !p.fragments.is_empty()).count();
-    Ok((pixels.len(), complex))
+    let complex = read
+        .pixels
+        .iter()
+        .filter(|p| !p.fragments.is_empty())
+        .count();
+    Ok(GetrgbSummary {
+        pixels: n,
+        complex,
+        resolution,
+    })
 }
 
 /// The whole of getrgb's `main`.
@@ -618,18 +743,21 @@ pub fn getrgb_main() -> ExitCode {
     };
     let start = Instant::now();
     match run_getrgb(&args) {
-        Ok((n, complex)) => {
+        Ok(s) => {
             let line = format!(
-                "{}  input {}  output {}.[rgb]{}  {}x{}  pixels {n}  with fragments {complex}  \
-                 {:.3} s",
+                "{}  input {}  output {}.[rgb]{}  {}  pixels {}  with fragments {}  {:.3} s",
                 utc_timestamp(SystemTime::now()),
                 args.name.display(),
                 args.name.display(),
                 args.png
                     .as_ref()
                     .map_or(String::new(), |p| format!(" {}", p.display())),
-                args.hres,
-                args.vres,
+                s.resolution
+                    .map_or("resolution unknown".to_string(), |(w, h)| format!(
+                        "{w}x{h}"
+                    )),
+                s.pixels,
+                s.complex,
                 start.elapsed().as_secs_f64()
             );
             finish_log("getrgb", &line)
@@ -644,6 +772,7 @@ pub fn getrgb_main() -> ExitCode {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tree::{Record, Shades};
 
     fn argv(s: &str) -> Vec<OsString> {
         s.split_whitespace().map(OsString::from).collect()
@@ -710,12 +839,34 @@ mod tests {
             blended: true,
         };
         let p = Path::new("t.out");
+        let square = |level| Record {
+            level,
+            points: vec![[0.1, 0.1], [0.1, 0.9], [0.9, 0.9], [0.9, 0.1]],
+            shades: Shades::Faceted([1, 2, 3]),
+        };
+        // One level: both blending modes suit every tiler.
+        s.records = vec![square(1), square(1)];
+        for program in [Program::Rftb1, Program::Rftb2, Program::Rftb4] {
+            for blended in [false, true] {
+                s.blended = blended;
+                assert!(check_tree(program, &s, p).is_ok(), "{program:?} {blended}");
+            }
+        }
+        // A child (level 2): the mode matters.
+        s.records = vec![square(2), square(1)];
+        s.blended = true;
         assert!(check_tree(Program::Rftb2, &s, p).is_ok());
         let e = check_tree(Program::Rftb4, &s, p).unwrap_err().to_string();
-        assert!(e.contains("setmode b off"), "{e}");
+        assert!(
+            e.contains("setmode b off") && e.contains("1 of its records"),
+            "{e}"
+        );
         s.front_to_back = false;
         s.blended = false;
         let e = check_tree(Program::Rftb1, &s, p).unwrap_err().to_string();
         assert!(e.contains("sort ftb") && e.contains("setmode b on"), "{e}");
+        s.records = vec![square(1)];
+        let e = check_tree(Program::Rftb1, &s, p).unwrap_err().to_string();
+        assert!(e.contains("sort ftb") && !e.contains("setmode"), "{e}");
     }
 }

@@ -316,7 +316,7 @@ fn convert_names_the_binary_limit() {
     fs::write(&input, write_det_ascii(&mesh, "big")).unwrap();
     let output = dir.path().join("big.bin");
     let err = convert(ConvertKind::Det, &input, &output).unwrap_err();
-    assert!(err.to_string().contains("at most 65535"), "{err}");
+    assert!(err.to_string().contains("at most 32767"), "{err}");
     assert!(err.to_string().contains("big.det"), "{err}");
     assert!(!output.exists());
 }

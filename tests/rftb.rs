@@ -116,6 +116,14 @@ fn trees_for_another_method_exit_1_and_write_nothing() {
     write_tree(dir.path(), "post", true, false, true);
     write_tree(dir.path(), "pre", true, true, true);
     write_tree(dir.path(), "btf", false, true, true);
+    // The blending mode matters only with a record below level 1 (a
+    // one-level tree is accepted either way: tests/manual_programs.rs).
+    for name in ["post", "pre"] {
+        let path = dir.path().join(format!("{name}.out"));
+        let mut s = RecordStream::from_bytes(&std::fs::read(&path).unwrap(), &path).unwrap();
+        s.records[0].level = 2;
+        std::fs::write(&path, s.to_bytes()).unwrap();
+    }
     for (bin, input, hint) in [
         (rftb1(), "post", "setmode b on"),
         (rftb2(), "post", "setmode b on"),
@@ -330,8 +338,10 @@ fn pixel_struct_file_round_trips_through_getrgb() {
         row.pixels = Some(r);
         sink.row(&row).unwrap();
     }
-    sink.finish().unwrap().commit().unwrap();
+    commit_all(sink.finish().unwrap()).unwrap();
     let bytes = std::fs::read(&path).unwrap();
+    // Exactly 3 x 2 pixel-structs (the getrgb manual page: "a linear list
+    // of 64-bit data structures"); the fragment lists are in `ps.frag`.
     #[rustfmt::skip]
     let expected: Vec<u8> = vec![
         0, 0, 0, 0, 10, 20, 30, 0x21,
@@ -340,13 +350,22 @@ fn pixel_struct_file_round_trips_through_getrgb() {
         9, 0, 0, 0, 1, 2, 3, 0x63,
         0, 0, 0, 0, 4, 5, 6, 0,
         0, 0, 0, 0, 255, 254, 253, 0x21,
-        // fragment section: offset 0, then offset 8
+    ];
+    assert_eq!(bytes, expected);
+    let side_path = dir.path().join("ps.frag");
+    let side = std::fs::read(&side_path).unwrap();
+    #[rustfmt::skip]
+    let expected_side: Vec<u8> = vec![
+        b'F', b'R', b'A', b'G', 3, 0, 0, 0, 2, 0, 0, 0,
+        // the lists: offset 0, then offset 8
         1, 0, 0, 0, 0xCD, 0xAB, 0x22, 99,
         2, 0, 0, 0, 0x0F, 0x00, 0x23, 64, 0xF0, 0xFF, 0x21, 192,
     ];
-    assert_eq!(bytes, expected);
-    let back = plytrace::output::read_pixel_structs(&bytes, 3, 2, &path).unwrap();
-    assert_eq!(back, rows.concat());
+    assert_eq!(side, expected_side);
+    let back =
+        plytrace::output::read_pixel_structs(&bytes, &path, Some((&side, &side_path))).unwrap();
+    assert_eq!(back.resolution, Some((3, 2)));
+    assert_eq!(back.pixels, rows.concat());
 
     let o = run(getrgb(), dir.path(), &["ps", "3", "2", "-p"]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -382,10 +401,11 @@ fn getrgb_refuses_a_wrong_resolution() {
         row.pixels = Some(r);
         sink.row(&row).unwrap();
     }
-    sink.finish().unwrap().commit().unwrap();
+    commit_all(sink.finish().unwrap()).unwrap();
     // 2x3 would be read as 3x2 (the same size): a size says nothing more.
+    // (`getrgb ps` needs no resolution: tests/manual_programs.rs.)
     for args in [
-        vec!["ps"],
+        vec!["ps", "2", "3"],
         vec!["ps", "4", "2"],
         vec!["ps", "1", "5"],
         vec!["ps", "1", "1"],
@@ -394,7 +414,7 @@ fn getrgb_refuses_a_wrong_resolution() {
         assert_eq!(o.status.code(), Some(1), "{args:?}");
         assert!(stderr(&o).contains("resolution"), "{}", stderr(&o));
     }
-    assert_eq!(listing(dir.path()), ["ps"]);
+    assert_eq!(listing(dir.path()), ["ps", "ps.frag"]);
 }
 
 #[test]
@@ -465,7 +485,7 @@ fn rftb4_then_getrgb() {
     let o = run(rftb4(), dir.path(), &["t", "ps", "32", "16", "-B"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let len = std::fs::metadata(dir.path().join("ps")).unwrap().len();
-    assert!(len >= 32 * 16 * 8);
+    assert_eq!(len, 32 * 16 * 8);
     let o = run(getrgb(), dir.path(), &["ps", "32", "16", "--png", "ps.png"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(

@@ -1,6 +1,7 @@
 //! Object files of the `mkdet`/`mkpcl`/`mkvcl` manual page (Garcia 1986,
 //! 004 appendix): ASCII and binary geometry (`.det`, `DET`) and polygon or
-//! vertex colour tables (`.pcl`/`PCL`, `.vcl`/`VCL`).
+//! vertex colour tables (`.pcl`/`PCL`, `.vcl`/`VCL`). The binary counts
+//! are the manual's C `short`s: at most 32767, refused above.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, Write};
@@ -74,8 +75,11 @@ pub enum ConvertKind {
 /// Tag of a binary geometry file.
 const DET_TAG: &[u8; 3] = b"DET";
 
-/// The largest count a binary file can hold (its counts are 16-bit).
-const BINARY_LIMIT: usize = u16::MAX as usize;
+/// The largest count a binary file can hold: the manual page declares
+/// every count a C `short` (`short num_vtx, num_polys`, `short nvtx,
+/// index[nvtx]`, `short num_clr`), signed 16 bits, so 32767; the
+/// manual's programs would read 32768 and up as negative.
+const BINARY_LIMIT: usize = i16::MAX as usize;
 
 /// Names of the six numbers of a colour entry, in file order.
 const COLOR_FIELDS: [&str; 6] = [
@@ -576,6 +580,9 @@ impl<'a> ByteReader<'a> {
 /// bounding box of 6 `f32` (ignored: it is recomputed by whoever needs it),
 /// `num_vtx` x 3 `f32`, then per polygon `u16 nvtx` and `nvtx` 1-based `u16`
 /// indices; all little-endian and packed. The returned indices are 0-based.
+/// The manual's fields are C `short`s and [`write_det_binary`] writes at
+/// most 32767; reading them unsigned still loads files of up to 65535
+/// written before that limit.
 ///
 /// Errors name the byte offset.
 pub fn parse_det_binary(bytes: &[u8], file: &Path) -> Result<Mesh> {
@@ -645,25 +652,29 @@ fn read_binary_polygons(
     Ok(polygons)
 }
 
-/// A count as the 16-bit number of a binary file, or an error naming the
-/// format's limit.
-fn binary_count(count: usize, what: &str) -> Result<u16> {
-    u16::try_from(count).map_err(|_| {
-        Error::Invalid(format!(
-            "{count} {what}: the binary format holds at most {BINARY_LIMIT}"
-        ))
-    })
+/// A count as the C `short` field `field` of a binary file (see
+/// [`BINARY_LIMIT`]), or an error naming the field, the value and the
+/// limit.
+fn binary_count(count: usize, what: &str, field: &str) -> Result<u16> {
+    if count > BINARY_LIMIT {
+        return Err(Error::Invalid(format!(
+            "{count} {what}: the binary format stores this in the C short `{field}`, \
+             which holds at most {BINARY_LIMIT}"
+        )));
+    }
+    // count <= 32767: the same 16 bits as the short.
+    Ok(count as u16)
 }
 
 /// Writes `mesh` as a binary geometry file (see [`parse_det_binary`]), with
 /// its bounding box. Coordinates are stored as `f32`.
 ///
-/// Fails if the mesh exceeds the binary format's limit of 65535 vertices,
-/// polygons or vertices per polygon, has an index out of range, or has a
+/// Fails if the mesh exceeds the binary format's limit of 32767 (a C
+/// `short`) vertices, polygons or vertices per polygon, has an index out of range, or has a
 /// coordinate that is not a finite `f32`.
 pub fn write_det_binary(mesh: &Mesh) -> Result<Vec<u8>> {
-    let num_vtx = binary_count(mesh.vertices.len(), "vertices")?;
-    let num_polys = binary_count(mesh.polygons.len(), "polygons")?;
+    let num_vtx = binary_count(mesh.vertices.len(), "vertices", "num_vtx")?;
+    let num_polys = binary_count(mesh.polygons.len(), "polygons", "num_polys")?;
     let coordinates = binary_coordinates(&mesh.vertices)?;
     let index_count: usize = mesh.polygons.iter().map(|p| p.len() + 1).sum();
     let mut out = Vec::with_capacity(7 + 24 + 4 * coordinates.len() + 2 * index_count);
@@ -678,7 +689,7 @@ pub fn write_det_binary(mesh: &Mesh) -> Result<Vec<u8>> {
     }
     for (number, polygon) in mesh.polygons.iter().enumerate() {
         let what = format!("vertices in polygon {}", number + 1);
-        out.extend_from_slice(&binary_count(polygon.len(), &what)?.to_le_bytes());
+        out.extend_from_slice(&binary_count(polygon.len(), &what, "nvtx")?.to_le_bytes());
         for &index in polygon {
             if index >= u32::from(num_vtx) {
                 return Err(Error::Invalid(format!(
@@ -687,7 +698,7 @@ pub fn write_det_binary(mesh: &Mesh) -> Result<Vec<u8>> {
                     number + 1
                 )));
             }
-            // index < num_vtx <= 65535, so index + 1 fits in 16 bits.
+            // index < num_vtx <= 32767, so index + 1 fits the short `index`.
             out.extend_from_slice(&(index as u16 + 1).to_le_bytes());
         }
     }
@@ -756,9 +767,10 @@ pub fn parse_color_binary(bytes: &[u8], file: &Path, tag: ColorKind) -> Result<V
 /// Writes colour entries as a binary colour file tagged for `tag` (see
 /// [`parse_color_binary`]); each value is stored as `round(v * 255)`.
 ///
-/// Fails if there are more than 65535 entries or a value is outside 0..=1.
+/// Fails if there are more than 32767 entries (a C `short`) or a value is
+/// outside 0..=1.
 pub fn write_color_binary(entries: &[ColorEntry], tag: ColorKind) -> Result<Vec<u8>> {
-    let count = binary_count(entries.len(), "colour entries")?;
+    let count = binary_count(entries.len(), "colour entries", "num_clr")?;
     let mut out = Vec::with_capacity(5 + 6 * entries.len());
     out.extend_from_slice(tag.tag());
     out.extend_from_slice(&count.to_le_bytes());
@@ -1173,15 +1185,17 @@ mod tests {
             polygons: vec![vec![0; 70_000]],
         };
         let err = write_det_binary(&mesh).unwrap_err();
-        assert!(err.to_string().contains("at most 65535"), "{err}");
+        assert!(err.to_string().contains("`nvtx`"), "{err}");
+        assert!(err.to_string().contains("at most 32767"), "{err}");
         let mesh = Mesh {
-            vertices: vec![DVec3::ZERO; 65_536],
+            vertices: vec![DVec3::ZERO; 32_768],
             polygons: vec![],
         };
         let err = write_det_binary(&mesh).unwrap_err();
         assert_eq!(
             err.to_string(),
-            "65536 vertices: the binary format holds at most 65535"
+            "32768 vertices: the binary format stores this in the C short `num_vtx`, \
+             which holds at most 32767"
         );
     }
 

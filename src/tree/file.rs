@@ -16,7 +16,12 @@
 //! ```
 //!
 //! x and y are normalized screen coordinates, 0 to 1 from the lower left
-//! corner, as the figure says, so one file renders at any resolution.
+//! corner, as the figure says ("x,y floats 0 to 1"), so one file renders
+//! at any resolution. They are snapped into [0, 1] ([`unit`]) in one
+//! place, where plytrace makes them (`crate::emit`): a vertex clipped to
+//! the screen's edge can come out a rounding error beyond it (`-1.1e-16`,
+//! or `-0`), which the figure does not allow. Both forms then write the
+//! same bits, and the tree in memory is the tree in the files.
 //!
 //! The background polygon. The rftb manual page's `-B` paints "a
 //! background polygon, with color specified in the input data file": it is
@@ -42,6 +47,21 @@ use crate::tree::record::{PhongShades, Record, RecordStream, Shades};
 
 /// The corners of the background record, clockwise from the lower left.
 const UNIT_SQUARE: [[f32; 2]; 4] = [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]];
+
+/// A coordinate snapped into figure 4.14's range, 0 to 1: below 0
+/// (negative zero included) is 0, above 1 is 1. Only a rounding error is
+/// expected beyond the range, the clipper having cut everything to the
+/// screen. A NaN is kept (a tree holds none; the readers refuse one).
+/// `crate::emit` applies it to every coordinate it makes.
+pub fn unit(v: f32) -> f32 {
+    if v.is_nan() {
+        v
+    } else if v > 0.0 {
+        v.min(1.0)
+    } else {
+        0.0
+    }
+}
 
 impl RecordStream {
     /// The records as written: the background record (if any) first for
@@ -660,5 +680,51 @@ mod tests {
             prop_assert_eq!(RecordStream::from_bytes(&t.to_bytes(), Path::new("x")).unwrap(), t.clone());
             prop_assert_eq!(RecordStream::from_text(&t.to_text(), Path::new("x")).unwrap(), t);
         }
+
+        /// Figure 4.14: "x,y floats 0 to 1". Coordinates snapped by
+        /// [`unit`] lie within [0, 1], with no negative zero, and both
+        /// forms write them bit for bit; those already within are kept.
+        #[test]
+        fn snapped_coordinates_are_within_0_and_1_in_both_forms(
+            pts in prop::collection::vec(
+                prop_oneof![
+                    -1e-6f32..1.0 + 1e-6,
+                    Just(-0.0f32),
+                    Just(-1.110_223e-16f32),
+                    Just(1.000_000_1f32),
+                    0f32..=1.0,
+                ],
+                6..16,
+            ),
+            ftb in any::<bool>(),
+        ) {
+            let points: Vec<[f32; 2]> =
+                pts.chunks_exact(2).map(|p| [unit(p[0]), unit(p[1])]).collect();
+            let t = RecordStream {
+                records: vec![Record { level: 1, points, shades: Shades::Faceted([1, 2, 3]) }],
+                background: Some([0, 0, 0]),
+                front_to_back: ftb,
+                blended: true,
+            };
+            let bin = RecordStream::from_bytes(&t.to_bytes(), Path::new("x")).unwrap();
+            let txt = RecordStream::from_text(&t.to_text(), Path::new("x")).unwrap();
+            prop_assert_eq!(&bin, &t);
+            prop_assert_eq!(&txt, &t);
+            for (got, was) in bin.records[0].points.iter().flatten().zip(pts.iter()) {
+                prop_assert!((0.0..=1.0).contains(got) && got.is_sign_positive(), "{got:e}");
+                if (0.0..=1.0).contains(was) && was.is_sign_positive() {
+                    prop_assert_eq!(got.to_bits(), was.to_bits());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn unit_snaps_into_0_and_1() {
+        assert_eq!(unit(-1.110_223e-16).to_bits(), 0f32.to_bits());
+        assert_eq!(unit(-0.0).to_bits(), 0f32.to_bits());
+        assert_eq!(unit(0.25), 0.25);
+        assert_eq!(unit(1.000_000_1), 1.0);
+        assert!(unit(f32::NAN).is_nan());
     }
 }

@@ -19,7 +19,9 @@
 //! Any other combination, `Supersample(n)` with `n` outside 1..=16, a
 //! multi-level run with a record level outside 1..=31, an empty image and
 //! [`TransparencyRule::Donovan`] with a front-to-back stream (the rule
-//! needs the surface behind first) are [`Error::Invalid`].
+//! needs the surface behind first) and [`TransparencyRule::Coverage`]
+//! (section 5.6) with anything but the single-level logic are
+//! [`Error::Invalid`].
 //!
 //! Ids ([`ScanOptions::ids`]): front to back, the first record (in stream
 //! order) that covers the pixel centre and leaves a visible share in the
@@ -71,6 +73,12 @@ pub enum TransparencyRule {
     /// Donovan 000 rule (3): `I = I_a` if `I_a > I_b`, else
     /// `(1 - w) I_a + w I_b`.
     Donovan,
+    /// 004 section 5.6, the pixel-coverage rule of rftb1 and rftb3: a
+    /// transparent fragment covers `Ā = A (1 - T)`, adds `A_cov I_cur`
+    /// with `A_cov = min(Ā, 1 - A_old)`, and the coverage becomes
+    /// `min(A_old + Ā, 1)`. Front-to-back pre-blended streams only (the
+    /// single-level methods).
+    Coverage,
 }
 
 /// Options of one scan conversion.
@@ -242,9 +250,12 @@ pub fn scan_convert(
                 sink,
             )
         }
-        Logic::Single(measure) => {
-            convert(&plan, t, || SingleLevel::new(measure, side * side), sink)
-        }
+        Logic::Single(measure) => convert(
+            &plan,
+            t,
+            || SingleLevel::new(measure, side * side, options.transparency),
+            sink,
+        ),
         Logic::Multi(n) => convert(&plan, t, || MultiLevel::new(n), sink),
     }
 }
@@ -361,6 +372,13 @@ fn choose(stream: &RecordStream, o: &ScanOptions) -> Result<Logic> {
         return Err(Error::Invalid(format!(
             "{}: Donovan's transparency rule needs the surface behind first, so it works \
              only with point sampling of a back-to-front tree; this one is front to back",
+            name(m)
+        )));
+    }
+    if !matches!(logic, Logic::Single(_)) && o.transparency == TransparencyRule::Coverage {
+        return Err(Error::Invalid(format!(
+            "{}: the pixel-coverage transparency of section 5.6 is for the single-level \
+             methods, which want a front-to-back pre-blended tree; this one is {got}",
             name(m)
         )));
     }

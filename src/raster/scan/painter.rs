@@ -49,7 +49,10 @@ impl Integrator for Painter {
         let (old, kt) = (self.rgb[px], s.t);
         self.rgb[px] = match self.rule {
             _ if kt <= 0.0 => s.rgb,
-            TransparencyRule::Garcia => std::array::from_fn(|c| old[c] * kt + s.rgb[c]),
+            // (`scan_convert` refuses the coverage rule for the painter.)
+            TransparencyRule::Garcia | TransparencyRule::Coverage => {
+                std::array::from_fn(|c| old[c] * kt + s.rgb[c])
+            }
             TransparencyRule::Donovan if luminance(s.rgb) > luminance(old) => s.rgb,
             TransparencyRule::Donovan => {
                 std::array::from_fn(|c| (1.0 - kt) * s.rgb[c] + kt * old[c])

@@ -15,12 +15,22 @@
 //! (slivers between the samples), by their exact area: in a mesh of
 //! polygons sharing edges the areas then add up to exactly 1.
 //!
-//! Transparency follows 004 section 4.9, the rule of the back-to-front
-//! painter `I = I_cur + k_t I_behind`, rather than the section 5.6
-//! formula (which weights the front by `1 - T`), so that all paths agree:
-//! the visible share contributes `A_vis I_cur` in full and the coverage
-//! grows by only `A_vis (1 - t)`, so what lies behind shows through with
-//! weight `t`. A transparent fragment changes the coverage and colour,
+//! Transparency, by the [`TransparencyRule`] given:
+//!
+//! - [`TransparencyRule::Coverage`], 004 section 5.6, the rule of rftb1
+//!   and rftb3 (the rftb manual page: rftb1 "simulates linear and
+//!   non-linear transparency using a pixel-coverage byte"; rftb3 combines
+//!   rftb1's and rftb2's features): the fragment's coverage is reduced to
+//!   `Ā = A_vis (1 - T)`, it adds `Ā I_cur` (capped at `1 - A_old`) and
+//!   the coverage grows by `Ā`;
+//! - otherwise (plytrace's own picture with `--aa area|mask|hybrid`,
+//!   rftb2) 004 section 4.9, the rule of the back-to-front painter
+//!   `I = I_cur + k_t I_behind`, so that plytrace's paths agree: the
+//!   visible share contributes `A_vis I_cur` in full and the coverage
+//!   grows by only `A_vis (1 - t)`, so what lies behind shows through
+//!   with weight `t`.
+//!
+//! Either way a transparent fragment changes the coverage and colour,
 //! never the mask (004 section 5.8). Levels and special records are
 //! ignored.
 //!
@@ -31,6 +41,7 @@
 //! at the block's centre; partial pixels weight that value by their
 //! visible sample count.
 
+use super::TransparencyRule;
 use super::band::{BandOut, Fragment, Integrator};
 use super::mask::SampleMask;
 use super::shade::Shade;
@@ -51,17 +62,20 @@ pub(crate) enum Measure {
 pub(crate) struct SingleLevel {
     measure: Measure,
     samples: u32,
+    rule: TransparencyRule,
     rgb: Vec<[f32; 3]>,
     cover: Vec<f64>,
     mask: Vec<SampleMask>,
 }
 
 impl SingleLevel {
-    /// An integrator measuring with `measure` over `samples` samples.
-    pub fn new(measure: Measure, samples: u32) -> SingleLevel {
+    /// An integrator measuring with `measure` over `samples` samples,
+    /// blending transparency by `rule`.
+    pub fn new(measure: Measure, samples: u32, rule: TransparencyRule) -> SingleLevel {
         SingleLevel {
             measure,
             samples,
+            rule,
             rgb: Vec::new(),
             cover: Vec::new(),
             mask: Vec::new(),
@@ -103,11 +117,17 @@ impl Integrator for SingleLevel {
             return false;
         }
         let s = shade();
-        let w = a_vis as f32;
+        // Ā = A (1 - T): what the fragment covers (section 5.6).
+        let a_bar = a_vis * (1.0 - s.t as f64);
+        let w = match self.rule {
+            // A_cov = min(Ā, 1 - A_old); a_vis <= 1 - A_old already.
+            TransparencyRule::Coverage => a_bar,
+            TransparencyRule::Garcia | TransparencyRule::Donovan => a_vis,
+        } as f32;
         for c in 0..3 {
             self.rgb[px][c] += w * s.rgb[c];
         }
-        let mut a_new = a_old + a_vis * (1.0 - s.t as f64);
+        let mut a_new = a_old + a_bar;
         if s.t == 0.0 {
             self.mask[px] = self.mask[px].or(m_cov);
         }
