@@ -40,6 +40,8 @@ fn on_signal(signal: i32) {
         if first {
             if signal == SIGINT {
                 err("^C: cancelling the render (press Ctrl-C again to quit)");
+            } else {
+                end_after_grace(signal);
             }
             return;
         }
@@ -47,6 +49,24 @@ fn on_signal(signal: i32) {
     plytrace::output::remove_temporaries();
     crate::stdout_image::cleanup();
     std::process::exit(128 + signal);
+}
+
+/// How long a render asked to end by SIGTERM or SIGHUP may take to stop
+/// and clean up before the program ends without it.
+const GRACE: std::time::Duration = std::time::Duration::from_secs(2);
+
+/// Ends the program after [`GRACE`] if the render has not stopped by then
+/// (a stage that does not look at the request): its temporary files are
+/// removed all the same.
+fn end_after_grace(signal: i32) {
+    std::thread::spawn(move || {
+        std::thread::sleep(GRACE);
+        if RENDERING.load(Ordering::SeqCst) {
+            plytrace::output::remove_temporaries();
+            crate::stdout_image::cleanup();
+            std::process::exit(128 + signal);
+        }
+    });
 }
 
 /// Marks the start and the end of a render.
