@@ -482,7 +482,16 @@ pub fn prepare(
         width,
         height,
     };
-    let picture_how = emit(SortOrder::FrontToBack, wants_pre_blending(method));
+    // Donovan's transparency rule (000 section 6, rule (3)) blends a
+    // surface with the colour behind it, so his picture is painted back to
+    // front, pre-blended (the overwriting principle of 004 section 4.10),
+    // by every method (see [`crate::raster::scan`]).
+    let picture_how = match options.shading {
+        crate::shading::ShadingModel::Donovan => emit(SortOrder::BackToFront, true),
+        crate::shading::ShadingModel::Garcia => {
+            emit(SortOrder::FrontToBack, wants_pre_blending(method))
+        }
+    };
     let file = scene.modes.output_tree.then(|| {
         let how = emit(scene.sort_order, scene.modes.blend);
         within(&pool, || emit::records(scene, &tree, how, view).0)
