@@ -120,3 +120,110 @@ fn donovan_transparency_under_every_method_matches_the_ray_tracer() {
     let (_, changed) = difference(&garcia, &one, 0.1);
     assert!(changed > 500, "only {changed} pixels show rule (3)");
 }
+
+// ---------------------------------------------------------------------
+// 4. Abbreviations: the manual's commands win.
+// ---------------------------------------------------------------------
+
+use plytrace::scene::commands::{self, ADDED, Lookup, MANUAL};
+
+fn resolves_to(word: &str) -> Option<&'static str> {
+    match commands::lookup(word) {
+        Lookup::Found(c) => Some(c.name),
+        _ => None,
+    }
+}
+
+/// 004 appendix B: "commands are recognized by the first sequence of
+/// unique characters". The manual's commands are recognized by their
+/// prefixes unique among the manual's commands, whatever commands were
+/// added since (`b` is `background` though `bezier` starts with it).
+#[test]
+fn every_unique_prefix_of_a_manual_command_resolves_to_it() {
+    let mut checked = 0;
+    for name in MANUAL {
+        for k in 1..=name.len() {
+            let prefix = &name[..k];
+            let among: Vec<&&str> = MANUAL.iter().filter(|m| m.starts_with(prefix)).collect();
+            if MANUAL.contains(&prefix) {
+                // An exact name wins (`call` versus `callobj`).
+                assert_eq!(resolves_to(prefix), Some(prefix), "`{prefix}`");
+            } else if among.len() == 1 {
+                assert_eq!(resolves_to(prefix), Some(*name), "`{prefix}`");
+                assert_eq!(resolves_to(&prefix.to_uppercase()), Some(*name));
+                checked += 1;
+            } else {
+                assert!(
+                    matches!(commands::lookup(prefix), Lookup::Ambiguous(_)),
+                    "`{prefix}` names several manual commands"
+                );
+            }
+        }
+    }
+    assert!(checked > 190, "{checked}");
+    // The abbreviations that the modeling commands had made ambiguous.
+    for (word, name) in [
+        ("b", "background"),
+        ("dif", "diffuse"),
+        ("sp", "specular"),
+        ("e", "endobj"),
+    ] {
+        assert_eq!(resolves_to(word), Some(name), "`{word}`");
+    }
+}
+
+/// The added (modeling) commands keep every prefix that no manual command
+/// claims and that is unique among the added ones; a prefix a manual
+/// command claims is that command's (or ambiguous among the manual's).
+#[test]
+fn added_commands_keep_the_prefixes_no_manual_command_claims() {
+    let mut kept = 0;
+    for name in ADDED {
+        for k in 1..=name.len() {
+            let prefix = &name[..k];
+            let manual: Vec<&&str> = MANUAL.iter().filter(|m| m.starts_with(prefix)).collect();
+            let added: Vec<&&str> = ADDED.iter().filter(|m| m.starts_with(prefix)).collect();
+            let got = resolves_to(prefix);
+            if prefix == *name {
+                assert_eq!(got, Some(*name));
+                kept += 1;
+            } else if manual.len() == 1 {
+                assert_eq!(got, Some(*manual[0]), "`{prefix}`");
+            } else if manual.is_empty() && added.len() == 1 {
+                assert_eq!(got, Some(*name), "`{prefix}`");
+                kept += 1;
+            } else {
+                assert_eq!(got, None, "`{prefix}` is ambiguous");
+            }
+        }
+    }
+    assert!(kept > 40, "{kept}");
+    for (word, name) in [
+        ("be", "bezier"),
+        ("sph", "sphere"),
+        ("ex", "extrude"),
+        ("diffe", "difference"),
+        ("int", "intersection"),
+        ("u", "union"),
+    ] {
+        assert_eq!(resolves_to(word), Some(name), "`{word}`");
+    }
+}
+
+/// The interpreter uses the same resolution: `b` sets the background.
+#[test]
+fn an_abbreviated_scene_is_interpreted() {
+    let mut interp = plytrace::scene::Interpreter::new();
+    interp
+        .execute_source(
+            "B 0.25 0.5 1\ndif 0.3\nsp 0.2\n",
+            Path::new("abbreviations.des"),
+            Path::new("."),
+            &mut plytrace::scene::NoHost,
+        )
+        .unwrap();
+    let scene = interp.scene();
+    assert_eq!(scene.background.to_array(), [0.25, 0.5, 1.0]);
+    let g = interp.global_surface();
+    assert_eq!((g.diffuse, g.specular), (0.3, 0.2));
+}
