@@ -227,3 +227,54 @@ fn an_abbreviated_scene_is_interpreted() {
     let g = interp.global_surface();
     assert_eq!((g.diffuse, g.specular), (0.3, 0.2));
 }
+
+// ---------------------------------------------------------------------
+// 5. `setmode <mode> [<on, off>]`: the value is optional.
+// ---------------------------------------------------------------------
+
+fn run_source(
+    interp: &mut plytrace::scene::Interpreter,
+    source: &str,
+) -> plytrace::error::Result<()> {
+    interp
+        .execute_source(
+            source,
+            Path::new("modes.des"),
+            Path::new("."),
+            &mut plytrace::scene::NoHost,
+        )
+        .map(|_| ())
+}
+
+/// 004 appendix B: "setmode <mode> [<on, off>]" (the value in brackets,
+/// optional) and "For all parameters having an on/off condition, the
+/// default value is off". A mode is off until set, so the bare form sets
+/// it on (as `disp <[(on), off]>` marks on for its bare form, and as the
+/// command line's `-i` is a bare flag).
+#[test]
+fn a_bare_setmode_turns_the_mode_on() {
+    let mut interp = plytrace::scene::Interpreter::new();
+    assert!(!interp.scene().modes.vertex_shades);
+    run_source(&mut interp, "setmode v\nsetmode X\n").unwrap();
+    let modes = interp.scene().modes;
+    assert!(modes.vertex_shades && modes.expand);
+    run_source(&mut interp, "setmode v off\n").unwrap();
+    assert!(!interp.scene().modes.vertex_shades);
+}
+
+/// The command line's flags go through `Interpreter::force_mode`; an empty
+/// value is the bare flag (`-v` alone), on, and it overrides the scene.
+#[test]
+fn force_mode_takes_an_empty_value_as_the_bare_flag() {
+    let mut interp = plytrace::scene::Interpreter::new();
+    interp.force_mode('v', "").unwrap();
+    interp.force_mode('n', " ").unwrap();
+    assert!(interp.scene().modes.vertex_shades && interp.scene().modes.nns);
+    run_source(&mut interp, "setmode v off\nsetmode n off\n").unwrap();
+    assert!(interp.scene().modes.vertex_shades && interp.scene().modes.nns);
+    // Modes with a number still need it: an error, not a panic.
+    let e = interp.force_mode('l', "").unwrap_err().to_string();
+    assert!(e.contains("needs a value"), "{e}");
+    interp.force_mode('l', "3").unwrap();
+    assert_eq!(interp.scene().modes.max_level, 3);
+}

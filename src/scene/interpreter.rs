@@ -296,8 +296,13 @@ impl Interpreter {
 
     /// Forces a `setmode` value given on the command line (`-n on`): it is
     /// applied now and again after every statement, so it overrides the
-    /// scene file. `letter` is the mode letter or a digit.
+    /// scene file. `letter` is the mode letter or a digit. An empty (or
+    /// blank) `value` is the bare form, `setmode v` (004 appendix B:
+    /// `setmode <mode> [<on, off>]`, the value optional), which turns an
+    /// on/off mode on: `force_mode('v', "")` is `-v` alone. Modes that
+    /// take a number or a name (`d`, `e`, `l`, `f`) still need one.
     pub fn force_mode(&mut self, letter: char, value: &str) -> Result<()> {
+        let value = value.trim();
         let file = Path::new("<command line>");
         let stmt = vec![
             Token {
@@ -316,7 +321,7 @@ impl Interpreter {
                 column: 11,
             },
         ];
-        let stmt: Statement = if letter.is_ascii_digit() {
+        let stmt: Statement = if letter.is_ascii_digit() || value.is_empty() {
             stmt[..2].to_vec()
         } else {
             stmt
