@@ -278,3 +278,90 @@ fn force_mode_takes_an_empty_value_as_the_bare_flag() {
     interp.force_mode('l', "3").unwrap();
     assert_eq!(interp.scene().modes.max_level, 3);
 }
+
+// ---------------------------------------------------------------------
+// 6. File names: as written, then folded to lower case.
+// ---------------------------------------------------------------------
+
+/// A folder with the manual's `ccube.des` and its objects, plus a
+/// mixed-case scene and object that exist only as written.
+fn ccube_folder() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    std::fs::create_dir(dir.path().join("det")).unwrap();
+    for f in ["cube.det", "cutcube.det"] {
+        std::fs::copy(examples.join("det").join(f), dir.path().join("det").join(f)).unwrap();
+    }
+    std::fs::copy(
+        examples.join("det/cube.det"),
+        dir.path().join("det/Block.det"),
+    )
+    .unwrap();
+    std::fs::copy(examples.join("ccube.des"), dir.path().join("ccube.des")).unwrap();
+    std::fs::write(dir.path().join("Mixed.des"), "getobj Block\n").unwrap();
+    std::fs::write(
+        dir.path().join("det/cube.pcl"),
+        format!("title red cube\ndata 6\n{}", "1 0 0 .5 0 0\n".repeat(6)),
+    )
+    .unwrap();
+    dir
+}
+
+fn objects_after(dir: &Path, source: &str) -> plytrace::error::Result<Scene> {
+    let mut interp = plytrace::scene::Interpreter::new();
+    interp.execute_source(
+        source,
+        &dir.join("top.des"),
+        dir,
+        &mut plytrace::scene::NoHost,
+    )?;
+    Ok(interp.into_scene())
+}
+
+/// 004 appendix B: "Note that all input characters are converted to lower
+/// case before processing". Names are tried as written first (a
+/// mixed-case file that exists opens), then folded to lower case, for
+/// `get`/`call`, `getobj` (the detail directory and the object file),
+/// `pcolors`, and the scene file given to `execute_file` (`-f`).
+#[test]
+fn file_names_fall_back_to_lower_case() {
+    let folder = ccube_folder();
+    let dir = folder.path();
+    // Upper case, existing only in lower case.
+    let scene = objects_after(dir, "GET CCUBE.DES\n").unwrap();
+    assert_eq!(scene.objects.len(), 2);
+    let scene = objects_after(dir, "CALL CCUBE.DES\n").unwrap();
+    assert_eq!(scene.objects.len(), 2);
+    let scene = objects_after(dir, "DET_DIR DET\nGETOBJ CUBE\n").unwrap();
+    assert_eq!(scene.objects.len(), 1);
+    let scene = objects_after(dir, "DEFOBJ CUBE\nPCOLORS CUBE\nENDOBJ\n").unwrap();
+    assert_eq!(scene.objects.len(), 1);
+    let mut interp = plytrace::scene::Interpreter::new();
+    interp
+        .execute_file(&dir.join("CCUBE.DES"), true, &mut plytrace::scene::NoHost)
+        .unwrap();
+    assert_eq!(interp.into_scene().objects.len(), 2);
+    // Mixed case, existing as written.
+    let scene = objects_after(dir, "get Mixed.des\n").unwrap();
+    assert_eq!(scene.objects.len(), 1);
+    // A name that exists neither way is still an error naming it.
+    let e = objects_after(dir, "get NONE.des\n")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("NONE.des"), "{e}");
+}
+
+/// The command line: `plytrace -i -f DIR/CCUBE.DES` renders `ccube.des`.
+#[test]
+fn immediate_mode_opens_an_upper_case_scene_name() {
+    let folder = ccube_folder();
+    let out = folder.path().join("out.ppm");
+    let status = std::process::Command::new(BIN)
+        .current_dir(folder.path())
+        .args(["--quiet", "-i", "-f", "CCUBE.DES", "--size", "32x32", "-o"])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    assert!(out.is_file());
+}

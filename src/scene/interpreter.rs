@@ -371,7 +371,20 @@ impl Interpreter {
     /// before its first statement runs. Nested `call`s run on a stack of
     /// frames, not by recursion, so that their depth is bounded by
     /// [`Budgets::call_depth`] alone.
+    ///
+    /// A name that does not exist as written is tried folded to lower case
+    /// (004 appendix B: "all input characters are converted to lower case
+    /// before processing"): `GET CCUBE.DES` opens `ccube.des`.
     pub fn execute_file(&mut self, path: &Path, init: bool, host: &mut dyn Host) -> Result<Flow> {
+        // The file's name folded, in its folder as written; then the whole
+        // path as written folded.
+        let path = &lower_case_fallback(path.to_path_buf(), || {
+            let name = path.file_name().map(|n| n.to_string_lossy().to_lowercase());
+            match name {
+                Some(n) if path.with_file_name(&n).exists() => path.with_file_name(n),
+                _ => PathBuf::from(path.to_string_lossy().to_lowercase()),
+            }
+        });
         let frame = self.open_file(path, init, None)?;
         let flow = self.run_frames(frame, host)?;
         if self.files.is_empty()
@@ -638,7 +651,9 @@ impl Interpreter {
             "call" | "get" => {
                 a.count(1, 1)?;
                 return Ok(Step::Enter {
-                    path: resolve(&ctx.dir, &args[0].text),
+                    path: lower_case_fallback(resolve(&ctx.dir, &args[0].text), || {
+                        resolve(&ctx.dir, &args[0].text.to_lowercase())
+                    }),
                     get: spec.name == "get",
                     token: args[0].clone(),
                 });
@@ -1423,6 +1438,22 @@ impl Interpreter {
                 }
             }
         }
+        // Then the directory as written folded to lower case (004
+        // appendix B: input is converted to lower case).
+        let folded = PathBuf::from(self.det_dir.to_string_lossy().to_lowercase());
+        if folded != self.det_dir {
+            let bases: Vec<PathBuf> = if folded.is_absolute() {
+                vec![PathBuf::new()]
+            } else {
+                vec![self.det_base.clone(), active.det_base.clone(), ".".into()]
+            };
+            for base in bases {
+                let d = base.join(&folded);
+                if !dirs.contains(&d) {
+                    dirs.push(d);
+                }
+            }
+        }
         dirs
     }
 
@@ -1471,10 +1502,13 @@ impl Interpreter {
             ColorKind::Polygon => "pcl",
             ColorKind::Vertex => "vcl",
         };
+        let folded = name.to_lowercase();
         for dir in self.det_dirs(active) {
-            let p = dir.join(format!("{name}.{ext}"));
-            if p.is_file() {
-                return object_file::read_colors(&p, kind);
+            for name in [name, folded.as_str()] {
+                let p = dir.join(format!("{name}.{ext}"));
+                if p.is_file() {
+                    return object_file::read_colors(&p, kind);
+                }
             }
         }
         Err(Error::at(
@@ -1719,6 +1753,21 @@ fn linear_determinant(m: &Matrix4) -> f64 {
     a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
         - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
         + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+}
+
+/// `path` if it exists, else `folded()` (the name as written folded to
+/// lower case) if that exists, else `path` (whose error then names the
+/// file as written).
+fn lower_case_fallback(path: PathBuf, folded: impl FnOnce() -> PathBuf) -> PathBuf {
+    if path.exists() {
+        return path;
+    }
+    let lower = folded();
+    if lower != path && lower.exists() {
+        lower
+    } else {
+        path
+    }
 }
 
 fn resolve(dir: &Path, name: &str) -> PathBuf {
