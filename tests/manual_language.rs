@@ -365,3 +365,59 @@ fn immediate_mode_opens_an_upper_case_scene_name() {
     assert!(status.success());
     assert!(out.is_file());
 }
+
+// ---------------------------------------------------------------------
+// 7. A successful CSG is not a warning.
+// ---------------------------------------------------------------------
+
+/// The bundled modeling example builds four CSG solids, all closed: no
+/// warning (and nothing labelled `warning:` on the command line); their
+/// face counts are notes. A real problem (operands whose surfaces differ,
+/// so one is lost) still warns.
+#[test]
+fn a_successful_csg_is_silent() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/primitives.des");
+    let (_, warnings, notes) = plytrace::scene::load_with_notes(&path).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let csg = notes
+        .iter()
+        .filter(|n| n.message.contains("input faces kept"))
+        .count();
+    assert_eq!(csg, 4, "{notes:?}");
+    assert!(notes.iter().all(|n| !n.message.contains("warning")));
+    // The binary prints no `warning:` for it.
+    let out = std::process::Command::new(BIN)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args([
+            "--quiet",
+            "-i",
+            "-f",
+            "examples/primitives.des",
+            "--size",
+            "32x24",
+        ])
+        .arg("-o")
+        .arg(tempfile::tempdir().unwrap().path().join("p.ppm"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
+
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("csg.des");
+    std::fs::write(
+        &scene,
+        "pushmatrix\nident\ndefobj a\nextrude 1 0 0 1 0 1 1 0 1\nendobj\n\
+         defobj b\nspecular 0.5\ntranslate 0.5 0.5 0.5\nsphere 8 4\nendobj\n\
+         defobj r\nunion a b\nendobj\n",
+    )
+    .unwrap();
+    let (_, warnings, _) = plytrace::scene::load_with_notes(&scene).unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.message.contains("operands differ")),
+        "{warnings:?}"
+    );
+}

@@ -195,6 +195,8 @@ pub struct Interpreter {
     polygons: usize,
     overrides: Vec<(char, String)>,
     warnings: Warnings,
+    /// Information that is not a warning (what a CSG operation did).
+    notes: Vec<Diagnostic>,
     budgets: Budgets,
     /// Geodesic objects by number: the mesh generated and its turned
     /// radial function, for `radial rotate` outside a definition.
@@ -228,6 +230,7 @@ impl Interpreter {
             polygons: 0,
             overrides: Vec::new(),
             warnings: Warnings::default(),
+            notes: Vec::new(),
             budgets: Budgets::default(),
             geodesics: std::collections::HashMap::new(),
         }
@@ -287,6 +290,21 @@ impl Interpreter {
     /// polygon warnings").
     pub fn take_warnings(&mut self) -> Vec<Diagnostic> {
         std::mem::take(&mut self.warnings).finish()
+    }
+
+    /// Notes gathered so far, emptied: information about input that was
+    /// processed as asked (a CSG operation's face counts), never a
+    /// problem; the command line does not print them.
+    pub fn take_notes(&mut self) -> Vec<Diagnostic> {
+        std::mem::take(&mut self.notes)
+    }
+
+    /// Records a note (see [`Interpreter::take_notes`]).
+    pub(super) fn note(&mut self, note: Diagnostic) {
+        const KEPT: usize = 1000;
+        if self.notes.len() < KEPT {
+            self.notes.push(note);
+        }
     }
 
     /// Records a warning of `kind`.
@@ -355,8 +373,10 @@ impl Interpreter {
         let files = std::mem::take(&mut self.files);
         let overrides = std::mem::take(&mut self.overrides);
         let warnings = std::mem::take(&mut self.warnings);
+        let notes = std::mem::take(&mut self.notes);
         let budgets = self.budgets;
         *self = Interpreter::new();
+        self.notes = notes;
         self.budgets = budgets;
         self.files = files;
         self.overrides = overrides;
