@@ -482,3 +482,210 @@ fn the_simple_sort_uses_each_orders_own_key() {
         "sort btf paints the quad over the floor: {quad}"
     );
 }
+
+// ---------------------------------------------------------------------
+// 2. Immediate mode without shadows, every visibility algorithm.
+// ---------------------------------------------------------------------
+
+fn bundled(name: &str) -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let examples = root.join("examples").join(name);
+    if examples.is_file() {
+        examples
+    } else {
+        support::scene_fixture(name)
+    }
+}
+
+/// The bundled scenes with no mirror, glass, transparency or smoothly
+/// shaded polygon (checked below from the scene model).
+const PLAIN: &[&str] = &[
+    "ccube.des",
+    "primitives.des",
+    "spin.des",
+    "cycles.des",
+    "intersect.des",
+];
+
+/// The bundled scenes that need the virtual image tree, and an object
+/// (with what about it) that needs it.
+const TREE: &[(&str, &str, &str)] = &[
+    ("mirror.des", "cube` (#0) with reflectance 0.5", "mirrors"),
+    (
+        "underwater.des",
+        "square` (#11) with reflectance 0.1 and transmittance 0.8",
+        "depth 2",
+    ),
+    (
+        "office1.des",
+        "champagne` (#87) with transparency 0.75",
+        "transparency",
+    ),
+];
+
+fn plain(scene: &Scene) -> bool {
+    !scene.modes.vertex_shades
+        && !scene.modes.phong
+        && scene.objects.iter().all(|o| {
+            o.surface.transparency.0 == 0.0
+                && (scene.modes.max_level == 1
+                    || (0..o.polygons.len()).all(|p| {
+                        let m = plytrace::shading::polygon_material(o, p);
+                        m.reflectance == 0.0 && m.transmittance == 0.0
+                    }))
+        })
+}
+
+/// 004 appendix B: "run <[y]> ... the optional parameter, y, indicating
+/// that shadow polygons are to be computed and displayed (normally not
+/// computed)". Without shadows, level 1 of a scene with no mirror, glass
+/// or smooth shading is all there is to paint, and every algorithm paints
+/// it; the image-space ones agree with ray casting away from edges.
+#[test]
+fn without_shadows_every_algorithm_renders_the_plain_bundled_scenes() {
+    for name in PLAIN {
+        let scene = load(&bundled(name));
+        assert!(plain(&scene), "{name} is plain");
+        let size = (48, 48);
+        let cast = render(
+            &scene,
+            &RenderOptions {
+                size: Some(size),
+                visibility: Some(Algorithm::RayCast),
+                ..RenderOptions::default()
+            },
+        )
+        .unwrap_or_else(|e| panic!("{name} ray-cast: {e}"));
+        let cast = support::painted_ids(&cast);
+        for (algorithm, label) in Algorithm::ALL {
+            let r = render(
+                &scene,
+                &RenderOptions {
+                    size: Some(size),
+                    shadows: false,
+                    visibility: Some(algorithm),
+                    ..RenderOptions::default()
+                },
+            )
+            .unwrap_or_else(|e| panic!("{name} --visibility {label}: {e}"));
+            assert!(r.frame.width == 48 || r.frame.width == 0);
+            if matches!(
+                algorithm,
+                Algorithm::ZBuffer | Algorithm::ScanLine | Algorithm::Warnock
+            ) {
+                let (checked, bad) =
+                    support::mismatches(&cast, &support::painted_ids(&r), size.0, size.1);
+                assert!(
+                    bad.len() * 50 <= checked,
+                    "{name} {label}: {} of {checked} pixels differ from ray casting",
+                    bad.len()
+                );
+            }
+        }
+    }
+}
+
+/// The refusal names the object that needs the tree and what about it,
+/// and says what to do; with shadows on, it says that shadows need the
+/// tree and how to turn them off.
+#[test]
+fn refusals_name_the_object_and_the_way_out() {
+    let image_space = [
+        Algorithm::ZBuffer,
+        Algorithm::ScanLine,
+        Algorithm::Warnock,
+        Algorithm::Brown,
+        Algorithm::RayCast,
+    ];
+    for (name, object, what) in TREE {
+        let scene = load(&bundled(name));
+        assert!(!plain(&scene), "{name}");
+        for algorithm in image_space {
+            let e = match render(
+                &scene,
+                &RenderOptions {
+                    size: Some((32, 32)),
+                    visibility: Some(algorithm),
+                    ..RenderOptions::default()
+                },
+            ) {
+                Ok(_) => panic!("{name} {algorithm:?} rendered"),
+                Err(e) => e.to_string(),
+            };
+            assert!(e.contains(what), "{name}: {e}");
+            assert!(e.contains(&format!("object `{object}")), "{name}: {e}");
+            assert!(e.contains("depth-sort or nns"), "{name}: {e}");
+        }
+    }
+    let scene = load(&bundled("ccube.des"));
+    for algorithm in image_space {
+        let e = render(
+            &scene,
+            &RenderOptions {
+                size: Some((32, 32)),
+                shadows: true,
+                visibility: Some(algorithm),
+                ..RenderOptions::default()
+            },
+        )
+        .err()
+        .unwrap_or_else(|| panic!("{algorithm:?} cast no shadows"))
+        .to_string();
+        assert!(e.contains("shadows"), "{e}");
+        assert!(e.contains("run n") && e.contains("--no-shadows"), "{e}");
+    }
+}
+
+/// Curved objects under Gouraud shading (`setmode v`) are named too.
+#[test]
+fn a_refusal_names_the_curved_objects_under_gouraud_shading() {
+    let mut scene = load(&bundled("primitives.des"));
+    let curved: Vec<&str> = scene
+        .objects
+        .iter()
+        .filter(|o| o.surface_type.curved)
+        .map(|o| o.name.as_str())
+        .collect();
+    assert!(!curved.is_empty());
+    let first = format!("object `{}` (#", curved[0]);
+    scene.modes.vertex_shades = true;
+    let e = render(
+        &scene,
+        &RenderOptions {
+            size: Some((32, 24)),
+            visibility: Some(Algorithm::ZBuffer),
+            ..RenderOptions::default()
+        },
+    )
+    .err()
+    .expect("Gouraud polygons refused")
+    .to_string();
+    assert!(
+        e.contains("setmode v") && e.contains(&first) && e.contains("is curved"),
+        "{e}"
+    );
+}
+
+/// Through the binary: a scene that says `run n` itself is rendered by
+/// every algorithm in immediate mode (no shadows asked, none needed).
+#[test]
+fn a_scene_saying_run_n_renders_with_every_algorithm() {
+    let folder = ccube_folder();
+    std::fs::write(folder.path().join("runn.des"), "get ccube.des\nrun n\n").unwrap();
+    for (_, label) in Algorithm::ALL {
+        let out = folder.path().join(format!("{label}.ppm"));
+        let run = std::process::Command::new(BIN)
+            .current_dir(folder.path())
+            .args(["--quiet", "-i", "-f", "runn.des", "--size", "48x48"])
+            .args(["--visibility", label, "-o"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{label}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(out.is_file(), "{label}");
+    }
+}
