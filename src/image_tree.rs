@@ -257,8 +257,9 @@ impl VirtualImageTree {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Refraction {
     /// The renderer's choice (`render::prepare`): exact when the
-    /// linearized matrix is off by more than a pixel at a transmitting
-    /// polygon's corner, else linearized. The tree builder itself treats
+    /// linearized matrix is off by more than a pixel through a
+    /// transmitting polygon (at its corners or at the refracted objects'
+    /// vertices, `raytrace::exact::linear_error`), else linearized. The tree builder itself treats
     /// it as linearized.
     #[default]
     Auto,

@@ -568,8 +568,8 @@ fn within<R: Send>(pool: &Option<rayon::ThreadPool>, f: impl FnOnce() -> R + Sen
 }
 
 /// The refraction model for `scene` (resolving `auto`: exact when the
-/// linearized matrix is off by more than a pixel at a transmitting
-/// polygon's corner, [`crate::raytrace::exact::linear_error`]) and, when
+/// linearized matrix is off by more than a pixel through a transmitting
+/// polygon, [`crate::raytrace::exact::linear_error`]) and, when
 /// the scene refracts, the model in words for the statistics.
 pub fn refraction_model(
     scene: &Scene,
@@ -596,8 +596,8 @@ pub fn refraction_model(
         Refraction::Linearized
     };
     let said = format!(
-        "{} (the linearized matrix is off by up to {error:.1} pixels at the transmitting \
-         polygons' corners; exact above 1)",
+        "{} (the linearized matrix is off by up to {error:.1} pixels through the transmitting \
+         polygons; exact above 1)",
         name(chosen)
     );
     (chosen, Some(said))

@@ -689,3 +689,87 @@ fn a_scene_saying_run_n_renders_with_every_algorithm() {
         assert!(out.is_file(), "{label}");
     }
 }
+
+// ---------------------------------------------------------------------
+// 8. The default refraction (`auto`).
+// ---------------------------------------------------------------------
+
+/// The first row (from the top) with a pixel of the red cube.
+fn top_red_row(frame: &plytrace::raster::frame_buffer::FrameBuffer) -> Option<u32> {
+    (0..frame.height).find(|&y| {
+        (0..frame.width).any(|x| {
+            let c = frame.color[(y * frame.width + x) as usize];
+            c[0] > c[2] + 0.15
+        })
+    })
+}
+
+/// 004 section 4.6: refracted points "appear at eta times their
+/// distance" (the paraxial model, apparent depth = depth / n). Worked by
+/// hand for tests/data/manual/pool.des (128 x 128, fovy 45: 64 pixels for
+/// tan 22.5 degrees): the cube's far top edge is 1.2 to the side and 2.8
+/// under the water, the eye 2 above it.
+///
+/// - Unrefracted: tan = 1.2 / 4.8 = 0.25, 38.6 pixels above the centre:
+///   the edge at 25.4, first row 25.
+/// - Snell (1.33): the path crosses the water 0.59 to the side (sin t1 =
+///   1.33 sin t2: 0.283 = 1.33 x 0.213), tan = 0.295, 45.6 pixels: the
+///   edge at 18.4, first row 18 (the paraxial model: 2 + 2.8 / 1.33,
+///   tan = 0.292, row 19).
+///
+/// Straight down the linearized matrix is the identity, so the tree's
+/// level 2 puts the cube at row 25; `auto` must see that it is off by
+/// more than a pixel (its old estimate, at the water's corners, saw
+/// nothing under them: 0.0) and choose exact refraction: row 18, the
+/// ray tracer's.
+#[test]
+fn auto_refraction_puts_the_cube_under_water_where_snell_does() {
+    let scene = load(&data("pool.des"));
+    let options = RenderOptions {
+        aa: Some(Method::Point),
+        ..RenderOptions::default()
+    };
+    let auto = render(&scene, &options).unwrap();
+    let said = auto.stats.refraction.clone().unwrap_or_default();
+    assert!(said.starts_with("exact"), "{said}");
+    let traced = raytrace::render(&scene, &RayTraceOptions::default())
+        .unwrap()
+        .0;
+    assert_eq!(top_red_row(&traced), Some(18), "the ray tracer");
+    assert_eq!(top_red_row(&auto.frame), Some(18), "auto: {said}");
+    // The linearized matrix alone: the unrefracted place.
+    let linear = render(
+        &scene,
+        &RenderOptions {
+            refraction: plytrace::image_tree::Refraction::Linearized,
+            ..options
+        },
+    )
+    .unwrap();
+    assert_eq!(top_red_row(&linear.frame), Some(25));
+    // The estimate itself is honest: several pixels here.
+    let view = plytrace::geometry::view::View::for_scene(&scene, None).unwrap();
+    let error = plytrace::raytrace::exact::linear_error(&scene, &view);
+    assert!(error > 3.0, "{error}");
+}
+
+/// Where Snell's law crosses a plane, worked by hand: the eye 2 above
+/// `z = 0`, a point 1.2 to the side and 2.8 below, index 1.33: 0.59.
+#[test]
+fn snell_crossing_by_hand() {
+    use glam::{DVec3, DVec4};
+    let c = plytrace::raytrace::exact::snell_crossing(
+        DVec3::new(0.0, 0.0, 2.0),
+        DVec3::new(1.2, 0.0, -2.8),
+        DVec4::new(0.0, 0.0, 1.0, 0.0),
+        1.0 / 1.33,
+    )
+    .unwrap();
+    assert!(
+        (c.x - 0.59).abs() < 0.005 && c.y == 0.0 && c.z.abs() < 1e-12,
+        "{c}"
+    );
+    let s1 = c.x / (c.x * c.x + 4.0).sqrt();
+    let s2 = (1.2 - c.x) / ((1.2 - c.x).powi(2) + 2.8f64.powi(2)).sqrt();
+    assert!((s1 - 1.33 * s2).abs() < 1e-9);
+}
