@@ -657,8 +657,7 @@ fn a_refusal_names_the_curved_objects_under_gouraud_shading() {
             ..RenderOptions::default()
         },
     )
-    .err()
-    .expect("Gouraud polygons refused")
+    .expect_err("Gouraud polygons refused")
     .to_string();
     assert!(
         e.contains("setmode v") && e.contains(&first) && e.contains("is curved"),
