@@ -772,3 +772,23 @@ fn snell_crossing_by_hand() {
     let s2 = (1.2 - c.x) / ((1.2 - c.x).powi(2) + 2.8f64.powi(2)).sqrt();
     assert!((s1 - 1.33 * s2).abs() < 1e-9);
 }
+
+/// Donovan's shading (a back-to-front picture) keeps the exact refraction
+/// layer: nothing is left out, and the cube is where Snell puts it.
+#[test]
+fn donovan_shading_keeps_exact_refraction() {
+    let scene = load(&data("pool.des"));
+    for aa in [Method::Point, Method::Multilevel] {
+        let r = render(
+            &scene,
+            &RenderOptions {
+                aa: Some(aa),
+                shading: ShadingModel::Donovan,
+                ..RenderOptions::default()
+            },
+        )
+        .unwrap();
+        assert!(r.stats.warnings.is_empty(), "{:?}", r.stats.warnings);
+        assert_eq!(top_red_row(&r.frame), Some(18), "{aa:?}");
+    }
+}

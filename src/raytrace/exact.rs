@@ -294,10 +294,15 @@ fn scan_frame(
     ids: bool,
 ) -> Result<FrameBuffer> {
     let mut frame = FrameBuffer::new(picture.width, picture.height, [0.0; 3]);
+    // The layer's coverage and ids come from front-to-back streams, and
+    // the layer is added to the picture (a refracted branch is additive in
+    // either illumination model): Garcia's rule here, even when the
+    // picture paints Donovan's transparency back to front.
     let options = ScanOptions {
         method,
         ids,
         paint_background: true,
+        transparency: scan::TransparencyRule::Garcia,
         ..*picture
     };
     scan::scan_convert(
