@@ -30,7 +30,10 @@
 //! coefficients on the path.
 //!
 //! Preconditions: planar polygons (the scene model's). The simple sort (or
-//! NNS with `setmode n on`) orders each level. Refraction uses the matrix
+//! NNS with `setmode n on`) orders each level; the simple sort's key is
+//! the scene's `sort` order's (004 section 4.4): the farthest vertex for
+//! `sort btf`, the nearest for `sort ftb` (a level is stored back to front
+//! either way). Refraction uses the matrix
 //! linearized about the ray through the polygon's centre (004 section
 //! 6.4.3), or none on total internal reflection.
 
@@ -254,8 +257,9 @@ impl VirtualImageTree {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Refraction {
     /// The renderer's choice (`render::prepare`): exact when the
-    /// linearized matrix is off by more than a pixel at a transmitting
-    /// polygon's corner, else linearized. The tree builder itself treats
+    /// linearized matrix is off by more than a pixel through a
+    /// transmitting polygon (at its corners or at the refracted objects'
+    /// vertices, `raytrace::exact::linear_error`), else linearized. The tree builder itself treats
     /// it as linearized.
     #[default]
     Auto,
@@ -635,29 +639,49 @@ impl<'a> Builder<'a> {
                 })
                 .collect();
         }
+        // 004 section 4.4: "the sorting order is simply determined by
+        // either the minimum or maximum vertex Z-coordinate of the polygon,
+        // depending on the sorting order (i.e., front-to-back or
+        // back-to-front)": `sort btf` paints by the farthest vertex, far
+        // first; `sort ftb` takes the nearest vertex, near first. The two
+        // orders are different sorts, not one reversed. The level list is
+        // kept back to front, so an ftb sort is stored reversed (and
+        // emitted front to back, its own order, again).
+        let order = self.scene.sort_order;
         let keys: Vec<f64> = candidates
             .iter()
             .map(|c| {
-                let zmax = c
+                let range = c
                     .points
                     .iter()
                     .map(|p| self.view.project(*p).z)
-                    .fold(f64::NEG_INFINITY, f64::max);
-                depth_sort::sort_key((f64::NEG_INFINITY, zmax), SortOrder::BackToFront)
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), z| {
+                        (lo.min(z), hi.max(z))
+                    });
+                depth_sort::sort_key(range, order)
             })
             .collect();
         let mut slots: Vec<Option<Candidate>> = candidates.into_iter().map(Some).collect();
+        let stored = |mut v: Vec<Candidate>| {
+            if order == SortOrder::FrontToBack {
+                v.reverse();
+            }
+            v
+        };
         if self.scene.modes.expand {
             // `setmode x on`: one composite list.
-            return depth_sort::sorted_order(&keys)
-                .into_iter()
-                .map(|k| slots[k].take().expect("a permutation"))
-                .collect();
+            return stored(
+                depth_sort::sorted_order(&keys)
+                    .into_iter()
+                    .map(|k| slots[k].take().expect("a permutation"))
+                    .collect(),
+            );
         }
         // `setmode x off` (004 section 4.4): objects one at a time, by the
-        // farthest depth of their polygons, each object's polygons sorted.
-        // Grouped by object in one sort (stable: each object's polygons
-        // keep their order), objects in increasing index.
+        // farthest (btf) or nearest (ftb) depth of their polygons, each
+        // object's polygons sorted. Grouped by object in one sort (stable:
+        // each object's polygons keep their order), objects in increasing
+        // index.
         let object = |k: usize| slots[k].as_ref().expect("full").object;
         let mut by_object: Vec<usize> = (0..slots.len()).collect();
         by_object.sort_by_key(|&k| object(k));
@@ -676,7 +700,7 @@ impl<'a> Builder<'a> {
                 out.push(slots[members[m]].take().expect("each once"));
             }
         }
-        out
+        stored(out)
     }
 
     /// Sorts `candidates` (the polygons of one level, in virtual coordinates

@@ -12,7 +12,10 @@
 //! Brown's priority order and the image-space algorithms (z-buffer,
 //! scan-line, Warnock, ray casting) paint level 1 themselves, point
 //! sampled; they refuse, naming what they cannot do, a scene that needs
-//! the tree (mirrors, shadows, Gouraud or Phong polygons, transparency).
+//! the tree: the objects with reflectance or transmittance (below level
+//! 1), transparency, curved objects under Gouraud or Phong shading, and
+//! shadows (`run y`; without them, `run n`, these algorithms render every
+//! scene that has none of the others).
 
 use std::time::{Duration, Instant};
 
@@ -39,7 +42,8 @@ use crate::visibility::{Algorithm, brown, depth_sort, scan_line, warnock};
 pub struct RenderOptions {
     /// Image size overriding the scene's viewport.
     pub size: Option<(u32, u32)>,
-    /// `run y`: compute shadows (not yet implemented; recorded).
+    /// `run y`: cast shadows from Point lights (004 section 4.7); `run n`
+    /// (false) paints no shadow, which the image-space algorithms need.
     pub shadows: bool,
     /// The visible-surface algorithm; by default the scene's (`setmode n`).
     pub visibility: Option<Algorithm>,
@@ -482,7 +486,16 @@ pub fn prepare(
         width,
         height,
     };
-    let picture_how = emit(SortOrder::FrontToBack, wants_pre_blending(method));
+    // Donovan's transparency rule (000 section 6, rule (3)) blends a
+    // surface with the colour behind it, so his picture is painted back to
+    // front, pre-blended (the overwriting principle of 004 section 4.10),
+    // by every method (see [`crate::raster::scan`]).
+    let picture_how = match options.shading {
+        crate::shading::ShadingModel::Donovan => emit(SortOrder::BackToFront, true),
+        crate::shading::ShadingModel::Garcia => {
+            emit(SortOrder::FrontToBack, wants_pre_blending(method))
+        }
+    };
     let file = scene.modes.output_tree.then(|| {
         let how = emit(scene.sort_order, scene.modes.blend);
         within(&pool, || emit::records(scene, &tree, how, view).0)
@@ -555,8 +568,8 @@ fn within<R: Send>(pool: &Option<rayon::ThreadPool>, f: impl FnOnce() -> R + Sen
 }
 
 /// The refraction model for `scene` (resolving `auto`: exact when the
-/// linearized matrix is off by more than a pixel at a transmitting
-/// polygon's corner, [`crate::raytrace::exact::linear_error`]) and, when
+/// linearized matrix is off by more than a pixel through a transmitting
+/// polygon, [`crate::raytrace::exact::linear_error`]) and, when
 /// the scene refracts, the model in words for the statistics.
 pub fn refraction_model(
     scene: &Scene,
@@ -583,8 +596,8 @@ pub fn refraction_model(
         Refraction::Linearized
     };
     let said = format!(
-        "{} (the linearized matrix is off by up to {error:.1} pixels at the transmitting \
-         polygons' corners; exact above 1)",
+        "{} (the linearized matrix is off by up to {error:.1} pixels through the transmitting \
+         polygons; exact above 1)",
         name(chosen)
     );
     (chosen, Some(said))
@@ -641,26 +654,84 @@ impl RowSink for FrameSink<'_> {
 }
 
 /// What of the scene needs the virtual image tree, in words; empty when
-/// level 1 painted point by point shows all of it.
+/// level 1 painted point by point shows all of it. Each item names the
+/// objects concerned (the first few) and what about them needs the tree:
+/// reflectance or transmittance traced below level 1, transparency, a
+/// curved object smoothly shaded; and shadows, with how to go without.
 pub fn tree_effects(scene: &Scene, options: &RenderOptions) -> Vec<String> {
+    const NAMED: usize = 3;
     let mut what = Vec::new();
+    let named = |o: &crate::scene::model::Object| format!("object `{}` (#{})", o.name, o.number);
+    let visible = || scene.objects.iter().filter(|o| !o.surface_type.hidden);
+    let list = |items: Vec<String>| {
+        let n = items.len();
+        let mut shown: Vec<String> = items.into_iter().take(NAMED).collect();
+        if n > NAMED {
+            shown.push(format!("and {} more", n - NAMED));
+        }
+        shown.join(", ")
+    };
     if needs_tree(scene) {
+        let items: Vec<String> = visible()
+            .filter_map(|o| {
+                let (mut kr, mut kt) = (0.0f64, 0.0f64);
+                for p in 0..o.polygons.len() {
+                    let m = polygon_material(o, p);
+                    kr = kr.max(m.reflectance);
+                    kt = kt.max(m.transmittance);
+                }
+                let mut about = Vec::new();
+                if kr > 0.0 {
+                    about.push(format!("reflectance {kr}"));
+                }
+                if kt > 0.0 {
+                    about.push(format!("transmittance {kt}"));
+                }
+                (!about.is_empty()).then(|| format!("{} with {}", named(o), about.join(" and ")))
+            })
+            .collect();
         what.push(format!(
-            "mirrors or refracting surfaces (depth {})",
-            scene.modes.max_level
+            "mirrors and refracting surfaces traced to depth {} ({})",
+            scene.modes.max_level,
+            list(items)
         ));
     }
+    let transparent: Vec<String> = visible()
+        .filter(|o| o.surface.transparency.0 > 0.0)
+        .map(|o| {
+            format!(
+                "{} with transparency {}",
+                named(o),
+                o.surface.transparency.0
+            )
+        })
+        .collect();
+    if !transparent.is_empty() {
+        what.push(format!("transparency ({})", list(transparent)));
+    }
+    for (on, kind, mode) in [
+        (scene.modes.vertex_shades, "Gouraud", "setmode v"),
+        (scene.modes.phong, "Phong", "setmode s"),
+    ] {
+        if !on {
+            continue;
+        }
+        let curved: Vec<String> = visible()
+            .filter(|o| o.surface_type.curved)
+            .map(|o| format!("{} is curved", named(o)))
+            .collect();
+        what.push(if curved.is_empty() {
+            format!("{kind} polygons ({mode})")
+        } else {
+            format!("{kind} polygons ({mode}; {})", list(curved))
+        });
+    }
     if options.shadows && has_point_light(scene) {
-        what.push("shadows (`run y` with a Point light)".into());
-    }
-    if scene.modes.vertex_shades {
-        what.push("Gouraud polygons (setmode v)".into());
-    }
-    if scene.modes.phong {
-        what.push("Phong polygons (setmode s)".into());
-    }
-    if scene.objects.iter().any(|o| o.surface.transparency.0 > 0.0) {
-        what.push("transparency".into());
+        what.push(
+            "shadows (`run y` with a Point light), which need the tree too: render without \
+             them with `run n` (--no-shadows in immediate mode)"
+                .into(),
+        );
     }
     if options.aa.is_some_and(|m| m != Method::Point) {
         what.push("anti-aliasing (use --aa none)".into());
@@ -675,10 +746,10 @@ fn refuse_tree_effects(scene: &Scene, options: &RenderOptions, algorithm: Algori
         return Ok(());
     }
     Err(Error::Invalid(format!(
-        "--visibility {} paints level 1 only, point sampled, and cannot render: {}; \
-         use depth-sort or nns (the virtual image tree), or remove them",
+        "--visibility {} paints level 1 only, point sampled, and cannot render {}; \
+         use depth-sort or nns (the virtual image tree) for them",
         algorithm.name(),
-        what.join(", ")
+        what.join("; ")
     )))
 }
 

@@ -766,7 +766,7 @@ fn renders_match_ray_casts_of_the_exact_solids() {
 #[test]
 fn the_example_scene_builds_closed_solids() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/primitives.des");
-    let (s, warnings) = plytrace::scene::load(&path).unwrap();
+    let (s, warnings, notes) = plytrace::scene::load_with_notes(&path).unwrap();
     // 9 superquadrics, vase, letter, bolt, die, wave, ripple, post, knob.
     assert_eq!(s.objects.len(), 17, "{warnings:?}");
     for o in &s.objects {
@@ -776,7 +776,7 @@ fn the_example_scene_builds_closed_solids() {
             assert!(support::closed(o) && support::volume(o) > 0.0, "{}", o.name);
         }
     }
-    let csg = warnings
+    let csg = notes
         .iter()
         .filter(|w| w.message.contains("input faces kept"))
         .count();

@@ -16,11 +16,16 @@ use plytrace::visibility::ray_cast::RayCaster;
 const PRELUDE: &str =
     "resolution 48 48\nperspective 40 1 0.1 100\npolarview 8 30 60 0\npushmatrix\nident\n";
 
+/// The scene, and its warnings followed by its notes (a CSG operation's
+/// figures are a note, not a warning).
 fn try_scene(body: &str) -> plytrace::error::Result<(Scene, Vec<Diagnostic>)> {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("c.des");
     std::fs::write(&path, format!("{PRELUDE}{body}\npopmatrix\n")).unwrap();
-    plytrace::scene::load(&path)
+    plytrace::scene::load_with_notes(&path).map(|(s, mut w, n)| {
+        w.extend(n);
+        (s, w)
+    })
 }
 
 fn scene(body: &str) -> Scene {

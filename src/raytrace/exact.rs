@@ -25,8 +25,10 @@
 //! way: nothing downstream of the records sees the tree.
 //!
 //! [`linear_error`] estimates how far off the linearized matrix is, in
-//! pixels, at the corners of the transmitting polygons: `auto` (the
-//! default) uses exact refraction when it is off by more than a pixel.
+//! pixels, through the transmitting polygons (at their corners, and at
+//! the refracted objects' vertices, where the linear map and Snell's law
+//! part): `auto` (the default) uses exact refraction when it is off by
+//! more than a pixel.
 
 use glam::{DVec3, DVec4};
 use rayon::prelude::*;
@@ -292,10 +294,15 @@ fn scan_frame(
     ids: bool,
 ) -> Result<FrameBuffer> {
     let mut frame = FrameBuffer::new(picture.width, picture.height, [0.0; 3]);
+    // The layer's coverage and ids come from front-to-back streams, and
+    // the layer is added to the picture (a refracted branch is additive in
+    // either illumination model): Garcia's rule here, even when the
+    // picture paints Donovan's transparency back to front.
     let options = ScanOptions {
         method,
         ids,
         paint_background: true,
+        transparency: scan::TransparencyRule::Garcia,
         ..*picture
     };
     scan::scan_convert(
@@ -345,13 +352,29 @@ impl RowSink for LayeredSink<'_> {
 }
 
 /// How far, in pixels, the linearized refraction matrix (004 section
-/// 6.4.3) puts what is seen through the corners of the scene's
-/// front-facing transmitting polygons from where exact Snell refraction
-/// puts it: at each corner and edge midpoint (a tenth of the way in) the exact refracted ray is cast to the first
-/// polygon it meets, and that point, mapped by the polygon's linearized
-/// matrix, should project onto the corner itself (the virtual image of a
-/// point seen through the corner lies on the eye ray through it). The
-/// largest error; 0 when nothing transmits.
+/// 6.4.3) puts what is seen through the scene's front-facing transmitting
+/// polygons from where exact Snell refraction puts it. The largest error
+/// over two kinds of sample; 0 when nothing transmits.
+///
+/// - Through the polygon: at each corner and edge midpoint (a tenth of the
+///   way in) the exact refracted ray is cast to the first polygon it
+///   meets, and that point, mapped by the polygon's linearized matrix,
+///   should project onto the sample itself (the virtual image of a point
+///   seen through it lies on the eye ray through it). Where the refracted
+///   ray meets nothing (a pond with no floor) this sample says nothing.
+/// - The refracted objects: every vertex (a bounded, evenly strided
+///   selection in large scenes) beyond the polygon's plane is seen where
+///   the exact path from the eye to it crosses the plane (Snell's law,
+///   solved on the line between the feet of the eye and the vertex,
+///   [`snell_crossing`]); if that crossing lies inside the polygon, the
+///   vertex mapped by the linearized matrix should project onto it. This
+///   is where the linear map and the exact refraction part: the
+///   linearization is exact only for the ray through the polygon's centre,
+///   so a cube under water off that ray, or deep, moves.
+///
+/// An eye at infinity (an orthographic projection) sees every point along
+/// parallel rays, which the matrix maps exactly: only the first kind of
+/// sample is taken.
 pub fn linear_error(scene: &Scene, view: &View) -> f64 {
     if scene.modes.max_level < 2 {
         return 0.0;
@@ -393,9 +416,118 @@ pub fn linear_error(scene: &Scene, view: &View) -> f64 {
                 let c = centre + (c - centre) * 0.9;
                 worst = worst.max(corner_error(&polygons, view, plane, eta, &matrix, c, id));
             }
+            worst = worst.max(refracted_points_error(
+                scene, view, plane, eta, &matrix, &points,
+            ));
         }
     }
     worst
+}
+
+/// Vertices of the scene examined per transmitting polygon by
+/// [`refracted_points_error`], at most (evenly strided beyond that).
+const REFRACTED_SAMPLES: usize = 4096;
+
+/// [`linear_error`] at the vertices of the scene beyond `plane` that are
+/// seen through the polygon `outline` (on the plane).
+fn refracted_points_error(
+    scene: &Scene,
+    view: &View,
+    plane: DVec4,
+    eta: f64,
+    matrix: &crate::math::Matrix4,
+    outline: &[DVec3],
+) -> f64 {
+    if view.eye.w.abs() < 1e-12 {
+        return 0.0;
+    }
+    let eye = view.eye.truncate() / view.eye.w;
+    let total: usize = scene
+        .objects
+        .iter()
+        .filter(|o| !o.surface_type.hidden)
+        .map(|o| o.vertices.len())
+        .sum();
+    let stride = total.div_ceil(REFRACTED_SAMPLES).max(1);
+    let mut worst: f64 = 0.0;
+    let vertices = scene
+        .objects
+        .iter()
+        .filter(|o| !o.surface_type.hidden)
+        .flat_map(|o| o.vertices.iter().copied());
+    for p in vertices.step_by(stride) {
+        let Some(c) = snell_crossing(eye, p, plane, eta) else {
+            continue;
+        };
+        if !inside_outline(outline, plane.truncate(), c) {
+            continue;
+        }
+        let q = matrix.transform_point(p);
+        let (a, b) = (view.project(q), view.project(c));
+        let e = ((a.x - b.x).powi(2) + (a.y - b.y).powi(2)).sqrt();
+        if e.is_finite() {
+            worst = worst.max(e);
+        }
+    }
+    worst
+}
+
+/// Where the refracted path from `eye` (in front of `plane`, unit normal
+/// towards it) to `p` (beyond it) crosses the plane, by Snell's law
+/// `sin t1 = sin t2 / eta` (`eta` = index on the eye's side over the far
+/// side's): on the line between the feet of the two points, where the
+/// sines balance, by bisection (the balance grows along the line). `None`
+/// when `p` is not beyond the plane.
+pub fn snell_crossing(eye: DVec3, p: DVec3, plane: DVec4, eta: f64) -> Option<DVec3> {
+    let n = plane.truncate();
+    let (he, hp) = (n.dot(eye) + plane.w, -(n.dot(p) + plane.w));
+    let small = 1e-9 * (1.0 + eye.length() + p.length());
+    if !(he > small && hp > small && eta > 0.0) {
+        return None;
+    }
+    let (a, b) = (eye - n * he, p + n * hp);
+    let d = (b - a).length();
+    if d <= small {
+        return Some(a);
+    }
+    let sine = |x: f64, h: f64| x / (x * x + h * h).sqrt();
+    let balance = |u: f64| eta * sine(u * d, he) - sine((1.0 - u) * d, hp);
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if balance(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(a + (b - a) * (0.5 * (lo + hi)))
+}
+
+/// Whether `c` (on the plane of the convex or concave `outline`, normal
+/// `normal`) is inside it: even-odd, in the projection that drops the
+/// normal's largest axis.
+fn inside_outline(outline: &[DVec3], normal: DVec3, c: DVec3) -> bool {
+    let a = normal.abs();
+    let (u, v) = if a.x >= a.y && a.x >= a.z {
+        (1, 2)
+    } else if a.y >= a.z {
+        (2, 0)
+    } else {
+        (0, 1)
+    };
+    let g = |q: DVec3| (q.to_array()[u], q.to_array()[v]);
+    let (px, py) = g(c);
+    let mut odd = false;
+    let n = outline.len();
+    for k in 0..n {
+        let (xa, ya) = g(outline[k]);
+        let (xb, yb) = g(outline[(k + 1) % n]);
+        if (ya > py) != (yb > py) && px < xa + (py - ya) / (yb - ya) * (xb - xa) {
+            odd = !odd;
+        }
+    }
+    odd
 }
 
 /// [`linear_error`] at one corner `c`.

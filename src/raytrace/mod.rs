@@ -18,7 +18,10 @@
 //!   ([`RayTracer::blocked`]) drop the terms of the Point lights they find
 //!   blocked, as the tree's shadow polygons do (004 section 4.7);
 //! - transparency `k_t` (004 section 4.9) adds `k_t` times what the ray
-//!   meets going on;
+//!   meets going on; with Donovan's shading, his rule (3) (000 section 6)
+//!   instead: the own shade if it is the brighter, else
+//!   `(1 - k_t) own + k_t behind` ([`donovan_rule_3`]), as the scan
+//!   converter's painter applies it;
 //! - below `depth` and while the product of coefficients stays above
 //!   `threshold` (the tree's cut-offs), a front face adds `kr` times the
 //!   mirrored ray and `kt` times the refracted ray (exact Snell,
@@ -278,7 +281,10 @@ impl<'a> RayTracer<'a> {
             } else {
                 self.secondary(&behind, counter)
             };
-            c += seen * kt_trp;
+            c = match self.shading {
+                ShadingModel::Garcia => c + seen * kt_trp,
+                ShadingModel::Donovan => donovan_rule_3(c, seen, kt_trp),
+            };
         }
         if ray.level >= self.max_level || back {
             return c;
@@ -519,4 +525,17 @@ pub fn render(scene: &Scene, options: &RayTraceOptions) -> Result<(FrameBuffer, 
     let mut frame = FrameBuffer::new(width, height, [0.0; 3]);
     frame.color = color;
     Ok((frame, stats))
+}
+
+/// Donovan's transparency rule (3) (000 section 6): the face's own shade
+/// `own` (`I_a`) if it is brighter than `behind` (`I_b`), else
+/// `(1 - w) I_a + w I_b`; "brighter" compares Rec. 601 luminances, as the
+/// scan converter's painter does.
+pub fn donovan_rule_3(own: Color, behind: Color, w: f64) -> Color {
+    let luminance = |c: Color| 0.299 * c.x + 0.587 * c.y + 0.114 * c.z;
+    if luminance(own) > luminance(behind) {
+        own
+    } else {
+        own * (1.0 - w) + behind * w
+    }
 }

@@ -1,7 +1,19 @@
 //! The command table of the scene descriptor language (Garcia 1986, 004
 //! appendix, plytrace manual page): names, arguments and one-line help.
-//! Commands are case-insensitive and recognized by their shortest unique
-//! prefix; an exact name always wins (`ortho` versus `ortho2`).
+//!
+//! The manual: "all input characters are converted to lower case before
+//! processing and ... commands are recognized by the first sequence of
+//! unique characters". Commands are therefore case-insensitive and
+//! recognized by a unique prefix; an exact name always wins (`ortho`
+//! versus `ortho2`). The table also holds commands the manual does not
+//! have (the modeling commands of Firebaugh's chapter and Brown's
+//! geodesics: [`ADDED`]); they must not take an abbreviation away from
+//! the manual's own commands. So a word is looked up first among the
+//! manual's commands ([`MANUAL`]): a prefix unique there names that
+//! command even if an added command shares it (`b` is `background`, not
+//! `bezier`; `e` is `endobj`); a prefix of several manual commands is
+//! ambiguous; a prefix of no manual command is looked up among the added
+//! ones (`be` is `bezier`, `sph` is `sphere`).
 
 /// A command of the language.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -87,6 +99,81 @@ commands! {
     "window", "left right bottom top near far", "load a perspective frustum";
 }
 
+/// The commands of the manual page (004 appendix B), in its order.
+pub const MANUAL: &[&str] = &[
+    "ambient",
+    "background",
+    "call",
+    "callobj",
+    "clear",
+    "color",
+    "defobj",
+    "delobj",
+    "depth",
+    "det_dir",
+    "diffuse",
+    "disp",
+    "endobj",
+    "fname",
+    "get",
+    "getobj",
+    "ident",
+    "index",
+    "init",
+    "light",
+    "lookat",
+    "nolight",
+    "ortho",
+    "ortho2",
+    "outmode",
+    "pcolors",
+    "perspective",
+    "polarview",
+    "popmatrix",
+    "pushmatrix",
+    "quit",
+    "reflectance",
+    "resolution",
+    "rotate",
+    "run",
+    "scale",
+    "setmode",
+    "shininess",
+    "sort",
+    "specular",
+    "threshold",
+    "translate",
+    "transmittance",
+    "transparency",
+    "type",
+    "vcolors",
+    "viewport",
+    "wait",
+    "window",
+];
+
+/// The commands added to the manual's (modeling): every other name of
+/// [`COMMANDS`].
+pub const ADDED: &[&str] = &[
+    "bezier",
+    "cylinder",
+    "difference",
+    "extrude",
+    "geodesic",
+    "hermite",
+    "intersection",
+    "lathe",
+    "radial",
+    "sphere",
+    "superquadric",
+    "union",
+];
+
+/// Whether `name` is one of the manual's commands.
+pub fn is_manual(name: &str) -> bool {
+    MANUAL.contains(&name)
+}
+
 /// The result of looking a word up in the table.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Lookup {
@@ -106,14 +193,23 @@ pub fn spec(name: &str) -> &'static CommandSpec {
         .expect("a command of the table")
 }
 
-/// Finds the command `word` names (case-insensitive, unique prefix).
+/// Finds the command `word` names (case-insensitive, unique prefix; the
+/// manual's commands first, see the module comment).
 pub fn lookup(word: &str) -> Lookup {
     let w = word.to_ascii_lowercase();
     if let Some(c) = COMMANDS.iter().find(|c| c.name == w) {
         return Lookup::Found(c);
     }
-    let matches: Vec<&'static CommandSpec> =
-        COMMANDS.iter().filter(|c| c.name.starts_with(&w)).collect();
+    let starting = |manual: bool| -> Vec<&'static CommandSpec> {
+        COMMANDS
+            .iter()
+            .filter(|c| is_manual(c.name) == manual && c.name.starts_with(&w))
+            .collect()
+    };
+    let mut matches = starting(true);
+    if matches.is_empty() {
+        matches = starting(false);
+    }
     match matches.len() {
         0 => Lookup::Unknown(closest(&w)),
         1 => Lookup::Found(matches[0]),
@@ -214,6 +310,15 @@ mod tests {
         for w in &words {
             assert_eq!(closest(w), every(w), "{:.40}", w);
         }
+    }
+
+    /// The manual's and the added commands together are the table.
+    #[test]
+    fn manual_and_added_commands_partition_the_table() {
+        let mut both: Vec<&str> = MANUAL.iter().chain(ADDED).copied().collect();
+        both.sort_unstable();
+        let table: Vec<&str> = COMMANDS.iter().map(|c| c.name).collect();
+        assert_eq!(both, table);
     }
 
     #[test]

@@ -452,28 +452,30 @@ impl Interpreter {
         let (mesh, normals, attrs) = csg::to_mesh(&result.faces, with_normals);
         let s = result.stats;
         let closed = solid::check_closed(&solid::weld_exact(&mesh.vertices), &mesh.polygons);
-        self.warn(
-            "csg",
-            Diagnostic::new(
-                loc.clone(),
-                format!(
-                    "warning: {} of `{a}` and `{b}`: {} input faces kept, {} split, {} removed; {} faces{}",
-                    match op {
-                        csg::Op::Union => "union",
-                        csg::Op::Intersection => "intersection",
-                        csg::Op::Difference => "difference",
-                    },
-                    s.kept,
-                    s.split,
-                    s.removed,
-                    mesh.polygons.len(),
-                    match closed {
-                        Ok(()) => String::new(),
-                        Err(why) => format!(" (the result is not closed: {why})"),
-                    }
+        let what = format!(
+            "{} of `{a}` and `{b}`: {} input faces kept, {} split, {} removed; {} faces",
+            match op {
+                csg::Op::Union => "union",
+                csg::Op::Intersection => "intersection",
+                csg::Op::Difference => "difference",
+            },
+            s.kept,
+            s.split,
+            s.removed,
+            mesh.polygons.len(),
+        );
+        // A result as asked is no warning: its figures are a note; a
+        // result that is not closed is a real problem.
+        match closed {
+            Ok(()) => self.note(Diagnostic::new(loc.clone(), what)),
+            Err(why) => self.warn(
+                "csg",
+                Diagnostic::new(
+                    loc.clone(),
+                    format!("warning: {what} (the result is not closed: {why})"),
                 ),
             ),
-        );
+        }
         // The operands are consumed.
         self.scene
             .objects

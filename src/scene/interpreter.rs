@@ -195,6 +195,8 @@ pub struct Interpreter {
     polygons: usize,
     overrides: Vec<(char, String)>,
     warnings: Warnings,
+    /// Information that is not a warning (what a CSG operation did).
+    notes: Vec<Diagnostic>,
     budgets: Budgets,
     /// Geodesic objects by number: the mesh generated and its turned
     /// radial function, for `radial rotate` outside a definition.
@@ -228,6 +230,7 @@ impl Interpreter {
             polygons: 0,
             overrides: Vec::new(),
             warnings: Warnings::default(),
+            notes: Vec::new(),
             budgets: Budgets::default(),
             geodesics: std::collections::HashMap::new(),
         }
@@ -289,6 +292,21 @@ impl Interpreter {
         std::mem::take(&mut self.warnings).finish()
     }
 
+    /// Notes gathered so far, emptied: information about input that was
+    /// processed as asked (a CSG operation's face counts), never a
+    /// problem; the command line does not print them.
+    pub fn take_notes(&mut self) -> Vec<Diagnostic> {
+        std::mem::take(&mut self.notes)
+    }
+
+    /// Records a note (see [`Interpreter::take_notes`]).
+    pub(super) fn note(&mut self, note: Diagnostic) {
+        const KEPT: usize = 1000;
+        if self.notes.len() < KEPT {
+            self.notes.push(note);
+        }
+    }
+
     /// Records a warning of `kind`.
     fn warn(&mut self, kind: &'static str, warning: Diagnostic) {
         self.warnings.add(kind, warning);
@@ -296,8 +314,13 @@ impl Interpreter {
 
     /// Forces a `setmode` value given on the command line (`-n on`): it is
     /// applied now and again after every statement, so it overrides the
-    /// scene file. `letter` is the mode letter or a digit.
+    /// scene file. `letter` is the mode letter or a digit. An empty (or
+    /// blank) `value` is the bare form, `setmode v` (004 appendix B:
+    /// `setmode <mode> [<on, off>]`, the value optional), which turns an
+    /// on/off mode on: `force_mode('v', "")` is `-v` alone. Modes that
+    /// take a number or a name (`d`, `e`, `l`, `f`) still need one.
     pub fn force_mode(&mut self, letter: char, value: &str) -> Result<()> {
+        let value = value.trim();
         let file = Path::new("<command line>");
         let stmt = vec![
             Token {
@@ -316,7 +339,7 @@ impl Interpreter {
                 column: 11,
             },
         ];
-        let stmt: Statement = if letter.is_ascii_digit() {
+        let stmt: Statement = if letter.is_ascii_digit() || value.is_empty() {
             stmt[..2].to_vec()
         } else {
             stmt
@@ -350,8 +373,10 @@ impl Interpreter {
         let files = std::mem::take(&mut self.files);
         let overrides = std::mem::take(&mut self.overrides);
         let warnings = std::mem::take(&mut self.warnings);
+        let notes = std::mem::take(&mut self.notes);
         let budgets = self.budgets;
         *self = Interpreter::new();
+        self.notes = notes;
         self.budgets = budgets;
         self.files = files;
         self.overrides = overrides;
@@ -366,7 +391,20 @@ impl Interpreter {
     /// before its first statement runs. Nested `call`s run on a stack of
     /// frames, not by recursion, so that their depth is bounded by
     /// [`Budgets::call_depth`] alone.
+    ///
+    /// A name that does not exist as written is tried folded to lower case
+    /// (004 appendix B: "all input characters are converted to lower case
+    /// before processing"): `GET CCUBE.DES` opens `ccube.des`.
     pub fn execute_file(&mut self, path: &Path, init: bool, host: &mut dyn Host) -> Result<Flow> {
+        // The file's name folded, in its folder as written; then the whole
+        // path as written folded.
+        let path = &lower_case_fallback(path.to_path_buf(), || {
+            let name = path.file_name().map(|n| n.to_string_lossy().to_lowercase());
+            match name {
+                Some(n) if path.with_file_name(&n).exists() => path.with_file_name(n),
+                _ => PathBuf::from(path.to_string_lossy().to_lowercase()),
+            }
+        });
         let frame = self.open_file(path, init, None)?;
         let flow = self.run_frames(frame, host)?;
         if self.files.is_empty()
@@ -633,7 +671,9 @@ impl Interpreter {
             "call" | "get" => {
                 a.count(1, 1)?;
                 return Ok(Step::Enter {
-                    path: resolve(&ctx.dir, &args[0].text),
+                    path: lower_case_fallback(resolve(&ctx.dir, &args[0].text), || {
+                        resolve(&ctx.dir, &args[0].text.to_lowercase())
+                    }),
                     get: spec.name == "get",
                     token: args[0].clone(),
                 });
@@ -1418,6 +1458,22 @@ impl Interpreter {
                 }
             }
         }
+        // Then the directory as written folded to lower case (004
+        // appendix B: input is converted to lower case).
+        let folded = PathBuf::from(self.det_dir.to_string_lossy().to_lowercase());
+        if folded != self.det_dir {
+            let bases: Vec<PathBuf> = if folded.is_absolute() {
+                vec![PathBuf::new()]
+            } else {
+                vec![self.det_base.clone(), active.det_base.clone(), ".".into()]
+            };
+            for base in bases {
+                let d = base.join(&folded);
+                if !dirs.contains(&d) {
+                    dirs.push(d);
+                }
+            }
+        }
         dirs
     }
 
@@ -1466,10 +1522,13 @@ impl Interpreter {
             ColorKind::Polygon => "pcl",
             ColorKind::Vertex => "vcl",
         };
+        let folded = name.to_lowercase();
         for dir in self.det_dirs(active) {
-            let p = dir.join(format!("{name}.{ext}"));
-            if p.is_file() {
-                return object_file::read_colors(&p, kind);
+            for name in [name, folded.as_str()] {
+                let p = dir.join(format!("{name}.{ext}"));
+                if p.is_file() {
+                    return object_file::read_colors(&p, kind);
+                }
             }
         }
         Err(Error::at(
@@ -1714,6 +1773,21 @@ fn linear_determinant(m: &Matrix4) -> f64 {
     a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
         - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
         + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+}
+
+/// `path` if it exists, else `folded()` (the name as written folded to
+/// lower case) if that exists, else `path` (whose error then names the
+/// file as written).
+fn lower_case_fallback(path: PathBuf, folded: impl FnOnce() -> PathBuf) -> PathBuf {
+    if path.exists() {
+        return path;
+    }
+    let lower = folded();
+    if lower != path && lower.exists() {
+        lower
+    } else {
+        path
+    }
 }
 
 fn resolve(dir: &Path, name: &str) -> PathBuf {

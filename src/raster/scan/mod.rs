@@ -16,12 +16,19 @@
 //! | `Multilevel` | error | error | multi-level, 16 samples |
 //! | `Supersample(n)` | error | single-level, n² samples | multi-level, n² samples |
 //!
+//! With [`TransparencyRule::Donovan`] (Donovan 000 section 6, rule (3))
+//! the table is different: the rule needs the colour behind a transparent
+//! surface before the surface is blended, which a front-to-back stream
+//! never has, so every method takes a back-to-front (pre-blended) stream
+//! and paints it with the painter, `Point` at the pixel centre,
+//! `Supersample(n)` at n² samples and `Area`, `Mask`, `Hybrid`,
+//! `Multilevel` at the 16 samples of the 4 x 4 pixel mask; a
+//! front-to-back stream is an error.
+//!
 //! Any other combination, `Supersample(n)` with `n` outside 1..=16, a
 //! multi-level run with a record level outside 1..=31, an empty image and
-//! [`TransparencyRule::Donovan`] with a front-to-back stream (the rule
-//! needs the surface behind first) and [`TransparencyRule::Coverage`]
-//! (section 5.6) with anything but the single-level logic are
-//! [`Error::Invalid`].
+//! [`TransparencyRule::Coverage`] (section 5.6) with anything but the
+//! single-level logic are [`Error::Invalid`].
 //!
 //! Ids ([`ScanOptions::ids`]): front to back, the first record (in stream
 //! order) that covers the pixel centre and leaves a visible share in the
@@ -231,9 +238,10 @@ pub fn scan_convert(
         ids: options.ids,
         last_wins: logic == Logic::Painter,
         background: (options.paint_background && logic != Logic::Painter).then_some(bg),
-        coverage: matches!(m, Method::Area | Method::Hybrid),
-        mask: matches!(m, Method::Mask | Method::Hybrid),
-        pixels: m == Method::Multilevel,
+        // The painter leaves no coverage, masks or pixel-structs.
+        coverage: logic != Logic::Painter && matches!(m, Method::Area | Method::Hybrid),
+        mask: logic != Logic::Painter && matches!(m, Method::Mask | Method::Hybrid),
+        pixels: logic != Logic::Painter && m == Method::Multilevel,
     };
     let t = options.threads;
     match logic {
@@ -246,7 +254,7 @@ pub fn scan_convert(
             convert(
                 &plan,
                 t,
-                || Painter::new(options.transparency, initial),
+                || Painter::new(options.transparency, initial, side * side),
                 sink,
             )
         }
@@ -340,8 +348,12 @@ fn choose(stream: &RecordStream, o: &ScanOptions) -> Result<Logic> {
     };
     let wants_pre = "wants a front-to-back tree with pre-blended shades (setmode b on)";
     let wants_post = "wants a front-to-back tree with post-blended shades (setmode b off)";
+    let donovan = o.transparency == TransparencyRule::Donovan;
     let logic = match (m, stream.front_to_back, stream.blended) {
         (Method::Point, false, _) => Logic::Painter,
+        // Donovan's rule needs the surface behind first: every method
+        // paints a back-to-front stream, sample by sample.
+        (_, false, _) if donovan => Logic::Painter,
         (Method::Area, true, true) => Logic::Single(Measure::Area),
         (Method::Mask, true, true) => Logic::Single(Measure::Mask),
         (Method::Hybrid, true, true) => Logic::Single(Measure::Hybrid),
@@ -368,10 +380,10 @@ fn choose(stream: &RecordStream, o: &ScanOptions) -> Result<Logic> {
             )));
         }
     };
-    if logic != Logic::Painter && o.transparency == TransparencyRule::Donovan {
+    if logic != Logic::Painter && donovan {
         return Err(Error::Invalid(format!(
-            "{}: Donovan's transparency rule needs the surface behind first, so it works \
-             only with point sampling of a back-to-front tree; this one is front to back",
+            "{}: Donovan's transparency rule needs the surface behind first, so it is \
+             painted from a back-to-front tree (sort btf); this one is front to back",
             name(m)
         )));
     }
