@@ -81,7 +81,7 @@ commands! {
     "rotate", "angle x|y|z", "rotation (pre-multiplies the CTM)";
     "run", "[y]", "render the scene (y: with shadows)";
     "scale", "sx sy sz", "scaling (pre-multiplies the CTM)";
-    "setmode", "mode [value]", "set a run-time mode (the letters under FLAGS)";
+    "setmode", "mode [value]", "set a run-time mode: b d e h l n o p s v x or a digit, as the flags of the same letters (a bare on/off mode is on)";
     "shininess", "n", "Phong exponent of highlights";
     "sort", "[btf|ftb]", "polygon order: back to front (default) or front to back";
     "specular", "k", "specular coefficient (default 0)";
