@@ -119,3 +119,71 @@ fn a_fan_of_150000_triangles_is_near_linear() {
     assert!(segs >= n, "{segs}");
     assert!(time.as_secs_f64() < 10.0, "{time:?}");
 }
+
+/// Runs `plytrace` on a scene of one det object made of `polygons` over
+/// `points`, with `args`; returns its status, stderr and the time taken.
+fn run_det(
+    points: &[[f64; 3]],
+    polygons: &[Vec<usize>],
+    args: &[&str],
+) -> (std::process::ExitStatus, String, std::time::Duration) {
+    use std::fmt::Write as _;
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("det")).unwrap();
+    let mut det = format!("title hostile\ndata\n{} {}\n", points.len(), polygons.len());
+    for p in points {
+        writeln!(det, "{} {} {}", p[0], p[1], p[2]).unwrap();
+    }
+    for p in polygons {
+        write!(det, "{}", p.len()).unwrap();
+        for i in p {
+            write!(det, " {}", i + 1).unwrap();
+        }
+        det.push('\n');
+    }
+    std::fs::write(dir.path().join("det/thing.det"), det).unwrap();
+    std::fs::write(
+        dir.path().join("scene.des"),
+        "resolution 256 256\nperspective 45 1 0.01 100\npushmatrix\nident\ntranslate 0 0 -4\n\
+         light 0 0 10 1 1 1 100 Point\ngetobj thing\npopmatrix\n",
+    )
+    .unwrap();
+    let t = std::time::Instant::now();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_plytrace"))
+        .current_dir(dir.path())
+        .arg("scene.des")
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status,
+        String::from_utf8_lossy(&out.stderr).into_owned() + &String::from_utf8_lossy(&out.stdout),
+        t.elapsed(),
+    )
+}
+
+#[test]
+fn hidden_lines_of_65535_identical_triangles_in_seconds() {
+    let points = [[-1.0, -1.0, 0.0], [0.0, 1.0, 0.0], [1.0, -1.0, 0.0]];
+    let polygons = vec![vec![0, 1, 2]; 65_535];
+    let (status, log, time) = run_det(&points, &polygons, &["--hidden-line", "-o", "s.svg", "-3"]);
+    assert!(status.success(), "{log}");
+    // NNS sorted them itself, without falling back.
+    assert!(!log.contains("NNS stopped"), "{log}");
+    assert!(time.as_secs_f64() < 15.0, "{time:?}\n{log}");
+}
+
+#[test]
+fn hidden_lines_of_a_150000_triangle_fan_in_seconds() {
+    let n = 150_000;
+    let mut points = vec![[0.0, 0.0, 0.0]];
+    for k in 0..=n {
+        let a = k as f64 * std::f64::consts::TAU / n as f64;
+        points.push([a.cos(), a.sin(), 0.0]);
+    }
+    let polygons: Vec<Vec<usize>> = (0..n).map(|k| vec![0, k + 2, k + 1]).collect();
+    let (status, log, time) = run_det(&points, &polygons, &["--hidden-line", "-o", "f.svg", "-3"]);
+    assert!(status.success(), "{log}");
+    assert!(!log.contains("NNS stopped"), "{log}");
+    assert!(time.as_secs_f64() < 20.0, "{time:?}\n{log}");
+}
