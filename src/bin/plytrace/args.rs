@@ -600,8 +600,8 @@ impl Cli {
         if let Some(n) = self.max_rays {
             b.rays = n;
         }
-        // The ray tracer reads its budget process-wide.
-        plytrace::budget::set_ray_limit(b.rays);
+        // The ray tracer and the mesh importer read theirs process-wide.
+        plytrace::budget::set_process_budgets(&b);
         b
     }
 }
