@@ -9,6 +9,15 @@
 //!   (`apt-get install sketch`); left out otherwise;
 //! * `stage/prepare` (the tree, NNS forced) and `stage/picture+svg`
 //!   (merging and writing) in process.
+//!
+//! `hidden-line-growth`: the hidden-line search
+//! (`vector::hidden_line::segments_of`, the faces in painting order) from
+//! 10^3 to 10^6 faces, to show how it grows:
+//!
+//! * `fan/N`: N triangles sharing the centre vertex (every box meets the
+//!   centre);
+//! * `quads/N`: a sqrt(N) x sqrt(N) grid of squares 1.5 cells wide, each
+//!   overlapping its neighbours, painted row by row.
 
 use std::io::Write;
 use std::process::Command;
@@ -94,5 +103,53 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+type Faces = Vec<(Vec<[f64; 2]>, Vec<bool>)>;
+
+/// `n` triangles about the centre of a 1024 x 1024 picture.
+fn fan(n: usize) -> Faces {
+    let at = |k: usize| {
+        let a = k as f64 * std::f64::consts::TAU / n as f64;
+        [512.0 + 400.0 * a.cos(), 512.0 + 400.0 * a.sin()]
+    };
+    (0..n)
+        .map(|k| (vec![[512.0, 512.0], at(k + 1), at(k)], vec![true; 3]))
+        .collect()
+}
+
+/// A grid of about `n` overlapping squares over a 1024 x 1024 picture.
+fn quads(n: usize) -> Faces {
+    let k = (n as f64).sqrt().round() as usize;
+    let cell = 1000.0 / k as f64;
+    let side = 1.5 * cell;
+    let mut out = Vec::with_capacity(k * k);
+    for r in 0..k {
+        for c in 0..k {
+            let (x, y) = (c as f64 * cell, r as f64 * cell);
+            out.push((
+                vec![[x, y], [x + side, y], [x + side, y + side], [x, y + side]],
+                vec![true; 4],
+            ));
+        }
+    }
+    out
+}
+
+fn growth(c: &mut Criterion) {
+    use plytrace::vector::hidden_line::segments_of;
+    let mut g = c.benchmark_group("hidden-line-growth");
+    g.sample_size(10);
+    for n in [1_000, 10_000, 100_000, 1_000_000] {
+        let faces = fan(n);
+        g.bench_function(format!("fan/{n}"), |b| {
+            b.iter(|| segments_of(&faces, 1024.0, 1024.0).unwrap())
+        });
+        let faces = quads(n);
+        g.bench_function(format!("quads/{n}"), |b| {
+            b.iter(|| segments_of(&faces, 1024.0, 1024.0).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench, growth);
 criterion_main!(benches);
