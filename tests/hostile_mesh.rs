@@ -10,7 +10,11 @@ fn refused(path: &std::path::Path, budget: usize) -> String {
     let t = Instant::now();
     let err = read_mesh_within(path, budget).unwrap_err().to_string();
     assert!(err.contains("--max-polygons"), "{err}");
-    assert!(t.elapsed() < Duration::from_secs(2), "{:?}: {err}", t.elapsed());
+    assert!(
+        t.elapsed() < Duration::from_secs(2),
+        "{:?}: {err}",
+        t.elapsed()
+    );
     err
 }
 
@@ -61,7 +65,10 @@ fn an_obj_stops_being_read_once_its_faces_pass_the_budget() {
     // Within the budget the same faces are read.
     let small = dir.path().join("small.obj");
     std::fs::write(&small, &text).unwrap();
-    assert_eq!(read_mesh_within(&small, 200_000).unwrap().polygons.len(), 200_000);
+    assert_eq!(
+        read_mesh_within(&small, 200_000).unwrap().polygons.len(),
+        200_000
+    );
 }
 
 #[test]

@@ -109,7 +109,10 @@ fn interrupted_within_a_second(dir: &Path, args: &[&str], output: &str, after: D
     assert!(ok, "kill -INT");
     let (code, err, took) = finish(child, Duration::from_secs(30));
     assert_eq!(code, Some(130), "{err}");
-    assert!(took < Duration::from_secs(1), "stopped {took:?} after Ctrl-C; {err}");
+    assert!(
+        took < Duration::from_secs(1),
+        "stopped {took:?} after Ctrl-C; {err}"
+    );
     assert!(!dir.join(output).exists());
 }
 
@@ -117,7 +120,10 @@ fn interrupted_within_a_second(dir: &Path, args: &[&str], output: &str, after: D
 fn glass_slabs_stop_at_the_ray_budget_naming_the_flag() {
     let dir = tempfile::tempdir().unwrap();
     glass_scene(dir.path(), 64);
-    let child = start(dir.path(), &["--raytrace", "-o", "g.png", "--max-rays", "2000000"]);
+    let child = start(
+        dir.path(),
+        &["--raytrace", "-o", "g.png", "--max-rays", "2000000"],
+    );
     let (code, err, took) = finish(child, Duration::from_secs(60));
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("--max-rays"), "{err}");
@@ -126,7 +132,10 @@ fn glass_slabs_stop_at_the_ray_budget_naming_the_flag() {
     // Within the budget the same render is made.
     let small = tempfile::tempdir().unwrap();
     glass_scene(small.path(), 4);
-    let child = start(small.path(), &["--raytrace", "-o", "g.png", "--max-rays", "2000000"]);
+    let child = start(
+        small.path(),
+        &["--raytrace", "-o", "g.png", "--max-rays", "2000000"],
+    );
     let (code, err, _) = finish(child, Duration::from_secs(60));
     assert_eq!(code, Some(0), "{err}");
     assert!(small.path().join("g.png").exists());

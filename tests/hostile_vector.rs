@@ -66,10 +66,15 @@ fn scene() -> impl Strategy<Value = Faces> {
         }),
     ];
     let flagged = (face, any::<u8>()).prop_map(|(pts, bits)| {
-        let flags = (0..pts.len()).map(|k| bits & (1 << k) != 0 || bits > 200).collect();
+        let flags = (0..pts.len())
+            .map(|k| bits & (1 << k) != 0 || bits > 200)
+            .collect();
         (pts, flags)
     });
-    (prop::collection::vec(flagged, 1..40), prop::collection::vec(any::<prop::sample::Index>(), 0..20))
+    (
+        prop::collection::vec(flagged, 1..40),
+        prop::collection::vec(any::<prop::sample::Index>(), 0..20),
+    )
         .prop_map(|(mut faces, copies)| {
             for c in copies {
                 let f = faces[c.index(faces.len())].clone();

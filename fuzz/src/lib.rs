@@ -439,6 +439,7 @@ pub fn pipeline(data: &[u8]) {
             pixels: 1 << 20,
             frame_memory: 1 << 26,
             overdraw: 64,
+            rays: 1 << 24,
         },
     };
     let statements = overrides(&mut bytes);

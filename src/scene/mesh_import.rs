@@ -168,7 +168,10 @@ fn precount(path: &Path, extension: &str, max_polygons: usize) -> Result<()> {
         "ply" => {
             // The header: text lines up to `end_header`, at most 64 KiB.
             let mut head = Vec::new();
-            file.by_ref().take(64 << 10).read_to_end(&mut head).map_err(io)?;
+            file.by_ref()
+                .take(64 << 10)
+                .read_to_end(&mut head)
+                .map_err(io)?;
             let text = String::from_utf8_lossy(&head);
             let (mut faces, mut vertices) = (0u64, 0u64);
             for line in text.lines() {
@@ -198,13 +201,19 @@ fn precount(path: &Path, extension: &str, max_polygons: usize) -> Result<()> {
                 }
             }
             let mut file = std::fs::File::open(path).map_err(io)?;
-            count_lines(&mut file, |p| starts_with_word(p, b"facet"), |p| {
-                starts_with_word(p, b"vertex")
-            }, &check)
+            count_lines(
+                &mut file,
+                |p| starts_with_word(p, b"facet"),
+                |p| starts_with_word(p, b"vertex"),
+                &check,
+            )
         }
-        "obj" => count_lines(&mut file, |p| starts_with_word(p, b"f"), |p| {
-            starts_with_word(p, b"v")
-        }, &check),
+        "obj" => count_lines(
+            &mut file,
+            |p| starts_with_word(p, b"f"),
+            |p| starts_with_word(p, b"v"),
+            &check,
+        ),
         _ => Ok(()),
     }
 }

@@ -113,8 +113,7 @@ pub fn segments_of(
         }
         let m = pts.len();
         for e in 0..m {
-            if !flags.get(e).copied().unwrap_or(false) || skip[i].get(e).copied().unwrap_or(false)
-            {
+            if !flags.get(e).copied().unwrap_or(false) || skip[i].get(e).copied().unwrap_or(false) {
                 continue;
             }
             let (a, b) = (pts[e], pts[(e + 1) % m]);
@@ -217,7 +216,7 @@ fn covered_by_later_edges(faces: &[(Vec<Pt>, Vec<bool>)]) -> crate::error::Resul
             let (a, b) = (pts[e], pts[(e + 1) % m]);
             let mut d = [b[0] - a[0], b[1] - a[1]];
             let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
-            if !(len > 0.0) || !len.is_finite() {
+            if len.is_nan() || len <= 0.0 || !len.is_finite() {
                 continue;
             }
             if d[0] < 0.0 || (d[0] == 0.0 && d[1] < 0.0) {
@@ -470,7 +469,10 @@ impl Index {
             if k > i && seen[k] != stamp {
                 seen[k] = stamp;
                 let p = &pieces[k];
-                if !(max[0] < p.min[0] || min[0] > p.max[0] || max[1] < p.min[1] || min[1] > p.max[1])
+                if !(max[0] < p.min[0]
+                    || min[0] > p.max[0]
+                    || max[1] < p.min[1]
+                    || min[1] > p.max[1])
                 {
                     found.push(k);
                 }
