@@ -670,16 +670,31 @@ pub fn rasterize(segments: &[[Pt; 2]], width: u32, height: u32, aa: bool) -> Fra
             }
         }
     };
-    for s in segments {
+    for (k, s) in segments.iter().enumerate() {
+        // A stop request ends the drawing; the caller reports it.
+        if k % 4096 == 0 && crate::cancel::requested() {
+            break;
+        }
         let (a, b) = (s[0], s[1]);
         if aa {
-            let x0 = (a[0].min(b[0]) - 1.5).floor() as i64;
-            let x1 = (a[0].max(b[0]) + 1.5).ceil() as i64;
             let y0 = (a[1].min(b[1]) - 1.5).floor() as i64;
             let y1 = (a[1].max(b[1]) + 1.5).ceil() as i64;
             for y in y0.max(0)..=y1.min(h - 1) {
+                // Only the pixels within 1 of the points of the segment
+                // less than 1 away in y can be darkened.
+                let yc = y as f64 + 0.5;
+                let (xa, xb) = if a[1] == b[1] {
+                    (a[0].min(b[0]), a[0].max(b[0]))
+                } else {
+                    let t = |v: f64| ((v - a[1]) / (b[1] - a[1])).clamp(0.0, 1.0);
+                    let (ta, tb) = (t(yc - 1.0), t(yc + 1.0));
+                    let (pa, pb) = (lerp(a, b, ta)[0], lerp(a, b, tb)[0]);
+                    (pa.min(pb), pa.max(pb))
+                };
+                let x0 = (xa - 1.5).floor() as i64;
+                let x1 = (xb + 1.5).ceil() as i64;
                 for x in x0.max(0)..=x1.min(w - 1) {
-                    let d = distance([x as f64 + 0.5, y as f64 + 0.5], a, b);
+                    let d = distance([x as f64 + 0.5, yc], a, b);
                     darken(x, y, 1.0 - d);
                 }
             }

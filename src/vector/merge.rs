@@ -249,7 +249,12 @@ pub fn paint_items(records: &[Record], w: f64, h: f64) -> Vec<Item> {
         items: Vec::new(),
         spare: Vec::new(),
     };
-    for r in records {
+    for (k, r) in records.iter().enumerate() {
+        // A stop request ends the painting early; the caller reports it
+        // and writes nothing.
+        if k % 1024 == 0 && crate::cancel::requested() {
+            break;
+        }
         if let Shades::Faceted(color) = r.shades {
             // One opaque colour: the common case, without a colour list.
             if r.points.len() >= 3 {

@@ -255,6 +255,7 @@ pub fn render_run(
             let aa = options.aa != Some(crate::raster::scan::Method::Point);
             let segments = hidden_line::try_visible_edges(&input)?;
             let fb = hidden_line::rasterize(&segments, input.width, input.height, aa);
+            crate::cancel::check()?;
             crate::output::stage_image(file, &fb, scene.outmode)?
         }
     };
