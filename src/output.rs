@@ -63,20 +63,25 @@ use crate::raster::frame_buffer::FrameBuffer;
 use crate::raster::scan::{PixelStruct, Row, RowSink, SavedFragment};
 use crate::scene::model::OutMode;
 
-/// The image as 8-bit RGB bytes, top row first, after `mode`.
+/// One row of colours as 8-bit RGB bytes in `mode` (row `y` for the
+/// dither), the same conversion as the streamed PNG; `out` is replaced.
+pub fn rgb8_row(rgb: &[[f32; 3]], y: u32, mode: OutMode, out: &mut Vec<u8>) {
+    mode_row(DisplayMode::from(mode), rgb, y, out);
+    if out.len() == rgb.len() {
+        // One grey byte a pixel: repeated for R, G and B.
+        let grey = std::mem::take(out);
+        out.extend(grey.iter().flat_map(|&g| [g; 3]));
+    }
+}
+
+/// The frame buffer as 8-bit RGB bytes, rows from the top, in `mode`
+/// (the same conversion as the streamed PNG, dither included).
 pub fn rgb8(fb: &FrameBuffer, mode: OutMode) -> Vec<u8> {
-    // The same conversion as the streamed PNG, dither included.
-    let mode = DisplayMode::from(mode);
-    let w = fb.width as usize;
     let mut out = Vec::with_capacity(fb.color.len() * 3);
-    let mut row_bytes = Vec::new();
-    for (y, row) in fb.color.chunks(w.max(1)).enumerate() {
-        mode_row(mode, row, y as u32, &mut row_bytes);
-        if row_bytes.len() == row.len() {
-            out.extend(row_bytes.iter().flat_map(|&g| [g; 3]));
-        } else {
-            out.extend_from_slice(&row_bytes);
-        }
+    let mut row = Vec::new();
+    for (y, colors) in fb.color.chunks(fb.width.max(1) as usize).enumerate() {
+        rgb8_row(colors, y as u32, mode, &mut row);
+        out.extend_from_slice(&row);
     }
     out
 }

@@ -172,6 +172,20 @@ pub struct Row<'a> {
     pub ids: Option<&'a [u32]>,
 }
 
+impl<'a> Row<'a> {
+    /// A row of colours alone (no coverage, masks, pixel-structs or ids).
+    pub fn colors(y: u32, rgb: &'a [[f32; 3]]) -> Row<'a> {
+        Row {
+            y,
+            rgb,
+            coverage: None,
+            mask: None,
+            pixels: None,
+            ids: None,
+        }
+    }
+}
+
 /// Receives the rows of a scan conversion, top row first, each once.
 pub trait RowSink {
     /// Takes one row.
