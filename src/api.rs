@@ -1,5 +1,5 @@
 //! The small public face of the library: a [`Scene`] read from a scene
-//! descriptor file or built in code from arrays, and [`render`],
+//! descriptor file or built in code from arrays, and [`fn@render`],
 //! [`render_vector`] and [`render_rows`] to turn it into pixels or vector
 //! graphics. Everything the `plytrace` program does with a scene goes
 //! through the modules behind it (Garcia 1986, figure 3.2: scene →
@@ -311,7 +311,7 @@ impl Scene {
     }
 
     /// Reads a scene descriptor file, as `plytrace -f FILE` does (its
-    /// `run` commands are not acted on: render it with [`render`]).
+    /// `run` commands are not acted on: render it with [`fn@render`]).
     pub fn from_file(path: &Path) -> Result<Scene> {
         let (inner, _warnings) = crate::scene::load(path)?;
         Ok(Scene {

@@ -3,9 +3,9 @@
 //!
 //! The types below are the fixed interface between the record stream, the
 //! scan converters and the outputs (PNG, separations, pixel-struct files).
-//! Inside: the tiler of section 5.5 ([`tiler`]), the integrators of
-//! sections 5.6-5.9 ([`single`], [`multilevel`], [`painter`]) and the
-//! virtual frame buffer of section 5.10 ([`band`]).
+//! Inside: the tiler of section 5.5 (`tiler`), the integrators of
+//! sections 5.6-5.9 (`single`, `multilevel`, `painter`) and the
+//! virtual frame buffer of section 5.10 (`band`).
 //!
 //! Which stream each method accepts, and which hidden-surface logic runs:
 //!
