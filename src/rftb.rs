@@ -564,7 +564,11 @@ fn read_input(path: &Path, limit: u64, budget: impl FnOnce(u64) -> String) -> Re
         && meta.is_file()
         && meta.len() > limit
     {
-        return Err(Error::Invalid(format!("{}: {}", shown(path), budget(meta.len()))));
+        return Err(Error::Invalid(format!(
+            "{}: {}",
+            shown(path),
+            budget(meta.len())
+        )));
     }
     crate::scene::object_file::read_regular(path, limit)
 }
@@ -966,10 +970,7 @@ pub fn parse_getrgb_args(
                 png_file = Some(PathBuf::from(f));
             }
             s if s.starts_with('-') && s.len() > 1 => {
-                return usage_err(format!(
-                    "unknown flag `{}`",
-                    crate::error::printable(s, 40)
-                ));
+                return usage_err(format!("unknown flag `{}`", crate::error::printable(s, 40)));
             }
             _ => positional.push(arg),
         }
@@ -1136,7 +1137,10 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
     let width = w as usize;
     let mut rgb = Vec::new();
     rgb.try_reserve_exact(width).map_err(|_| {
-        Error::Invalid(format!("{}: no memory for a row of {w} pixels", shown(&args.name)))
+        Error::Invalid(format!(
+            "{}: no memory for a row of {w} pixels",
+            shown(&args.name)
+        ))
     })?;
     let mut complex = 0usize;
     let mut y = 0u32;

@@ -159,7 +159,10 @@ fn special_files_and_oversized_inputs_are_refused_before_reading() {
     );
     std::fs::rename(d.join("big.out"), d.join("big")).unwrap();
     refused(&run(GETRGB, d, &["big"]), &["big", "--max-frame-memory"]);
-    assert!(start.elapsed() < Duration::from_secs(5), "read, not refused");
+    assert!(
+        start.elapsed() < Duration::from_secs(5),
+        "read, not refused"
+    );
     let mut left = listing(d);
     left.retain(|n| !n.ends_with(".log"));
     assert_eq!(left, ["big", "z", "z.out"]);
@@ -202,7 +205,11 @@ fn resolutions_and_act_lines_past_the_budgets_are_refused_before_allocating() {
     }
     assert!(start.elapsed() < Duration::from_secs(5));
     // A budget raised lets it through.
-    let o = run(RFTB1, d, &["t", "o", "64", "64", "64", "--max-frame-memory=2048"]);
+    let o = run(
+        RFTB1,
+        d,
+        &["t", "o", "64", "64", "64", "--max-frame-memory=2048"],
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     let mut left = listing(d);
     left.retain(|n| !n.ends_with(".log"));
@@ -249,7 +256,10 @@ fn interrupted(bin: &str, dir: &Path, args: &[&str], signal: &str, status: i32, 
             child.try_wait().unwrap().is_none(),
             "{bin} ended before writing"
         );
-        assert!(start.elapsed() < Duration::from_secs(60), "{bin}: no output");
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "{bin}: no output"
+        );
         std::thread::sleep(Duration::from_millis(10));
     }
     let sent = Instant::now();

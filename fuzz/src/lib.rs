@@ -560,7 +560,12 @@ pub fn rftb_args(data: &[u8]) {
         .collect();
     let sandbox = sandbox();
     let log = sandbox.dir.join("rftb.log");
-    for program in [Program::Rftb1, Program::Rftb2, Program::Rftb3, Program::Rftb4] {
+    for program in [
+        Program::Rftb1,
+        Program::Rftb2,
+        Program::Rftb3,
+        Program::Rftb4,
+    ] {
         match rftb::parse_args(argv.clone()) {
             Ok(Command::Run(args)) => {
                 assert!(args.hres >= 1 && args.vres >= 1 && args.act_lines >= 1);
