@@ -12,6 +12,8 @@
 //! directory, which the scene language target also makes the working
 //! directory (relative paths in a scene are looked up there too), and whose
 //! inputs may not name a path with `..`, `\` or a `/` outside comments.
+//! `rftb_args` writes nothing: it only looks up (stats) the paths a
+//! command line names, as the programs' name checks do.
 #![allow(clippy::missing_panics_doc)]
 
 use std::path::{Path, PathBuf};
