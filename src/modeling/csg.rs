@@ -805,10 +805,7 @@ fn stitch(polys: Vec<Poly>, tol: f64) -> Vec<Face> {
                 l.normals.push(*n);
             }
         }
-        while l.ids.len() > 1 && l.ids.first() == l.ids.last() {
-            l.ids.pop();
-            l.normals.pop();
-        }
+        remove_spikes(&mut l);
         if l.ids.len() >= 3 {
             loops.push(l);
         }
@@ -837,6 +834,7 @@ fn stitch(polys: Vec<Poly>, tol: f64) -> Vec<Face> {
     }
     loops
         .into_iter()
+        .filter(|l| l.ids.len() >= 3)
         .map(|l| Face {
             points: l.ids.iter().map(|&i| reps[i as usize]).collect(),
             normals: l.normals,
@@ -888,6 +886,60 @@ fn insert_t_points(
             ids.push(c);
             normals.push(na.lerp(nb, t).normalize_or(na));
         }
+    }
+    l.ids = ids;
+    l.normals = normals;
+    remove_spikes(l);
+}
+
+/// Removes from a loop the points repeated in a row and the spikes
+/// `a, b, a` (a sliver welded flat, or a point inserted on both of its
+/// sides): each would use one edge twice and leave the mesh open.
+fn remove_spikes(l: &mut Loop) {
+    let mut ids: Vec<u32> = Vec::with_capacity(l.ids.len());
+    let mut normals: Vec<DVec3> = Vec::with_capacity(l.ids.len());
+    let push = |ids: &mut Vec<u32>, normals: &mut Vec<DVec3>, id: u32, n: DVec3| {
+        if ids.last() == Some(&id) {
+            return;
+        }
+        if ids.len() >= 2 && ids[ids.len() - 2] == id {
+            ids.pop();
+            normals.pop();
+            return;
+        }
+        ids.push(id);
+        normals.push(n);
+    };
+    for (&id, &n) in l.ids.iter().zip(&l.normals) {
+        push(&mut ids, &mut normals, id, n);
+    }
+    // Across the loop's start: rotate the spike or repetition away.
+    let mut guard = ids.len();
+    while ids.len() >= 3 && guard > 0 {
+        guard -= 1;
+        let m = ids.len();
+        if ids[0] == ids[m - 1] {
+            ids.pop();
+            normals.pop();
+        } else if ids[1] == ids[m - 1] {
+            // last, first, second = x, y, x.
+            ids.remove(0);
+            normals.remove(0);
+            ids.pop();
+            normals.pop();
+        } else if ids[0] == ids[m - 2] {
+            // second last, last, first = x, y, x.
+            ids.pop();
+            normals.pop();
+            ids.pop();
+            normals.pop();
+        } else {
+            break;
+        }
+    }
+    if ids.len() < 3 {
+        ids.clear();
+        normals.clear();
     }
     l.ids = ids;
     l.normals = normals;

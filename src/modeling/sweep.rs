@@ -124,26 +124,37 @@ pub fn self_intersection_within(
     Ok(first)
 }
 
-/// The message for an outline refused by [`self_intersection_within`].
-fn too_many_pairs(what: &str, pairs: u64, max_pairs: u64) -> String {
-    crate::budget::Budgets::exceeded(
-        &format!("checking that the {what} is simple ({pairs} edge pairs and more)"),
-        max_pairs,
-        "--max-pair-tests",
-    )
+/// [`self_intersection_within`] of the `what` under `max_pairs` (`None`:
+/// not checked), its budget error as a message naming the flag.
+fn checked(
+    points: &[DVec2],
+    max_pairs: Option<u64>,
+    what: &str,
+) -> Result<Option<(usize, usize)>, String> {
+    let Some(max_pairs) = max_pairs else {
+        return Ok(None);
+    };
+    self_intersection_within(points, max_pairs).map_err(|pairs| {
+        crate::budget::Budgets::exceeded(
+            &format!("checking that the {what} is simple ({pairs} edge pairs and more)"),
+            max_pairs,
+            "--max-pair-tests",
+        )
+    })
 }
 
 /// `extrude DEPTH x1 y1 ... xk yk`: the outline checked (a last point
 /// equal to the first dropped; at least 3 distinct points, non-zero area,
 /// simple) and made counter-clockwise.
 pub fn extrude_outline(points: Vec<DVec2>) -> Result<Vec<DVec2>, String> {
-    extrude_outline_within(points, DEFAULT_PAIR_TESTS)
+    extrude_outline_within(points, Some(DEFAULT_PAIR_TESTS))
 }
 
-/// [`extrude_outline`] comparing at most `max_pairs` edge pairs.
+/// [`extrude_outline`] comparing at most `max_pairs` edge pairs (`None`:
+/// simplicity not checked).
 pub fn extrude_outline_within(
     mut points: Vec<DVec2>,
-    max_pairs: u64,
+    max_pairs: Option<u64>,
 ) -> Result<Vec<DVec2>, String> {
     points.dedup();
     if points.len() > 1 && points.first() == points.last() {
@@ -166,8 +177,7 @@ pub fn extrude_outline_within(
     if collinear {
         return Err("the extrude outline has zero area (its points are collinear)".into());
     }
-    let crossing = self_intersection_within(&points, max_pairs)
-        .map_err(|n| too_many_pairs("extrude outline", n, max_pairs))?;
+    let crossing = checked(&points, max_pairs, "extrude outline")?;
     if let Some((i, j)) = crossing {
         return Err(format!(
             "the extrude outline intersects itself: edges {i} and {j} cross (an outline must be simple)"
@@ -228,11 +238,12 @@ impl Profile {
     /// `r >= 0`, `r = 0` only at the ends, the outline closed through the
     /// axis simple and of non-zero area.
     pub fn new(points: Vec<DVec2>) -> Result<Profile, String> {
-        Profile::new_within(points, DEFAULT_PAIR_TESTS)
+        Profile::new_within(points, Some(DEFAULT_PAIR_TESTS))
     }
 
-    /// [`Profile::new`] comparing at most `max_pairs` edge pairs.
-    pub fn new_within(mut points: Vec<DVec2>, max_pairs: u64) -> Result<Profile, String> {
+    /// [`Profile::new`] comparing at most `max_pairs` edge pairs (`None`:
+    /// simplicity not checked).
+    pub fn new_within(mut points: Vec<DVec2>, max_pairs: Option<u64>) -> Result<Profile, String> {
         points.dedup();
         if points.len() < 2 {
             return Err("a lathe profile needs at least 2 distinct points".into());
@@ -263,8 +274,7 @@ impl Profile {
         if area.abs() <= 1e-12 * scale * scale {
             return Err("the lathe profile encloses no area with the axis".into());
         }
-        let crossing = self_intersection_within(&closed, max_pairs)
-            .map_err(|n| too_many_pairs("lathe profile", n, max_pairs))?;
+        let crossing = checked(&closed, max_pairs, "lathe profile")?;
         if let Some((i, j)) = crossing {
             return Err(format!(
                 "the lathe profile, closed along the axis, intersects itself (its edges {i} and {j} cross)"
@@ -281,7 +291,7 @@ impl Profile {
 
     /// A closed profile (its last point repeating the first) off the axis:
     /// spun, it makes a ring with no caps.
-    fn ring(mut points: Vec<DVec2>, max_pairs: u64) -> Result<Profile, String> {
+    fn ring(mut points: Vec<DVec2>, max_pairs: Option<u64>) -> Result<Profile, String> {
         points.pop();
         if let Some(i) = points.iter().position(|p| p.x <= 0.0) {
             return Err(format!(
@@ -290,8 +300,7 @@ impl Profile {
             ));
         }
         let scale = points.iter().fold(0.0f64, |m, p| m.max(p.length()));
-        let crossing = self_intersection_within(&points, max_pairs)
-            .map_err(|n| too_many_pairs("closed lathe profile", n, max_pairs))?;
+        let crossing = checked(&points, max_pairs, "closed lathe profile")?;
         if let Some((i, j)) = crossing {
             return Err(format!(
                 "the closed lathe profile intersects itself (its edges {i} and {j} cross)"
