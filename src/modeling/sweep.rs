@@ -125,14 +125,16 @@ pub fn self_intersection_within(
 }
 
 /// [`self_intersection_within`] of the `what` under `max_pairs` (`None`:
-/// not checked), its budget error as a message naming the flag.
+/// a pre-pass under the default budget, passed when it runs out), its
+/// budget error as a message naming the flag.
 fn checked(
     points: &[DVec2],
     max_pairs: Option<u64>,
     what: &str,
 ) -> Result<Option<(usize, usize)>, String> {
     let Some(max_pairs) = max_pairs else {
-        return Ok(None);
+        // A pre-pass: the crossings it can find within the default budget.
+        return Ok(self_intersection_within(points, DEFAULT_PAIR_TESTS).unwrap_or(None));
     };
     self_intersection_within(points, max_pairs).map_err(|pairs| {
         crate::budget::Budgets::exceeded(
@@ -151,7 +153,7 @@ pub fn extrude_outline(points: Vec<DVec2>) -> Result<Vec<DVec2>, String> {
 }
 
 /// [`extrude_outline`] comparing at most `max_pairs` edge pairs (`None`:
-/// simplicity not checked).
+/// a pre-pass, which passes an outline past the default budget).
 pub fn extrude_outline_within(
     mut points: Vec<DVec2>,
     max_pairs: Option<u64>,
@@ -242,7 +244,7 @@ impl Profile {
     }
 
     /// [`Profile::new`] comparing at most `max_pairs` edge pairs (`None`:
-    /// simplicity not checked).
+    /// a pre-pass, which passes a profile past the default budget).
     pub fn new_within(mut points: Vec<DVec2>, max_pairs: Option<u64>) -> Result<Profile, String> {
         points.dedup();
         if points.len() < 2 {

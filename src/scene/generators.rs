@@ -70,14 +70,14 @@ const MAX_STEPS: i64 = u32::MAX as i64;
 
 /// Parses a generator command (its name is `a.spec.name`).
 ///
-/// This is the pre-pass over a whole file: an outline's simplicity, whose
-/// cost depends on the pair budget, is left to [`parse_within`].
+/// This is the pre-pass over a whole file: an outline too long to check
+/// simple within the default pair budget is left to [`parse_within`].
 pub(super) fn parse(a: &Args) -> Result<Pending> {
     parse_within(a, None)
 }
 
 /// [`parse`] checking outlines simple within `pair_tests` edge pairs
-/// (`None`: not checked).
+/// (`None`: the pre-pass).
 pub(super) fn parse_within(a: &Args, pair_tests: Option<u64>) -> Result<Pending> {
     let name = a.spec.name;
     let steps = |i: usize, min: i64| a.integer(i, min, MAX_STEPS).map(|v| v as usize);
