@@ -48,7 +48,6 @@ fn union_of_two_fine_spheres_is_closed() {
     }
 }
 
-
 /// An axis-aligned box as faces, clockwise from outside.
 fn cuboid(lo: DVec3, hi: DVec3) -> Vec<Face> {
     let v = |i: usize| {
@@ -225,13 +224,20 @@ fn generators_past_the_model_memory_are_refused_before_building() {
         polygons: 10_000_000,
         ..Budgets::default()
     };
-    for cmd in ["cylinder 4000000", "sphere 2000 2000", "superquadric 1 1 3000 1000"] {
+    for cmd in [
+        "cylinder 4000000",
+        "sphere 2000 2000",
+        "superquadric 1 1 3000 1000",
+    ] {
         let e = hostile_support::run(&format!("defobj c\n{cmd}\nendobj"), budgets, 5)
             .err()
             .unwrap_or_else(|| panic!("{cmd}: built"));
         let m = e.to_string();
         assert!(m.contains("--max-model-memory"), "{cmd}: {m}");
-        assert!(m.contains("h.des:3:1"), "{cmd}: located at the command: {m}");
+        assert!(
+            m.contains("h.des:3:1"),
+            "{cmd}: located at the command: {m}"
+        );
     }
     // Raised, a small one builds.
     hostile_support::run("defobj c\ncylinder 1000\nendobj", budgets, 5).unwrap();
@@ -244,8 +250,14 @@ fn csg_past_the_pair_budget_is_a_located_error() {
         pair_tests: 1000,
         ..Budgets::default()
     };
-    let m = hostile_support::run(body, small, 10).err().unwrap().to_string();
-    assert!(m.contains("--max-pair-tests") && m.contains("h.des:10:1"), "{m}");
+    let m = hostile_support::run(body, small, 10)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        m.contains("--max-pair-tests") && m.contains("h.des:10:1"),
+        "{m}"
+    );
     hostile_support::run(body, Budgets::default(), 10).unwrap();
 }
 
@@ -261,7 +273,12 @@ fn big_lathe_and_extrude_outlines_are_checked_in_seconds() {
         })
         .collect();
     let started = std::time::Instant::now();
-    hostile_support::run(&format!("defobj e\nextrude 1 {circle}\nendobj"), Budgets::default(), 30).unwrap();
+    hostile_support::run(
+        &format!("defobj e\nextrude 1 {circle}\nendobj"),
+        Budgets::default(),
+        30,
+    )
+    .unwrap();
     let profile: String = (0..n)
         .map(|i| {
             let a = std::f64::consts::PI * i as f64 / (n - 1) as f64;
@@ -269,13 +286,26 @@ fn big_lathe_and_extrude_outlines_are_checked_in_seconds() {
             format!("{r} {} ", -a.cos())
         })
         .collect();
-    hostile_support::run(&format!("defobj l\nlathe 4 {profile}\nendobj"), Budgets::default(), 30).unwrap();
-    assert!(started.elapsed().as_secs_f64() < 10.0, "{:?}", started.elapsed());
+    hostile_support::run(
+        &format!("defobj l\nlathe 4 {profile}\nendobj"),
+        Budgets::default(),
+        30,
+    )
+    .unwrap();
+    assert!(
+        started.elapsed().as_secs_f64() < 10.0,
+        "{:?}",
+        started.elapsed()
+    );
     // A crossing is still found and reported.
-    let e = hostile_support::run("defobj e\nextrude 1 0 0 1 1 1 0 0 1\nendobj", Budgets::default(), 5)
-        .err()
-        .unwrap()
-        .to_string();
+    let e = hostile_support::run(
+        "defobj e\nextrude 1 0 0 1 1 1 0 0 1\nendobj",
+        Budgets::default(),
+        5,
+    )
+    .err()
+    .unwrap()
+    .to_string();
     assert!(e.contains("intersects itself"), "{e}");
 }
 
@@ -296,7 +326,11 @@ fn the_sweep_finds_the_same_first_crossing_as_all_pairs() {
             .map(|_| DVec2::new((next() * 4.0).floor(), (next() * 4.0).floor()))
             .collect();
         let brute = brute_self_intersection(&pts);
-        assert_eq!(self_intersection_within(&pts, u64::MAX), Ok(brute), "{pts:?}");
+        assert_eq!(
+            self_intersection_within(&pts, u64::MAX),
+            Ok(brute),
+            "{pts:?}"
+        );
     }
 }
 
@@ -307,7 +341,12 @@ fn brute_self_intersection(points: &[DVec2]) -> Option<(usize, usize)> {
         p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
     };
     let meet = |a: DVec2, b: DVec2, c: DVec2, d: DVec2| {
-        let (d1, d2, d3, d4) = (orient(c, d, a), orient(c, d, b), orient(a, b, c), orient(a, b, d));
+        let (d1, d2, d3, d4) = (
+            orient(c, d, a),
+            orient(c, d, b),
+            orient(a, b, c),
+            orient(a, b, d),
+        );
         (((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
             && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)))
             || (d1 == 0.0 && on(c, d, a))
@@ -377,14 +416,21 @@ fn brown_check_of_a_wide_fan_is_fast_and_exact() {
         // The rim vertices have degree 3 and add their own pairs only
         // when smaller; the hub's is the minimum here.
         assert!(r.min_nonadjacent_angle <= best + 1e-12, "{n}");
-        assert!((r.min_nonadjacent_angle - best).abs() < 1e-9 || r.min_nonadjacent_angle < best, "{n}");
+        assert!(
+            (r.min_nonadjacent_angle - best).abs() < 1e-9 || r.min_nonadjacent_angle < best,
+            "{n}"
+        );
         assert_eq!(r.max_degree, n);
     }
     // 60,000 triangles round one vertex: 1.8e9 pairs before, now a sort.
     let started = std::time::Instant::now();
     let r = check_tessellation(&fan(60_000, false), DVec3::ZERO).unwrap();
     assert!(!r.angle_condition);
-    assert!(started.elapsed().as_secs_f64() < 5.0, "{:?}", started.elapsed());
+    assert!(
+        started.elapsed().as_secs_f64() < 5.0,
+        "{:?}",
+        started.elapsed()
+    );
 }
 
 #[test]
@@ -404,7 +450,11 @@ fn a_one_line_patch_file_reads_in_linear_time() {
     let started = std::time::Instant::now();
     let set = patch::parse(&text, "one.bpt".as_ref(), Form::Bezier, |_| Ok(())).unwrap();
     assert_eq!(set.patches.len(), 6000);
-    assert!(started.elapsed().as_secs_f64() < 3.0, "{:?}", started.elapsed());
+    assert!(
+        started.elapsed().as_secs_f64() < 3.0,
+        "{:?}",
+        started.elapsed()
+    );
     // A bad token far along the line keeps its exact column.
     let bad = text.replacen(" 3 3", " 3 x", 5000);
     let e = patch::parse(&bad, "one.bpt".as_ref(), Form::Bezier, |_| Ok(())).unwrap_err();

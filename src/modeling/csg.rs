@@ -397,9 +397,8 @@ impl Bvh {
                 2
             };
             let half = count / 2;
-            slice.select_nth_unstable_by(half, |a, b| {
-                centre(*a)[axis].total_cmp(&centre(*b)[axis])
-            });
+            slice
+                .select_nth_unstable_by(half, |a, b| centre(*a)[axis].total_cmp(&centre(*b)[axis]));
             let l = nodes.len();
             for (s, c) in [(start, half), (start + half, count - half)] {
                 nodes.push(BNode {
@@ -494,10 +493,10 @@ enum Place {
 /// Ray directions tried in turn (none along an axis or a diagonal, so
 /// that rays from the centres of aligned faces miss edges).
 const DIRECTIONS: [[f64; 3]; 7] = [
-    [0.577_215_66, 0.318_309_88, 0.751_988_27],
-    [-0.412_310_56, 0.693_147_18, 0.591_607_98],
-    [0.301_029_99, -0.866_025_40, 0.398_942_28],
-    [-0.707_106_78, -0.236_067_98, -0.665_191_42],
+    [0.577_215_66, 0.318_419_77, 0.751_988_27],
+    [-0.412_310_56, 0.694_237_11, 0.591_607_98],
+    [0.302_119_83, -0.866_025_40, 0.398_942_28],
+    [-0.706_016_51, -0.236_067_98, -0.665_191_42],
     [0.915_965_59, 0.141_421_36, -0.375_492_32],
     [-0.123_456_79, 0.987_654_32, -0.096_225_04],
     [0.267_949_19, -0.358_979_31, -0.893_996_66],
@@ -693,12 +692,13 @@ pub fn combine_within(
     let mut polys = Vec::with_capacity(fa.len() + fb.len());
     let mut scratch = Vec::new();
     for f in fa {
-        let keep = match (op, classify(&f, &pb, &bb, eps, &mut scratch, &mut work)?) {
-            (Op::Union, Place::Outside | Place::OnSame) => true,
-            (Op::Intersection, Place::Inside | Place::OnSame) => true,
-            (Op::Difference, Place::Outside | Place::OnOpposite) => true,
-            _ => false,
-        };
+        let place = classify(&f, &pb, &bb, eps, &mut scratch, &mut work)?;
+        let keep = matches!(
+            (op, place),
+            (Op::Union, Place::Outside | Place::OnSame)
+                | (Op::Intersection, Place::Inside | Place::OnSame)
+                | (Op::Difference, Place::Outside | Place::OnOpposite)
+        );
         if keep {
             polys.push(f);
         }

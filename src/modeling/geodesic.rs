@@ -326,7 +326,11 @@ fn stop_requested() -> Result<(), String> {
 /// shorter arc (a third one would be nonadjacent to the first and closer,
 /// as each tangent has only two adjacent ones), so each tangent is
 /// compared with the next three in that order.
-fn closest_nonadjacent(d: DVec3, tangent: &[DVec3], adjacent: impl Fn(usize, usize) -> bool) -> f64 {
+fn closest_nonadjacent(
+    d: DVec3,
+    tangent: &[DVec3],
+    adjacent: impl Fn(usize, usize) -> bool,
+) -> f64 {
     let (u, w) = d.any_orthonormal_pair();
     let mut order: Vec<(f64, usize)> = tangent
         .iter()

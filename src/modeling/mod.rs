@@ -130,7 +130,10 @@ impl Primitive {
             Primitive::Cylinder { nu, .. } => Some((nu.checked_mul(4)?, nu.checked_mul(6)?)),
             Primitive::Lathe { profile, n } => {
                 let k = profile.points().len().checked_add(2)?;
-                Some((k.checked_mul(*n)?, faces.checked_add(2 * n)?.checked_mul(4)?))
+                Some((
+                    k.checked_mul(*n)?,
+                    faces.checked_add(2 * n)?.checked_mul(4)?,
+                ))
             }
             Primitive::Extrude { outline, .. } => {
                 let k = outline.len();

@@ -420,7 +420,10 @@ pub enum ContinuityStop {
 /// [`continuity`], comparing only edges whose end points meet (found
 /// through a grid of cells of the tolerance, not over all pairs of
 /// patches) and at most `max_pairs` edge pairs.
-pub fn continuity_within(set: &PatchSet, max_pairs: u64) -> Result<ContinuityReport, ContinuityStop> {
+pub fn continuity_within(
+    set: &PatchSet,
+    max_pairs: u64,
+) -> Result<ContinuityReport, ContinuityStop> {
     let size = set
         .patches
         .iter()

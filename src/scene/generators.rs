@@ -162,8 +162,8 @@ pub(super) fn parse_within(a: &Args, pair_tests: Option<u64>) -> Result<Pending>
         "lathe" => {
             a.count(5, usize::MAX)?;
             let n = steps(0, 3)?;
-            let profile = Profile::new_within(pairs(1)?, pair_tests)
-                .map_err(|e| a.ctx.error(a.cmd, e))?;
+            let profile =
+                Profile::new_within(pairs(1)?, pair_tests).map_err(|e| a.ctx.error(a.cmd, e))?;
             Primitive::Lathe { profile, n }
         }
         "extrude" => {
@@ -496,19 +496,20 @@ impl Interpreter {
             );
         }
         let (na, nb) = (self.scene.objects[ia].number, self.scene.objects[ib].number);
-        let result = csg::combine_within(fa, fb, op, self.budgets.pair_tests).map_err(|stop| {
-            match stop {
-                csg::Stop::Cancelled => Error::Cancelled,
-                csg::Stop::Pairs(n) => Error::at(
-                    loc.clone(),
-                    Budgets::exceeded(
-                        &format!("combining `{a}` and `{b}` ({n} face pair tests and more)"),
-                        self.budgets.pair_tests,
-                        "--max-pair-tests",
+        let result =
+            csg::combine_within(fa, fb, op, self.budgets.pair_tests).map_err(
+                |stop| match stop {
+                    csg::Stop::Cancelled => Error::Cancelled,
+                    csg::Stop::Pairs(n) => Error::at(
+                        loc.clone(),
+                        Budgets::exceeded(
+                            &format!("combining `{a}` and `{b}` ({n} face pair tests and more)"),
+                            self.budgets.pair_tests,
+                            "--max-pair-tests",
+                        ),
                     ),
-                ),
-            }
-        })?;
+                },
+            )?;
         let (mesh, normals, attrs) = csg::to_mesh(&result.faces, with_normals);
         let s = result.stats;
         let closed = solid::check_closed(&solid::weld_exact(&mesh.vertices), &mesh.polygons);
