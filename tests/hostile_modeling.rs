@@ -126,7 +126,10 @@ fn check_chain(ops: &[Op], solids: &[Vec<Face>], samples: usize, seed: u64) {
     let total = (hi - lo).x * (hi - lo).y * (hi - lo).z;
     let frac = hits as f64 / samples as f64;
     let estimate = total * frac;
-    let sigma = total * (frac * (1.0 - frac) / samples as f64).sqrt();
+    // A binomial sigma, at least that of one sample (a tiny solid may
+    // catch none).
+    let p = frac.max(1.0 / samples as f64);
+    let sigma = total * (p * (1.0 - p) / samples as f64).sqrt();
     assert!(
         (v - estimate).abs() <= 5.0 * sigma + 1e-3,
         "{ops:?}: volume {v}, Monte Carlo {estimate} +- {sigma}"
