@@ -445,6 +445,8 @@ pub fn pipeline(data: &[u8]) {
             pixels: 1 << 20,
             frame_memory: 1 << 26,
             overdraw: 64,
+            pair_tests: 1_000_000,
+            model_memory: 1 << 26,
         },
     };
     let statements = overrides(&mut bytes);
