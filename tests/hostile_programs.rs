@@ -281,7 +281,10 @@ fn interrupted(bin: &str, dir: &Path, args: &[&str], signal: &str, status: i32, 
     let took = sent.elapsed();
     assert_eq!(code, Some(status), "{bin} after SIG{signal}");
     // A second, with both cores busy with other tests.
-    assert!(took < Duration::from_secs(10), "{bin} took {took:?} to stop");
+    assert!(
+        took < Duration::from_secs(10),
+        "{bin} took {took:?} to stop"
+    );
     assert_eq!(listing(dir), inputs, "{bin} after SIG{signal}");
 }
 

@@ -447,6 +447,7 @@ pub fn pipeline(data: &[u8]) {
             overdraw: 64,
             pair_tests: 1_000_000,
             model_memory: 1 << 26,
+            rays: 1_000_000,
         },
     };
     let statements = overrides(&mut bytes);

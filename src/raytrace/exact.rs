@@ -162,6 +162,8 @@ pub fn layer(
             (out, counter)
         })
         .collect();
+    // Past the ray budget or on a stop request, the rays came back black.
+    tracer.stopped()?;
     let mut stats = RayStats::default();
     let mut add = Vec::with_capacity(w as usize * h as usize);
     for (r, c) in rows {

@@ -38,6 +38,7 @@
 pub mod exact;
 pub mod optics;
 
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use glam::{DVec3, DVec4};
@@ -155,7 +156,18 @@ pub struct RayTracer<'a> {
     threshold: f64,
     /// Per-point shading (`setmode v` or `s`) instead of faceted.
     per_point: bool,
+    /// Rays cast by all workers, counted in blocks of [`RAY_BLOCK`].
+    spent: AtomicU64,
+    /// The ray budget ([`crate::budget::ray_limit`]).
+    limit: u64,
+    /// Set past the budget or on a stop request: every ray then returns
+    /// at once, and the render ends with [`RayTracer::stopped`]'s error.
+    stop: AtomicBool,
 }
+
+/// Rays a worker casts between two additions to the shared count (and
+/// looks at the budget and at a stop request): a few milliseconds.
+const RAY_BLOCK: u64 = 4096;
 
 impl<'a> RayTracer<'a> {
     /// A tracer of `scene` seen through `view`, with the scene's `depth`
@@ -170,7 +182,37 @@ impl<'a> RayTracer<'a> {
             max_level: scene.modes.max_level,
             threshold: scene.threshold,
             per_point: scene.modes.vertex_shades || scene.modes.phong,
+            spent: AtomicU64::new(0),
+            limit: crate::budget::ray_limit(),
+            stop: AtomicBool::new(false),
         }
+    }
+
+    /// Counts one ray; every [`RAY_BLOCK`] rays, adds them to the shared
+    /// count and stops the render past the budget or on a stop request.
+    /// Whether tracing goes on.
+    fn count(&self, counter: &mut Counter) -> bool {
+        if (counter.rays + counter.shadow_rays).is_multiple_of(RAY_BLOCK) {
+            let spent = self.spent.fetch_add(RAY_BLOCK, Ordering::Relaxed) + RAY_BLOCK;
+            if spent > self.limit || crate::cancel::requested() {
+                self.stop.store(true, Ordering::Relaxed);
+            }
+        }
+        !self.stop.load(Ordering::Relaxed)
+    }
+
+    /// The error of a render that stopped: the stop request, or the ray
+    /// budget passed; `Ok` if it ran to the end.
+    pub fn stopped(&self) -> Result<()> {
+        if !self.stop.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        crate::cancel::check()?;
+        Err(Error::Invalid(crate::budget::Budgets::exceeded(
+            "the ray count of this ray-traced render",
+            format!("{} rays", self.limit),
+            "--max-rays",
+        )))
     }
 
     /// The view.
@@ -196,6 +238,9 @@ impl<'a> RayTracer<'a> {
     /// meets nothing).
     pub fn radiance(&self, ray: &Ray, counter: &mut Counter) -> Color {
         counter.rays += 1;
+        if !self.count(counter) {
+            return Color::ZERO;
+        }
         match self.cast(ray) {
             Some(hit) => self.shade_hit(ray, hit, counter),
             None => self.scene.background,
@@ -206,6 +251,9 @@ impl<'a> RayTracer<'a> {
     /// nothing).
     pub fn secondary(&self, ray: &Ray, counter: &mut Counter) -> Color {
         counter.rays += 1;
+        if !self.count(counter) {
+            return Color::ZERO;
+        }
         match self.cast(ray) {
             Some(hit) => self.shade_hit(ray, hit, counter),
             None => Color::ZERO,
@@ -435,6 +483,7 @@ impl<'a> RayTracer<'a> {
                 continue;
             }
             counter.shadow_rays += 1;
+            self.count(counter);
             let dir = (point - light.position) * (1.0 - 1e-9);
             let hit = self.polygons.cast(light.position, dir, true, &|p, front| {
                 (front || p.open) && (p.object, p.polygon) != id && Some(p.object) != skip_object
@@ -467,7 +516,9 @@ impl<'a> RayTracer<'a> {
 
     /// Every pixel, rows from the top, in parallel over rows; the result
     /// does not depend on the thread count.
-    pub fn image(&self, n: u32, counter: &mut RayStats) -> Vec<[f32; 3]> {
+    /// Stops early, with [`RayTracer::stopped`]'s error, past the ray
+    /// budget or on a stop request.
+    pub fn image(&self, n: u32, counter: &mut RayStats) -> Result<Vec<[f32; 3]>> {
         let (w, h) = (self.view.width as u32, self.view.height as u32);
         let rows: Vec<(Vec<[f32; 3]>, Counter)> = (0..h)
             .into_par_iter()
@@ -483,7 +534,8 @@ impl<'a> RayTracer<'a> {
             out.extend(pixels);
         }
         counter.primary += u64::from(w) * u64::from(h) * u64::from(n * n);
-        out
+        self.stopped()?;
+        Ok(out)
     }
 }
 
@@ -517,9 +569,9 @@ pub fn render(scene: &Scene, options: &RayTraceOptions) -> Result<(FrameBuffer, 
             .map_err(|e| {
                 Error::Invalid(format!("cannot start {} threads: {e}", options.threads))
             })?;
-        pool.install(|| tracer.image(n, &mut stats))
+        pool.install(|| tracer.image(n, &mut stats))?
     } else {
-        tracer.image(n, &mut stats)
+        tracer.image(n, &mut stats)?
     };
     stats.trace_time = t.elapsed();
     let mut frame = FrameBuffer::new(width, height, [0.0; 3]);

@@ -28,11 +28,32 @@ pub const MESH_EXTENSIONS: &[&str] = &["obj", "ply", "stl"];
 /// mesh, chosen by the file's extension in any case. All OBJ objects and
 /// groups are merged into one mesh. Polygons come out clockwise seen from
 /// outside, with 0-based indices.
+///
+/// At most [`crate::budget::polygon_limit`] polygons and
+/// [`VERTICES_PER_POLYGON`] times as many vertices: see
+/// [`read_mesh_within`].
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
+    read_mesh_within(path, crate::budget::polygon_limit())
+}
+
+/// Vertices a mesh may have per polygon of the budget (a closed triangle
+/// mesh has about half a vertex per face; an OBJ may list vertices only).
+pub const VERTICES_PER_POLYGON: usize = 4;
+
+/// [`read_mesh`] with at most `max_polygons` polygons (and
+/// [`VERTICES_PER_POLYGON`] times as many vertices). The counts are
+/// checked before the mesh is parsed: from the header where there is one
+/// (PLY's `element face N`, binary STL's triangle count), else by a
+/// streaming count of the OBJ or ASCII STL lines that stops as soon as
+/// it passes the budget, so a huge file is neither read whole nor held.
+pub fn read_mesh_within(path: &Path, max_polygons: usize) -> Result<Mesh> {
     let extension = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
+    if std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        precount(path, &extension, max_polygons)?;
+    }
     let bytes = super::object_file::read_regular(path, super::object_file::MAX_INPUT_BYTES)?;
     let mesh = match extension.as_str() {
         "obj" => read_obj(&bytes, path)?,
@@ -102,6 +123,160 @@ fn check_mesh(mesh: &Mesh, path: &Path) -> Result<()> {
 fn clockwise(mut face: Vec<u32>) -> Vec<u32> {
     face.reverse();
     face
+}
+
+// ---------------------------------------------------------------------------
+// Counting before reading
+
+/// Refuses a mesh file whose faces pass `max_polygons` (or vertices
+/// [`VERTICES_PER_POLYGON`] times that), reading no more of it than
+/// needed to know.
+fn precount(path: &Path, extension: &str, max_polygons: usize) -> Result<()> {
+    use std::io::Read;
+    let max_vertices = max_polygons.saturating_mul(VERTICES_PER_POLYGON);
+    let io = |e: std::io::Error| Error::at(Location::file(path), format!("cannot read: {e}"));
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    let len = file.metadata().map_err(io)?.len();
+    let check = |faces: u64, vertices: u64, exact: bool| -> Result<()> {
+        let more = if exact { "" } else { "more than " };
+        if faces > max_polygons as u64 {
+            return Err(Error::at(
+                Location::file(path),
+                crate::budget::Budgets::exceeded(
+                    &format!("{more}{faces} faces"),
+                    format!("{max_polygons} polygons"),
+                    "--max-polygons",
+                ),
+            ));
+        }
+        if vertices > max_vertices as u64 {
+            return Err(Error::at(
+                Location::file(path),
+                crate::budget::Budgets::exceeded(
+                    &format!("{more}{vertices} vertices"),
+                    format!(
+                        "{max_vertices} vertices ({VERTICES_PER_POLYGON} a polygon of the \
+                         polygon budget)"
+                    ),
+                    "--max-polygons",
+                ),
+            ));
+        }
+        Ok(())
+    };
+    match extension {
+        "ply" => {
+            // The header: text lines up to `end_header`, at most 64 KiB.
+            let mut head = Vec::new();
+            file.by_ref()
+                .take(64 << 10)
+                .read_to_end(&mut head)
+                .map_err(io)?;
+            let text = String::from_utf8_lossy(&head);
+            let (mut faces, mut vertices) = (0u64, 0u64);
+            for line in text.lines() {
+                let words: Vec<&str> = line.split_whitespace().collect();
+                if words.first() == Some(&"end_header") {
+                    break;
+                }
+                if let ["element", name, n] = words.as_slice() {
+                    let n: u64 = n.parse().unwrap_or(0);
+                    match *name {
+                        "face" => faces = n,
+                        "vertex" => vertices = n,
+                        _ => {}
+                    }
+                }
+            }
+            check(faces, vertices, true)
+        }
+        "stl" => {
+            let mut head = [0u8; 84];
+            let got = file.by_ref().take(84).read(&mut head).map_err(io)?;
+            if got == 84 {
+                let count = u64::from(u32::from_le_bytes([head[80], head[81], head[82], head[83]]));
+                if count.checked_mul(50).and_then(|b| b.checked_add(84)) == Some(len) {
+                    // Binary: the count is the header's.
+                    return check(count, 0, true);
+                }
+            }
+            let mut file = std::fs::File::open(path).map_err(io)?;
+            count_lines(
+                &mut file,
+                |p| starts_with_word(p, b"facet"),
+                |p| starts_with_word(p, b"vertex"),
+                &check,
+            )
+        }
+        "obj" => count_lines(
+            &mut file,
+            |p| starts_with_word(p, b"f"),
+            |p| starts_with_word(p, b"v"),
+            &check,
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// Whether `prefix` (a line's start, leading blanks skipped) is `word`
+/// followed by a blank or the end, in any case.
+fn starts_with_word(prefix: &[u8], word: &[u8]) -> bool {
+    prefix.len() > word.len()
+        && prefix[..word.len()].eq_ignore_ascii_case(word)
+        && matches!(prefix[word.len()], b' ' | b'\t')
+}
+
+/// Counts the lines of `file` that `face` and `vertex` accept (given the
+/// first bytes of each line), in blocks, calling `check` with the counts
+/// (not exact) after each block and exact at the end: it stops reading at
+/// the first refusal. Memory: one block and one line start.
+fn count_lines(
+    file: &mut std::fs::File,
+    face: impl Fn(&[u8]) -> bool,
+    vertex: impl Fn(&[u8]) -> bool,
+    check: &dyn Fn(u64, u64, bool) -> Result<()>,
+) -> Result<()> {
+    use std::io::Read;
+    let mut block = vec![0u8; 1 << 16];
+    let (mut faces, mut vertices) = (0u64, 0u64);
+    let mut prefix = [0u8; 8];
+    let mut plen = 0;
+    let mut line_bytes = 0u64;
+    let end_line = |prefix: &[u8], faces: &mut u64, vertices: &mut u64| {
+        let p = [prefix, b"\n"].concat();
+        if face(&p) {
+            *faces += 1;
+        } else if vertex(&p) {
+            *vertices += 1;
+        }
+    };
+    loop {
+        let n = match file.read(&mut block) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(Error::Invalid(format!("cannot read a mesh: {e}"))),
+        };
+        for &b in &block[..n] {
+            if b == b'\n' {
+                end_line(&prefix[..plen], &mut faces, &mut vertices);
+                plen = 0;
+                line_bytes = 0;
+            } else {
+                if plen == 0 && line_bytes == 0 && matches!(b, b' ' | b'\t') {
+                    continue;
+                }
+                line_bytes += 1;
+                if plen < prefix.len() {
+                    prefix[plen] = b;
+                    plen += 1;
+                }
+            }
+        }
+        check(faces, vertices, false)?;
+    }
+    end_line(&prefix[..plen], &mut faces, &mut vertices);
+    check(faces, vertices, true)
 }
 
 // ---------------------------------------------------------------------------

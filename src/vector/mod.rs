@@ -143,6 +143,8 @@ pub fn prepare_for(scene: &Scene, options: &RenderOptions, style: Style) -> Resu
             budgets: options.budgets,
         },
     );
+    // The tree builder stops early on a stop request.
+    crate::cancel::check()?;
     let how = Emit {
         order: SortOrder::BackToFront,
         blended: true,
@@ -244,11 +246,14 @@ pub fn render_run(
     let staged = match Format::from_path(file.path()) {
         Some(format) => {
             let pic = picture(&input, style);
+            // The stages of `picture` give up early when a stop was
+            // requested; nothing half-made is written.
+            crate::cancel::check()?;
             file.write_with(|w| format.write(&pic, w))?
         }
         None => {
             let aa = options.aa != Some(crate::raster::scan::Method::Point);
-            let segments = hidden_line::visible_edges(&input);
+            let segments = hidden_line::try_visible_edges(&input)?;
             let fb = hidden_line::rasterize(&segments, input.width, input.height, aa);
             crate::output::stage_image(file, &fb, scene.outmode)?
         }

@@ -164,31 +164,72 @@ struct Sorter<'v> {
 /// The most cells of the screen grid along a side.
 const MAX_GRID: usize = 1024;
 
+/// Grid entries allowed per face (and a floor) when choosing the grid:
+/// faces that each cover much of the screen make the grid coarser instead
+/// of filling the memory.
+const ENTRIES_PER_FACE: usize = 16;
+
+/// Faces by screen cell. Each cell lists its faces farthest first (by the
+/// far end of their depth range), from `start` on: the faces before it
+/// were output. A search for the faces whose depth ranges reach past a
+/// face's near end stops at the first that does not, so faces at one
+/// depth (identical or coplanar faces facing the eye) cost nothing.
 struct Grid {
-    cells: Vec<Vec<u32>>,
+    cells: Vec<Cell>,
     n: usize,
     cell_w: f64,
     cell_h: f64,
 }
 
+#[derive(Clone, Default)]
+struct Cell {
+    start: usize,
+    faces: Vec<u32>,
+}
+
 impl Grid {
-    fn new(faces: usize, width: f64, height: f64) -> Grid {
+    fn new(bounds: &[Bounds], width: f64, height: f64) -> Grid {
         // About two faces per cell, so that the neighbours of a face stay
         // few as the scene grows (the sort stays near n log n to 10^6
         // faces); no finer than a pixel, where cells stop separating
         // faces, and at most MAX_GRID^2 cells.
+        let faces = bounds.len();
         let finest = width.max(height).ceil().max(1.0) as usize;
-        let n = ((faces as f64 / 2.0).sqrt() as usize).clamp(1, MAX_GRID.min(finest));
-        Grid {
-            cells: vec![Vec::new(); n * n],
-            n,
-            cell_w: width / n as f64,
-            cell_h: height / n as f64,
+        let mut n = ((faces as f64 / 2.0).sqrt() as usize).clamp(1, MAX_GRID.min(finest));
+        let cap = faces.saturating_mul(ENTRIES_PER_FACE).max(1 << 20);
+        loop {
+            let g = Grid {
+                cells: Vec::new(),
+                n,
+                cell_w: width / n as f64,
+                cell_h: height / n as f64,
+            };
+            let total: usize = bounds
+                .iter()
+                .map(|b| {
+                    let (x0, x1, y0, y1) = g.range(b.lo, b.hi);
+                    (x1 - x0 + 1) * (y1 - y0 + 1)
+                })
+                .fold(0, usize::saturating_add);
+            if total <= cap || n == 1 {
+                return Grid {
+                    cells: vec![Cell::default(); n * n],
+                    ..g
+                };
+            }
+            n /= 2;
         }
     }
 
     fn range(&self, lo: DVec2, hi: DVec2) -> (usize, usize, usize, usize) {
-        let clamp = |v: f64, size: f64| ((v / size).floor().max(0.0) as usize).min(self.n - 1);
+        let clamp = |v: f64, size: f64| {
+            let c = (v / size).floor();
+            if c.is_nan() || c < 0.0 {
+                0
+            } else {
+                (c as usize).min(self.n - 1)
+            }
+        };
         (
             clamp(lo.x, self.cell_w),
             clamp(hi.x, self.cell_w),
@@ -197,11 +238,16 @@ impl Grid {
         )
     }
 
-    fn insert(&mut self, id: u32, lo: DVec2, hi: DVec2) {
+    /// Adds face `id` to its cells, in place by `zmax` (farthest first).
+    fn insert(&mut self, id: u32, lo: DVec2, hi: DVec2, bounds: &[Bounds]) {
         let (x0, x1, y0, y1) = self.range(lo, hi);
+        let z = bounds[id as usize].zmax;
         for y in y0..=y1 {
             for x in x0..=x1 {
-                self.cells[y * self.n + x].push(id);
+                let cell = &mut self.cells[y * self.n + x];
+                let at = cell.start
+                    + cell.faces[cell.start..].partition_point(|&q| bounds[q as usize].zmax >= z);
+                cell.faces.insert(at, id);
             }
         }
     }
@@ -240,7 +286,12 @@ pub fn sort_budgeted(
         given: (0..n).collect(),
         next_given: 0,
         heap: BinaryHeap::new(),
-        grid: Grid::new(n, view.width, view.height),
+        grid: Grid {
+            cells: Vec::new(),
+            n: 1,
+            cell_w: 1.0,
+            cell_h: 1.0,
+        },
         stamp: Vec::new(),
         epoch: 0,
         stats: NnsStats {
@@ -268,6 +319,17 @@ pub fn sort_budgeted(
     let bounds = &s.bounds;
     s.given
         .sort_unstable_by(|&a, &b| HeapKey(bounds[b].zmax, b).cmp(&HeapKey(bounds[a].zmax, a)));
+    // The grid, filled farthest first: each cell is in order.
+    s.grid = Grid::new(&s.bounds, view.width, view.height);
+    for &id in &s.given {
+        let b = s.bounds[id];
+        let (x0, x1, y0, y1) = s.grid.range(b.lo, b.hi);
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                s.grid.cells[y * s.grid.n + x].faces.push(id as u32);
+            }
+        }
+    }
     // The faces output, by index: a face split or output keeps its
     // points, so the first `n` are the faces given (for the fallback).
     let mut order = Vec::with_capacity(n);
@@ -334,10 +396,11 @@ impl Sorter<'_> {
         self.alive.push(true);
         self.stamp.push(0);
         if id >= self.given.len() {
-            // A piece of a split.
+            // A piece of a split (the faces given are put in the grid
+            // once they are all measured and ordered).
             self.heap.push(HeapKey(zmax, id));
+            self.grid.insert(id as u32, lo, hi, &self.bounds);
         }
-        self.grid.insert(id as u32, lo, hi);
         id
     }
 
@@ -373,7 +436,9 @@ impl Sorter<'_> {
         let mut p = start;
         let mut chain: Vec<usize> = Vec::new();
         loop {
-            if self.stats.work >= self.max_work {
+            // A stop request ends the sort as a budget does (the caller
+            // then reports the cancellation).
+            if self.stats.work >= self.max_work || crate::cancel::requested() {
                 self.stopped = true;
                 return p;
             }
@@ -440,22 +505,31 @@ impl Sorter<'_> {
         for y in y0..=y1 {
             for x in x0..=x1 {
                 let cell = &mut self.grid.cells[y * self.grid.n + x];
-                // Drop faces already output, lazily.
-                cell.retain(|&q| self.alive[q as usize]);
-                self.stats.work += cell.len();
-                for &q in cell.iter() {
+                // Drop faces already output at the head, lazily.
+                while cell
+                    .faces
+                    .get(cell.start)
+                    .is_some_and(|&q| !self.alive[q as usize])
+                {
+                    cell.start += 1;
+                }
+                if cell.start > 64 && cell.start * 2 > cell.faces.len() {
+                    cell.faces.drain(..cell.start);
+                    cell.start = 0;
+                }
+                for &q in &cell.faces[cell.start..] {
+                    self.stats.work += 1;
                     let q = q as usize;
-                    if q == p || self.stamp[q] == self.epoch {
+                    let g = &self.bounds[q];
+                    if g.zmax <= f.zmin {
+                        // Farthest first: no later face reaches nearer.
+                        break;
+                    }
+                    if q == p || !self.alive[q] || self.stamp[q] == self.epoch {
                         continue;
                     }
                     self.stamp[q] = self.epoch;
-                    let g = &self.bounds[q];
-                    if g.lo.x < f.hi.x
-                        && f.lo.x < g.hi.x
-                        && g.lo.y < f.hi.y
-                        && f.lo.y < g.hi.y
-                        && g.zmax > f.zmin
-                    {
+                    if g.lo.x < f.hi.x && f.lo.x < g.hi.x && g.lo.y < f.hi.y && f.lo.y < g.hi.y {
                         out.push(q);
                     }
                 }

@@ -214,6 +214,11 @@ pub struct Cli {
     #[arg(long, value_name = "MiB", value_parser = positive, allow_hyphen_values = true,
           help_heading = BUDGETS)]
     pub max_frame_memory: Option<u64>,
+    /// Rays of one ray-traced render, shadow rays included (default
+    /// 50000000).
+    #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
+          help_heading = BUDGETS)]
+    pub max_rays: Option<u64>,
 
     /// Print the help (-h is the manual's shadow-shade flag).
     #[arg(long, action = ArgAction::SetTrue)]
@@ -606,6 +611,11 @@ impl Cli {
         if let Some(n) = self.max_model_memory {
             b.model_memory = n.saturating_mul(1 << 20);
         }
+        if let Some(n) = self.max_rays {
+            b.rays = n;
+        }
+        // The ray tracer and the mesh importer read theirs process-wide.
+        plytrace::budget::set_process_budgets(&b);
         b
     }
 }
