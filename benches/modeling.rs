@@ -100,5 +100,66 @@ fn csg_speed(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, tessellation, csg_speed);
+/// Growth with size, 10^3 to 10^6 faces: the union of two spheres, lathe
+/// and extrude outlines of k points (k faces per step), and Bezier patch
+/// counts. Each group's medians against the faces give the exponent.
+fn growth(c: &mut Criterion) {
+    let mut g = c.benchmark_group("growth");
+    g.sample_size(10);
+    // Two spheres of nu x nu/2 faces each.
+    for nu in [32usize, 64, 128, 256, 512] {
+        let s = parametric::sphere(nu, nu / 2);
+        let a = faces(&s, DVec3::ZERO);
+        let b = faces(&s, DVec3::new(0.5, 0.3, 0.2));
+        g.throughput(Throughput::Elements((a.len() + b.len()) as u64));
+        g.bench_function(format!("csg union {} faces", a.len() + b.len()), |bch| {
+            bch.iter(|| csg::combine(a.clone(), b.clone(), Op::Union))
+        });
+    }
+    for k in [1_000usize, 10_000, 100_000, 1_000_000] {
+        let circle: Vec<DVec2> = (0..k)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as f64 / k as f64;
+                DVec2::new(t.cos(), t.sin())
+            })
+            .collect();
+        g.throughput(Throughput::Elements(k as u64));
+        g.bench_function(format!("extrude outline {k}"), |bch| {
+            bch.iter(|| sweep::extrude(&sweep::extrude_outline(circle.clone()).unwrap(), 1.0))
+        });
+        let profile: Vec<DVec2> = (0..k)
+            .map(|i| {
+                let t = std::f64::consts::PI * i as f64 / (k - 1) as f64;
+                let r = if i == 0 || i == k - 1 { 0.0 } else { t.sin() };
+                DVec2::new(r, -t.cos())
+            })
+            .collect();
+        g.bench_function(format!("lathe profile {k}"), |bch| {
+            bch.iter(|| sweep::lathe(&Profile::new(profile.clone()).unwrap(), 3))
+        });
+    }
+    let set = wave();
+    for n in [64usize, 640, 6_400, 64_000] {
+        let many = patch::PatchSet {
+            patches: (0..n)
+                .map(|i| {
+                    let mut p = set.patches[i % set.patches.len()];
+                    for row in p.p.iter_mut() {
+                        for q in row.iter_mut() {
+                            q.x += 2.0 * (i / set.patches.len()) as f64;
+                        }
+                    }
+                    p
+                })
+                .collect(),
+        };
+        g.throughput(Throughput::Elements((n * 2 * 4 * 2) as u64));
+        g.bench_function(format!("bezier {n} patches 4x2"), |bch| {
+            bch.iter(|| patch::tessellate(&many, 4, 2))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, tessellation, csg_speed, growth);
 criterion_main!(benches);

@@ -28,6 +28,17 @@ pub struct Budgets {
     /// scan conversion time grows with it, and the node budget alone
     /// allows 500,000 records each covering the whole image.
     pub overdraw: u64,
+    /// Pair tests of one modeling operation (`--max-pair-tests`): the
+    /// face pairs a CSG operation clips, the edge pairs an outline's
+    /// simplicity check compares, the patch edge pairs the continuity
+    /// check compares. Each is near-linear on sound input (spatial
+    /// indexes); the budget bounds the hostile cases where they are not.
+    pub pair_tests: u64,
+    /// Bytes of one generated object's vertices and polygons
+    /// (`--max-model-memory`, in MiB), counted before it is built: a
+    /// polygon count under `polygons` may still hold millions of
+    /// vertices (a cylinder's caps) or of points.
+    pub model_memory: u64,
     /// Rays one ray-traced render may cast, shadow rays included
     /// (`--max-rays`): each glass surface spawns two rays, so the rays
     /// of one primary ray grow as 2^depth.
@@ -78,6 +89,8 @@ impl Default for Budgets {
             pixels: 1 << 30,
             frame_memory: 1 << 30,
             overdraw: 4096,
+            pair_tests: 50_000_000,
+            model_memory: 1 << 30,
             rays: DEFAULT_RAYS,
         }
     }

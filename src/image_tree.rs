@@ -1257,7 +1257,7 @@ struct LevelState<'t> {
 const SHADOW_CHUNK: usize = 256;
 
 /// At most this many lights are combined into overlap regions on one
-/// target fragment (see [`Builder::shadows_on`]).
+/// target fragment (see `Builder::shadows_on`).
 pub const MAX_COMBINED_LIGHTS: usize = 8;
 
 /// At most this many overlap regions of two or more lights are made on one

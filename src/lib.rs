@@ -9,6 +9,7 @@
 //! order. [`math`] and [`precision`] depend on nothing.
 #![warn(missing_docs)]
 
+pub mod api;
 pub mod budget;
 pub mod cancel;
 pub mod convert;

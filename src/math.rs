@@ -258,10 +258,28 @@ pub fn polarview(dist: f64, azim: f64, inc: f64, twist: f64) -> Matrix4 {
 /// up) or +z (looking down) axis is taken as up instead. `None` if `v == p`.
 pub fn lookat(v: DVec3, p: DVec3, twist: f64) -> Option<Matrix4> {
     let f = (p - v).try_normalize()?;
-    let mut up = DVec3::Y;
+    let up = if f.cross(DVec3::Y).length() < 1e-9 {
+        if f.y > 0.0 { -DVec3::Z } else { DVec3::Z }
+    } else {
+        DVec3::Y
+    };
+    look_along(v, f, up, twist)
+}
+
+/// [`lookat`] with another world direction kept up on the screen: `None`
+/// if `v == p`, or if the line of sight is parallel to `up`.
+pub fn lookat_up(v: DVec3, p: DVec3, up: DVec3, twist: f64) -> Option<Matrix4> {
+    let f = (p - v).try_normalize()?;
+    let up = up.try_normalize()?;
     if f.cross(up).length() < 1e-9 {
-        up = if f.y > 0.0 { -DVec3::Z } else { DVec3::Z };
+        return None;
     }
+    look_along(v, f, up, twist)
+}
+
+/// The view from `v` along the unit direction `f`, `up` (not parallel to
+/// `f`) up on the screen, then `rotate(-twist, z)`.
+fn look_along(v: DVec3, f: DVec3, up: DVec3, twist: f64) -> Option<Matrix4> {
     let s = f.cross(up).normalize();
     let u = s.cross(f);
     // Rows of the rotation part are the images of the world axes: the world

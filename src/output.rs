@@ -63,20 +63,25 @@ use crate::raster::frame_buffer::FrameBuffer;
 use crate::raster::scan::{PixelStruct, Row, RowSink, SavedFragment};
 use crate::scene::model::OutMode;
 
-/// The image as 8-bit RGB bytes, top row first, after `mode`.
+/// One row of colours as 8-bit RGB bytes in `mode` (row `y` for the
+/// dither), the same conversion as the streamed PNG; `out` is replaced.
+pub fn rgb8_row(rgb: &[[f32; 3]], y: u32, mode: OutMode, out: &mut Vec<u8>) {
+    mode_row(DisplayMode::from(mode), rgb, y, out);
+    if out.len() == rgb.len() {
+        // One grey byte a pixel: repeated for R, G and B.
+        let grey = std::mem::take(out);
+        out.extend(grey.iter().flat_map(|&g| [g; 3]));
+    }
+}
+
+/// The frame buffer as 8-bit RGB bytes, rows from the top, in `mode`
+/// (the same conversion as the streamed PNG, dither included).
 pub fn rgb8(fb: &FrameBuffer, mode: OutMode) -> Vec<u8> {
-    // The same conversion as the streamed PNG, dither included.
-    let mode = DisplayMode::from(mode);
-    let w = fb.width as usize;
     let mut out = Vec::with_capacity(fb.color.len() * 3);
-    let mut row_bytes = Vec::new();
-    for (y, row) in fb.color.chunks(w.max(1)).enumerate() {
-        mode_row(mode, row, y as u32, &mut row_bytes);
-        if row_bytes.len() == row.len() {
-            out.extend(row_bytes.iter().flat_map(|&g| [g; 3]));
-        } else {
-            out.extend_from_slice(&row_bytes);
-        }
+    let mut row = Vec::new();
+    for (y, colors) in fb.color.chunks(fb.width.max(1) as usize).enumerate() {
+        rgb8_row(colors, y as u32, mode, &mut row);
+        out.extend_from_slice(&row);
     }
     out
 }
@@ -1028,12 +1033,54 @@ pub struct PixelStructs {
 /// given, its fragment side file (`side`: bytes and name), checking that
 /// the file is a whole number of 8-byte pixel-structs, that the side file
 /// is for as many pixels, and that its lists are exactly those the pixels
-/// point to (layouts in the module doc).
+/// point to, in pixel order (layouts in the module doc). The pixels take
+/// about four times the file's bytes in memory: a program reading files
+/// it did not make uses [`visit_pixel_structs`], which holds nothing.
 pub fn read_pixel_structs(
     bytes: &[u8],
     path: &Path,
     side: Option<(&[u8], &Path)>,
 ) -> Result<PixelStructs> {
+    let mut pixels = Vec::new();
+    let resolution = visit_pixel_structs(bytes, path, side, |p| {
+        if pixels.is_empty() {
+            pixels.reserve_exact(bytes.len() / PIXEL_STRUCT_BYTES);
+        }
+        pixels.push(PixelStruct {
+            rgb: p.rgb,
+            pixstat: p.pixstat,
+            fragments: read_fragments(p.fragments),
+        });
+        Ok(())
+    })?;
+    Ok(PixelStructs { resolution, pixels })
+}
+
+/// One pixel-struct as [`visit_pixel_structs`] hands it over.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PixelStructRef<'a> {
+    /// Its index in the linear list.
+    pub index: usize,
+    /// The colour.
+    pub rgb: [u8; 3],
+    /// The pixel status.
+    pub pixstat: u8,
+    /// Its fragment list without the count, [`FRAGMENT_BYTES`] a fragment
+    /// (empty without a side file or for a simple pixel).
+    pub fragments: &'a [u8],
+}
+
+/// Checks the headers of a pixel-struct file and its side file, then hands
+/// every pixel-struct to `visit` in order, stopping at the first error
+/// (the visitor's own included), and returns the side file's resolution.
+/// It allocates nothing: the lists are checked as the pixels reach them,
+/// each nonzero `flist` pointing at the next list, and no list left over.
+pub fn visit_pixel_structs(
+    bytes: &[u8],
+    path: &Path,
+    side: Option<(&[u8], &Path)>,
+    mut visit: impl FnMut(PixelStructRef<'_>) -> Result<()>,
+) -> Result<Option<(u32, u32)>> {
     if bytes.is_empty() || !bytes.len().is_multiple_of(PIXEL_STRUCT_BYTES) {
         return Err(Error::at(
             Location::file(path),
@@ -1048,22 +1095,17 @@ pub fn read_pixel_structs(
     let (resolution, section, side_path) = match side {
         None => (None, None, path),
         Some((side, side_path)) => {
-            let err = |msg: String| Error::at(Location::file(side_path), msg);
-            if side.len() < FRAGMENT_HEADER_BYTES || &side[..4] != FRAGMENT_TAG {
-                return Err(err(format!(
-                    "not an rftb4 fragment file: it must start with `FRAG` and the \
-                     resolution ({FRAGMENT_HEADER_BYTES} bytes)"
-                )));
-            }
-            let w = u32::from_le_bytes([side[4], side[5], side[6], side[7]]);
-            let h = u32::from_le_bytes([side[8], side[9], side[10], side[11]]);
+            let (w, h) = side_header(side, side_path)?;
             let pixels = u64::from(w) * u64::from(h);
             if pixels != n as u64 {
-                return Err(err(format!(
-                    "it is for a {w} x {h} image ({pixels} pixel-structs), but {} holds \
-                     {n}: the two files are not from the same rftb4 run",
-                    path.display()
-                )));
+                return Err(Error::at(
+                    Location::file(side_path),
+                    format!(
+                        "it is for a {w} x {h} image ({pixels} pixel-structs), but {} holds \
+                         {n}: the two files are not from the same rftb4 run",
+                        path.display()
+                    ),
+                ));
             }
             (
                 Some((w, h)),
@@ -1072,74 +1114,98 @@ pub fn read_pixel_structs(
             )
         }
     };
-    let starts = match section {
-        Some(section) => fragment_lists(section).map_err(|at| {
-            Error::at(
-                Location::file(side_path),
-                format!(
-                    "the fragment lists are broken at byte {}",
-                    at + FRAGMENT_HEADER_BYTES
-                ),
-            )
-        })?,
-        None => Vec::new(),
-    };
     let width = resolution.map_or(n, |(w, _)| w as usize).max(1);
-    let mut pixels = Vec::with_capacity(n);
-    for (i, p) in bytes.chunks_exact(PIXEL_STRUCT_BYTES).enumerate() {
+    let broken = |at: usize| {
+        Error::at(
+            Location::file(side_path),
+            format!(
+                "the fragment lists are broken at byte {}",
+                at as u64 + FRAGMENT_HEADER_BYTES as u64
+            ),
+        )
+    };
+    // The offset of the next list in the side file's lists.
+    let mut next = 0usize;
+    for (index, p) in bytes.chunks_exact(PIXEL_STRUCT_BYTES).enumerate() {
         let flist = u32::from_le_bytes([p[0], p[1], p[2], p[3]]);
         let fragments = match section {
-            Some(_) if flist == 0 => Vec::new(),
-            Some(section) if starts.binary_search(&(flist - 1)).is_ok() => {
-                read_fragments(&section[(flist - 1) as usize..])
+            Some(section) if flist != 0 => {
+                if flist as usize - 1 != next {
+                    return Err(Error::at(
+                        Location::file(path),
+                        format!(
+                            "pixel {index} (x {}, y {}): flist {flist} points at no fragment \
+                             list of {} (the next list is at flist {})",
+                            index % width,
+                            index / width,
+                            side_path.display(),
+                            next as u64 + 1
+                        ),
+                    ));
+                }
+                let (list, end) = fragment_list(section, next).ok_or_else(|| broken(next))?;
+                next = end;
+                list
             }
-            Some(_) => {
-                return Err(Error::at(
-                    Location::file(path),
-                    format!(
-                        "pixel {i} (x {}, y {}): flist {flist} points at no fragment list \
-                         of {}",
-                        i % width,
-                        i / width,
-                        side_path.display()
-                    ),
-                ));
-            }
-            None => Vec::new(),
+            _ => &[][..],
         };
-        pixels.push(PixelStruct {
+        visit(PixelStructRef {
+            index,
             rgb: [p[4], p[5], p[6]],
             pixstat: p[7],
             fragments,
-        });
+        })?;
     }
-    Ok(PixelStructs { resolution, pixels })
+    if let Some(section) = section
+        && next != section.len()
+    {
+        return Err(Error::at(
+            Location::file(side_path),
+            format!(
+                "{} bytes of fragment lists from byte {} are pointed to by no pixel",
+                section.len() - next,
+                next as u64 + FRAGMENT_HEADER_BYTES as u64
+            ),
+        ));
+    }
+    Ok(resolution)
 }
 
-/// The offsets of the lists that tile `section`, or the offset where it
-/// stops making sense.
-fn fragment_lists(section: &[u8]) -> std::result::Result<Vec<u32>, usize> {
-    let mut starts = Vec::new();
-    let mut at = 0usize;
-    while at < section.len() {
-        let head = section.get(at..at + 4).ok_or(at)?;
-        let count = u32::from_le_bytes([head[0], head[1], head[2], head[3]]) as usize;
-        let end = count
-            .checked_mul(FRAGMENT_BYTES)
-            .and_then(|b| b.checked_add(at + 4))
-            .filter(|&e| e <= section.len() && count > 0)
-            .ok_or(at)?;
-        starts.push(u32::try_from(at).map_err(|_| at)?);
-        at = end;
+/// The resolution a fragment side file starts with.
+pub fn side_header(side: &[u8], side_path: &Path) -> Result<(u32, u32)> {
+    if side.len() < FRAGMENT_HEADER_BYTES || &side[..4] != FRAGMENT_TAG {
+        return Err(Error::at(
+            Location::file(side_path),
+            format!(
+                "not an rftb4 fragment file: it must start with `FRAG` and the \
+                 resolution ({FRAGMENT_HEADER_BYTES} bytes)"
+            ),
+        ));
     }
-    Ok(starts)
+    let w = u32::from_le_bytes([side[4], side[5], side[6], side[7]]);
+    let h = u32::from_le_bytes([side[8], side[9], side[10], side[11]]);
+    Ok((w, h))
 }
 
-/// The fragment list at the start of `list` (already checked).
+/// The fragments of the list at `at` in `section` (without its count) and
+/// the offset after it; `None` when no whole, non-empty list starts there.
+/// A list's offset must fit `flist` (a u32 less one).
+fn fragment_list(section: &[u8], at: usize) -> Option<(&[u8], usize)> {
+    if u32::try_from(at).ok()? == u32::MAX {
+        return None;
+    }
+    let head = section.get(at..at.checked_add(4)?)?;
+    let count = u32::from_le_bytes([head[0], head[1], head[2], head[3]]) as usize;
+    let end = count
+        .checked_mul(FRAGMENT_BYTES)?
+        .checked_add(at + 4)
+        .filter(|&e| e <= section.len() && count > 0)?;
+    Some((&section[at + 4..end], end))
+}
+
+/// The fragments of a list (already checked: a whole number of them).
 fn read_fragments(list: &[u8]) -> Vec<SavedFragment> {
-    let count = u32::from_le_bytes([list[0], list[1], list[2], list[3]]) as usize;
-    list[4..4 + count * FRAGMENT_BYTES]
-        .chunks_exact(FRAGMENT_BYTES)
+    list.chunks_exact(FRAGMENT_BYTES)
         .map(|f| SavedFragment {
             pmask: u16::from_le_bytes([f[0], f[1]]),
             pstat: f[2],

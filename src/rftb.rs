@@ -7,6 +7,16 @@
 //! getrgb NAME [hres vres] [-p | --png FILE]
 //! ```
 //!
+//! Both take plytrace's budgets `--max-pixels N` and `--max-frame-memory
+//! MiB`, with its defaults ([`Budgets::default`]): the resolution, the
+//! bands of `act-lines` rows and the input files are checked against them
+//! before anything is allocated or written, and an output that would pass
+//! the file size limit (`ulimit -f`) is refused before it is started.
+//! Inputs are read only from regular files, and no output may be an
+//! input, another output or the program's log. SIGINT, SIGTERM and SIGHUP
+//! stop a run within a second, remove its temporary files and end the
+//! program with status 130, 143 or 129.
+//!
 //! rftbN reads `<input>.out` (a virtual image tree file, [`crate::tree`];
 //! an input given as `X.out` is taken as `X`),
 //! refuses a tree made for another method (back to front, or, with a
@@ -42,6 +52,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Instant, SystemTime};
 
+use crate::budget::Budgets;
 use crate::error::{Error, Result};
 use crate::output::{
     DisplayMode, PixelStructSink, Planes, PngSink, SeparationSink, Staged, commit_all, with_suffix,
@@ -118,7 +129,7 @@ impl Program {
     pub fn usage(self) -> String {
         format!(
             "usage: {} <input> [output] [hres] [vres] [act-lines] [-0..-9] [-B] \
-             [-a BITS | -r | -g | -b | -y | -c] [-Y]",
+             [-a BITS | -r | -g | -b | -y | -c] [-Y] {BUDGET_FLAGS}",
             self.name()
         )
     }
@@ -145,6 +156,8 @@ pub struct Args {
     pub display: Option<DisplayMode>,
     /// `-Y` was given.
     pub screen: bool,
+    /// `--max-pixels`, `--max-frame-memory`; the rest are unused.
+    pub budgets: Budgets,
 }
 
 /// What the command line asks for.
@@ -162,6 +175,48 @@ pub struct UsageError(pub String);
 
 fn usage_err<T>(msg: impl Into<String>) -> std::result::Result<T, UsageError> {
     Err(UsageError(msg.into()))
+}
+
+/// The budget flags both programs take, as in plytrace.
+const BUDGET_FLAGS: &str = "[--max-pixels N] [--max-frame-memory MiB]";
+
+/// Parses a budget flag (`--max-pixels N`, `--max-frame-memory MiB`, or
+/// with `=`) into `budgets`; false when `arg` is not one.
+fn budget_flag(
+    arg: &str,
+    rest: &mut dyn Iterator<Item = OsString>,
+    budgets: &mut Budgets,
+) -> std::result::Result<bool, UsageError> {
+    let (flag, inline) = match arg.split_once('=') {
+        Some((f, v)) => (f, Some(v.to_string())),
+        None => (arg, None),
+    };
+    if flag != "--max-pixels" && flag != "--max-frame-memory" {
+        return Ok(false);
+    }
+    let value = match inline {
+        Some(v) => v,
+        None => rest
+            .next()
+            .ok_or_else(|| UsageError(format!("{flag} needs a number")))?
+            .to_string_lossy()
+            .into_owned(),
+    };
+    let n = match value.parse::<u64>() {
+        Ok(n) if n > 0 => n,
+        _ => {
+            return usage_err(format!(
+                "{flag}: expected a whole number of at least 1, got `{}`",
+                crate::error::printable(&value, 40)
+            ));
+        }
+    };
+    if flag == "--max-pixels" {
+        budgets.pixels = n;
+    } else {
+        budgets.frame_memory = n.saturating_mul(1 << 20);
+    }
+    Ok(true)
 }
 
 fn number(arg: &OsString, what: &str, min: u32) -> std::result::Result<u32, UsageError> {
@@ -239,6 +294,7 @@ pub fn parse_args(
         background: false,
         display: None,
         screen: false,
+        budgets: Budgets::default(),
     };
     let mut positional: Vec<OsString> = Vec::new();
     let mut it = argv.into_iter();
@@ -246,6 +302,15 @@ pub fn parse_args(
         let s = arg.to_string_lossy();
         if s == "-h" || s == "--help" {
             return Ok(Command::Help);
+        }
+        if budget_flag(&s, &mut it, &mut args.budgets)? {
+            continue;
+        }
+        if s.starts_with("--") {
+            return usage_err(format!(
+                "unknown flag `{}`",
+                crate::error::printable(&s, 40)
+            ));
         }
         match s.strip_prefix('-') {
             Some(group) if !group.is_empty() => flag_group(group, &mut args, &mut it)?,
@@ -326,6 +391,217 @@ pub fn check_tree(program: Program, stream: &RecordStream, input: &Path) -> Resu
     )))
 }
 
+// ---------------------------------------------------------------------------
+// Refusals before the work
+
+/// Bytes a pixel of a band of `act-lines` rows takes in memory while it is
+/// scan converted and delivered (the integrator's state and the band's
+/// output), generously: methods 1-3 hold about 45, method 4 about 70 plus
+/// its fragments.
+pub fn band_bytes_per_pixel(program: Program) -> u64 {
+    match program {
+        Program::Rftb4 => 128,
+        _ => 64,
+    }
+}
+
+/// Scan threads of a run: the cores, as the scan converter takes them.
+fn scan_threads() -> u64 {
+    std::thread::available_parallelism().map_or(1, |n| n.get() as u64)
+}
+
+/// Refuses a `hres x vres` image beyond the pixel budget.
+pub fn check_pixels(hres: u32, vres: u32, budgets: &Budgets) -> Result<()> {
+    let pixels = u64::from(hres) * u64::from(vres);
+    if pixels <= budgets.pixels {
+        return Ok(());
+    }
+    Err(Error::Invalid(format!(
+        "{} (hres x vres)",
+        Budgets::exceeded(
+            &format!("a {hres} x {vres} image ({pixels} pixels)"),
+            format!("{} pixels", budgets.pixels),
+            "--max-pixels"
+        )
+    )))
+}
+
+/// What the bands of `args` hold in memory at once, in bytes, and the
+/// number of bands: up to 2 x threads + 1 of `act-lines` rows (see
+/// `crate::raster::scan`).
+pub fn band_memory(program: Program, args: &Args) -> (u64, u64) {
+    let rows = u64::from(args.act_lines.min(args.vres));
+    let bands = u64::from(args.vres).div_ceil(rows.max(1));
+    let in_flight = (2 * scan_threads() + 1).min(bands.max(1));
+    let need = rows
+        .saturating_mul(u64::from(args.hres))
+        .saturating_mul(band_bytes_per_pixel(program))
+        .saturating_mul(in_flight);
+    (need, in_flight)
+}
+
+/// Bytes of memory per byte of a tree file, read and prepared for scan
+/// conversion. Measured (peak resident size over file size, rftb1-4 at
+/// 64x64): tiny faceted triangles 9, tiny Gouraud triangles 25, tiny
+/// Phong triangles 23, Gouraud polygons of 1000 vertices 22. With the
+/// default frame memory budget a tree file may have about 32 MiB.
+pub const TREE_MEMORY_PER_BYTE: u64 = 32;
+
+/// Refuses what `args` would take beyond its budgets, before anything is
+/// read, allocated or written: the pixels, and the bands in memory.
+pub fn check_budgets(program: Program, args: &Args) -> Result<()> {
+    check_pixels(args.hres, args.vres, &args.budgets)?;
+    let (need, bands) = band_memory(program, args);
+    if need > args.budgets.frame_memory {
+        return Err(Error::Invalid(format!(
+            "{}; lower act-lines (the fifth argument) or the width",
+            Budgets::exceeded(
+                &format!(
+                    "act-lines {} of {} pixels: {bands} bands in memory at once ({} MiB)",
+                    args.act_lines.min(args.vres),
+                    args.hres,
+                    need.div_ceil(1 << 20)
+                ),
+                format!("{} MiB", args.budgets.frame_memory >> 20),
+                "--max-frame-memory"
+            )
+        )));
+    }
+    Ok(())
+}
+
+/// The file size limit of this process (`ulimit -f`), in bytes, when
+/// there is one.
+pub fn file_size_limit() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/self/limits").ok()?;
+    let line = text.lines().find(|l| l.starts_with("Max file size"))?;
+    let soft = line["Max file size".len()..].split_whitespace().next()?;
+    soft.parse().ok()
+}
+
+/// Refuses an output of `bytes` bytes that the file size limit would cut
+/// short (the system would end the program with SIGXFSZ, or fail the
+/// write, half way).
+pub fn check_output_size(path: &Path, bytes: u64) -> Result<()> {
+    match file_size_limit() {
+        Some(limit) if bytes > limit => Err(Error::Invalid(format!(
+            "{}: this output would have {bytes} bytes, more than the file size limit of \
+             {limit} bytes (`ulimit -f`); lower hres or vres, or raise the limit",
+            crate::error::printable(&path.display().to_string(), 200)
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// A name for comparing file names that may not exist yet: the canonical
+/// directory and the file name (`./a` and `a` are the same name).
+fn name_key(path: &Path) -> PathBuf {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let dir = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+    match path.file_name() {
+        Some(name) => dir.join(name),
+        None => path.to_path_buf(),
+    }
+}
+
+fn shown(p: &Path) -> String {
+    crate::error::printable(&p.display().to_string(), 200)
+}
+
+/// Refuses, before any work, a set of outputs in which one output is an
+/// input, another output or the program's log `log` (each compared as a
+/// name and, when it exists, as a file: a link or another spelling is
+/// caught too). The message names both.
+pub fn check_names(inputs: &[PathBuf], outputs: &[PathBuf], log: &Path) -> Result<()> {
+    let same = |a: &Path, b: &Path| {
+        if name_key(a) == name_key(b) {
+            return true;
+        }
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            if let (Ok(x), Ok(y)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+                return (x.dev(), x.ino()) == (y.dev(), y.ino());
+            }
+        }
+        false
+    };
+    for (i, out) in outputs.iter().enumerate() {
+        if let Some(input) = inputs.iter().find(|p| same(out, p)) {
+            return Err(Error::Invalid(format!(
+                "{}: this output is the input {}; it is not written over (name another \
+                 output)",
+                shown(out),
+                shown(input)
+            )));
+        }
+        if let Some(other) = outputs[..i].iter().find(|p| same(out, p)) {
+            return Err(Error::Invalid(format!(
+                "{}: this output is also the output {} of this run; name another output",
+                shown(out),
+                shown(other)
+            )));
+        }
+        if same(out, log) {
+            return Err(Error::Invalid(format!(
+                "{}: this output is {}, the log this program appends to; name another output",
+                shown(out),
+                shown(log)
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Reads the input `path` (a regular file only, noted so that no output
+/// writes over it) when its size is within `limit` bytes; `budget` says
+/// what the limit is, for the message.
+fn read_input(path: &Path, limit: u64, budget: impl FnOnce(u64) -> String) -> Result<Vec<u8>> {
+    if let Ok(meta) = std::fs::metadata(path)
+        && meta.is_file()
+        && meta.len() > limit
+    {
+        return Err(Error::Invalid(format!(
+            "{}: {}",
+            shown(path),
+            budget(meta.len())
+        )));
+    }
+    crate::scene::object_file::read_regular(path, limit)
+}
+
+/// The files rftbN writes for `args`.
+pub fn output_paths(program: Program, args: &Args) -> Vec<PathBuf> {
+    let mut out = match program.planes() {
+        Some(planes) => SeparationSink::paths(&args.output, planes),
+        None => vec![
+            args.output.clone(),
+            with_suffix(&args.output, crate::output::FRAGMENT_SUFFIX),
+        ],
+    };
+    if args.display.is_some() {
+        out.push(with_suffix(&args.output, "png"));
+    }
+    out
+}
+
+/// The largest file of fixed size rftbN writes, and its size: the
+/// pixel-struct file (8 bytes a pixel), else a mask separation (2), else
+/// a byte a pixel.
+fn largest_output(program: Program, args: &Args) -> (PathBuf, u64) {
+    let pixels = u64::from(args.hres) * u64::from(args.vres);
+    let (ext, bytes) = match program {
+        Program::Rftb4 => (None, crate::output::PIXEL_STRUCT_BYTES as u64),
+        Program::Rftb2 | Program::Rftb3 => (Some("m"), 2),
+        Program::Rftb1 => (Some("r"), 1),
+    };
+    let path = ext.map_or(args.output.clone(), |e| with_suffix(&args.output, e));
+    (path, pixels.saturating_mul(bytes))
+}
+
 /// The files a run writes.
 enum MainSink {
     Separations(SeparationSink),
@@ -340,6 +616,7 @@ struct Outputs {
 
 impl RowSink for Outputs {
     fn row(&mut self, row: &Row<'_>) -> Result<()> {
+        crate::cancel::check()?;
         match &mut self.main {
             MainSink::Separations(s) => s.row(row)?,
             MainSink::PixelStructs(s) => s.row(row)?,
@@ -375,6 +652,7 @@ impl Outputs {
 
     /// Completes and renames everything together; returns notes for the log.
     fn commit(self) -> Result<Vec<String>> {
+        crate::cancel::check()?;
         let mut staged: Vec<Staged> = match self.main {
             MainSink::Separations(s) => s.finish()?,
             MainSink::PixelStructs(s) => s.finish()?,
@@ -385,6 +663,7 @@ impl Outputs {
             staged.push(file);
             notes.extend(note);
         }
+        crate::cancel::check()?;
         commit_all(staged)?;
         Ok(notes)
     }
@@ -406,7 +685,31 @@ pub struct Summary {
 /// Renders `args` with `program`.
 pub fn run(program: Program, args: &Args) -> Result<Summary> {
     let start = Instant::now();
-    let bytes = std::fs::read(&args.input).map_err(|e| Error::io(&args.input, e))?;
+    check_budgets(program, args)?;
+    check_names(
+        std::slice::from_ref(&args.input),
+        &output_paths(program, args),
+        &log_path(program.name()),
+    )?;
+    let (largest, size) = largest_output(program, args);
+    check_output_size(&largest, size)?;
+    // The tree and what the scan converter makes of it share the memory
+    // budget with the bands.
+    let (bands, _) = band_memory(program, args);
+    let limit = args.budgets.frame_memory.saturating_sub(bands) / TREE_MEMORY_PER_BYTE;
+    let bytes = read_input(&args.input, limit, |len| {
+        Budgets::exceeded(
+            &format!(
+                "a tree file of {len} bytes (about {TREE_MEMORY_PER_BYTE} bytes of memory \
+                 each, with the bands of act-lines rows)"
+            ),
+            format!("{} MiB", args.budgets.frame_memory >> 20),
+            "--max-frame-memory",
+        )
+    })?;
+    // Every output is opened (and so checked against the input read) before
+    // the tree is even parsed.
+    let mut outputs = Outputs::create(program, args)?;
     let mut stream = RecordStream::from_bytes(&bytes, &args.input)?;
     check_tree(program, &stream, &args.input)?;
     // Accepted with the other blending mode only when one-level, where the
@@ -418,7 +721,7 @@ pub fn run(program: Program, args: &Args) -> Result<Summary> {
             args.input.display()
         )));
     }
-    let mut outputs = Outputs::create(program, args)?;
+    crate::cancel::check()?;
     let options = ScanOptions {
         width: args.hres,
         height: args.vres,
@@ -498,9 +801,87 @@ pub fn log_line(args: &Args, s: &Summary) -> String {
     line
 }
 
+/// The statistics log of program `name`, in the working directory.
+pub fn log_path(name: &str) -> PathBuf {
+    PathBuf::from(format!("{name}.log"))
+}
+
+/// Signals: SIGINT, SIGTERM and SIGHUP cancel the run, which then removes
+/// its temporary files and ends with status 128 + the signal; a run that
+/// has not stopped within [`signals::GRACE`] (a stage that does not look
+/// at the request), or a second signal, ends the program at once, the
+/// temporary files removed first. SIGXFSZ is caught so that a write past
+/// the file size limit fails (and the run cleans up) rather than killing
+/// the program.
+pub mod signals {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+    use std::time::Duration;
+
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGXFSZ};
+
+    /// How long a cancelled run may take to stop.
+    pub const GRACE: Duration = Duration::from_millis(600);
+
+    static SIGNAL: AtomicI32 = AtomicI32::new(0);
+
+    /// Installs the handlers (a thread of their own).
+    pub fn install() -> std::io::Result<()> {
+        signal_hook::flag::register(SIGXFSZ, Arc::new(AtomicBool::new(false)))?;
+        let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])?;
+        std::thread::spawn(move || {
+            for signal in signals.forever() {
+                if SIGNAL
+                    .compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst)
+                    .is_ok()
+                {
+                    crate::cancel::request();
+                    std::thread::spawn(move || {
+                        std::thread::sleep(GRACE);
+                        end(signal);
+                    });
+                } else {
+                    end(signal);
+                }
+            }
+        });
+        Ok(())
+    }
+
+    /// Removes the temporaries and ends the program as `signal` asks.
+    pub fn end(signal: i32) -> ! {
+        crate::output::remove_temporaries();
+        std::process::exit(128 + signal);
+    }
+
+    /// The signal received, if any.
+    pub fn received() -> Option<i32> {
+        match SIGNAL.load(Ordering::SeqCst) {
+            0 => None,
+            s => Some(s),
+        }
+    }
+}
+
+/// Installs the signal handlers for program `name`, warning if it cannot.
+fn install_signals(name: &str) {
+    if let Err(e) = signals::install() {
+        eprintln!("{name}: warning: cannot handle signals: {e}");
+    }
+}
+
+/// After a run: a signal received ends the program as it asks (the run
+/// stopped, or finished, and either way its temporaries are gone).
+fn honour_signal() {
+    if let Some(s) = signals::received() {
+        signals::end(s);
+    }
+}
+
 /// The whole of rftbN's `main`.
 pub fn main(program: Program) -> ExitCode {
     let name = program.name();
+    install_signals(name);
     let args = match parse_args(std::env::args_os().skip(1)) {
         Ok(Command::Run(a)) => a,
         Ok(Command::Help) => {
@@ -518,7 +899,9 @@ pub fn main(program: Program) -> ExitCode {
              rendering (a display flag -a/-r/-g/-b/-y/-c writes OUTPUT.png instead)"
         );
     }
-    match run(program, &args) {
+    let result = run(program, &args);
+    honour_signal();
+    match result {
         Ok(summary) => {
             for n in &summary.notes {
                 eprintln!("{name}: {n}");
@@ -539,7 +922,7 @@ pub fn main(program: Program) -> ExitCode {
 /// Appends to `NAME.log`; the outputs are written already, so a log that
 /// cannot be written is a warning.
 fn finish_log(name: &str, line: &str) -> ExitCode {
-    if let Err(e) = append_log(Path::new(&format!("{name}.log")), line) {
+    if let Err(e) = append_log(&log_path(name), line) {
         eprintln!("{name}: warning: {e}");
     }
     ExitCode::SUCCESS
@@ -558,10 +941,13 @@ pub struct GetrgbArgs {
     pub resolution: Option<(u32, u32)>,
     /// Also write this PNG.
     pub png: Option<PathBuf>,
+    /// `--max-pixels`, `--max-frame-memory`; the rest are unused.
+    pub budgets: Budgets,
 }
 
 /// getrgb's usage line.
-pub const GETRGB_USAGE: &str = "usage: getrgb NAME [hres vres] [-p | --png FILE]";
+pub const GETRGB_USAGE: &str =
+    "usage: getrgb NAME [hres vres] [-p | --png FILE] [--max-pixels N] [--max-frame-memory MiB]";
 
 /// Parses getrgb's arguments (without the program name).
 pub fn parse_getrgb_args(
@@ -570,8 +956,12 @@ pub fn parse_getrgb_args(
     let mut positional = Vec::new();
     let mut png_flag = false;
     let mut png_file = None;
+    let mut budgets = Budgets::default();
     let mut it = argv.into_iter();
     while let Some(arg) = it.next() {
+        if budget_flag(&arg.to_string_lossy(), &mut it, &mut budgets)? {
+            continue;
+        }
         match arg.to_string_lossy().as_ref() {
             "-h" | "--help" => return Ok(Command::Help),
             "-p" => png_flag = true,
@@ -580,7 +970,7 @@ pub fn parse_getrgb_args(
                 png_file = Some(PathBuf::from(f));
             }
             s if s.starts_with('-') && s.len() > 1 => {
-                return usage_err(format!("unknown flag `{s}`"));
+                return usage_err(format!("unknown flag `{}`", crate::error::printable(s, 40)));
             }
             _ => positional.push(arg),
         }
@@ -600,6 +990,7 @@ pub fn parse_getrgb_args(
         name,
         resolution,
         png,
+        budgets,
     }))
 }
 
@@ -614,14 +1005,20 @@ pub struct GetrgbSummary {
     pub resolution: Option<(u32, u32)>,
 }
 
-/// Reads `path`'s fragment side file `path.frag`, if there is one.
-fn read_side_file(path: &Path) -> Result<Option<(PathBuf, Vec<u8>)>> {
-    let side = with_suffix(path, crate::output::FRAGMENT_SUFFIX);
-    match std::fs::read(&side) {
-        Ok(bytes) => Ok(Some((side, bytes))),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-        Err(e) => Err(Error::io(&side, e)),
-    }
+/// The files getrgb reads for `args`: the pixel-struct file and its side
+/// file (read when there is one).
+pub fn getrgb_inputs(args: &GetrgbArgs) -> Vec<PathBuf> {
+    vec![
+        args.name.clone(),
+        with_suffix(&args.name, crate::output::FRAGMENT_SUFFIX),
+    ]
+}
+
+/// The files getrgb writes for `args`.
+pub fn getrgb_outputs(args: &GetrgbArgs) -> Vec<PathBuf> {
+    let mut out = SeparationSink::paths(&args.name, Planes::default());
+    out.extend(args.png.clone());
+    out
 }
 
 /// Extracts `NAME.r .g .b` (and the PNG) from the pixel-struct file.
@@ -632,16 +1029,53 @@ fn read_side_file(path: &Path) -> Result<Option<(PathBuf, Vec<u8>)>> {
 /// the resolution. The resolution, needed for the PNG only, is the
 /// optional `hres vres` or else the one rftb4 wrote in the side file
 /// `NAME.frag`; when both are there they must agree.
+///
+/// Before anything is read, the resolution given is checked against the
+/// pixel budget and the names against each other; the two files are read
+/// (regular files only) when they fit the frame memory budget together,
+/// and the pixel-structs are visited in place, a row at a time.
 pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
-    let bytes = std::fs::read(&args.name).map_err(|e| Error::io(&args.name, e))?;
-    let side = read_side_file(&args.name)?;
-    let read = crate::output::read_pixel_structs(
-        &bytes,
-        &args.name,
-        side.as_ref().map(|(p, b)| (b.as_slice(), p.as_path())),
-    )?;
-    let n = read.pixels.len();
-    let resolution = match (args.resolution, read.resolution) {
+    let budgets = &args.budgets;
+    if let Some((w, h)) = args.resolution {
+        check_pixels(w, h, budgets)?;
+    }
+    let inputs = getrgb_inputs(args);
+    check_names(&inputs, &getrgb_outputs(args), &log_path("getrgb"))?;
+    let memory = |len: u64| {
+        Budgets::exceeded(
+            &format!("{len} bytes of pixel-structs and fragment lists in memory"),
+            format!("{} MiB", budgets.frame_memory >> 20),
+            "--max-frame-memory",
+        )
+    };
+    let bytes = read_input(&args.name, budgets.frame_memory, memory)?;
+    let n = bytes.len() / crate::output::PIXEL_STRUCT_BYTES;
+    if n as u64 > budgets.pixels {
+        return Err(Error::Invalid(format!(
+            "{}: {}",
+            shown(&args.name),
+            Budgets::exceeded(
+                &format!("{n} pixel-structs"),
+                format!("{} pixels", budgets.pixels),
+                "--max-pixels"
+            )
+        )));
+    }
+    let side_path = &inputs[1];
+    let side = match std::fs::symlink_metadata(side_path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        _ => {
+            let left = budgets.frame_memory - bytes.len() as u64;
+            let len = bytes.len() as u64;
+            Some(read_input(side_path, left, |side| memory(len + side))?)
+        }
+    };
+    let side = side.as_ref().map(|b| (b.as_slice(), side_path.as_path()));
+    let file_resolution = match side {
+        Some((b, p)) => Some(crate::output::side_header(b, p)?),
+        None => None,
+    };
+    let resolution = match (args.resolution, file_resolution) {
         (Some((w, h)), _) if u64::from(w) * u64::from(h) != n as u64 => {
             return Err(Error::Invalid(format!(
                 "{}: {} bytes hold {n} pixel-structs, but {w} x {h} takes {}: is the \
@@ -688,18 +1122,39 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
             1,
         ),
     };
+    // w x h is n here, within the pixel budget.
+    if u64::from(w) * u64::from(h) != n as u64 {
+        return Err(Error::Invalid(format!(
+            "{}: {n} pixel-structs are not {w} x {h}",
+            shown(&args.name)
+        )));
+    }
     let mut seps = SeparationSink::create(&args.name, w, h, Planes::default())?;
     let mut png = match &args.png {
         Some(p) => Some(PngSink::create(p, w, h, DisplayMode::Color)?),
         None => None,
     };
-    let mut rgb = vec![[0.0f32; 3]; w as usize];
-    for (y, row) in read.pixels.chunks_exact(w as usize).enumerate() {
-        for (c, p) in rgb.iter_mut().zip(row) {
-            *c = p.rgb.map(|v| f32::from(v) / 255.0);
+    let width = w as usize;
+    let mut rgb = Vec::new();
+    rgb.try_reserve_exact(width).map_err(|_| {
+        Error::Invalid(format!(
+            "{}: no memory for a row of {w} pixels",
+            shown(&args.name)
+        ))
+    })?;
+    let mut complex = 0usize;
+    let mut y = 0u32;
+    crate::output::visit_pixel_structs(&bytes, &args.name, side, |p| {
+        if !p.fragments.is_empty() {
+            complex += 1;
         }
+        rgb.push(p.rgb.map(|v| f32::from(v) / 255.0));
+        if rgb.len() < width {
+            return Ok(());
+        }
+        crate::cancel::check()?;
         let row = Row {
-            y: y as u32,
+            y,
             rgb: &rgb,
             coverage: None,
             mask: None,
@@ -710,17 +1165,16 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
         if let Some(p) = png.as_mut() {
             p.row(&row)?;
         }
-    }
+        rgb.clear();
+        y += 1;
+        Ok(())
+    })?;
     let mut staged = seps.finish()?;
     if let Some(p) = png {
         staged.push(p.finish()?.0);
     }
+    crate::cancel::check()?;
     commit_all(staged)?;
-    let complex = read
-        .pixels
-        .iter()
-        .filter(|p| !p.fragments.is_empty())
-        .count();
     Ok(GetrgbSummary {
         pixels: n,
         complex,
@@ -730,6 +1184,7 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
 
 /// The whole of getrgb's `main`.
 pub fn getrgb_main() -> ExitCode {
+    install_signals("getrgb");
     let args = match parse_getrgb_args(std::env::args_os().skip(1)) {
         Ok(Command::Run(a)) => a,
         Ok(Command::Help) => {
@@ -742,7 +1197,9 @@ pub fn getrgb_main() -> ExitCode {
         }
     };
     let start = Instant::now();
-    match run_getrgb(&args) {
+    let result = run_getrgb(&args);
+    honour_signal();
+    match result {
         Ok(s) => {
             let line = format!(
                 "{}  input {}  output {}.[rgb]{}  {}  pixels {}  with fragments {}  {:.3} s",

@@ -522,3 +522,42 @@ fn an_output_never_writes_over_an_input() {
         text(&o.stderr)
     );
 }
+
+#[test]
+fn the_modeling_budgets_are_flags() {
+    let dir = workdir();
+    let scene = "resolution 32 32\nperspective 45 1 0.01 100\npushmatrix\nident\ntranslate 0 0 -4\n\
+                 defobj ball\nsphere 64 32\nendobj\npopmatrix\n";
+    std::fs::write(dir.path().join("ball.des"), scene).unwrap();
+    let o = run(dir.path(), &["--check", "ball.des"], None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = run(
+        dir.path(),
+        &["--check", "ball.des", "--max-model-memory", "0"],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2), "0 MiB is not a budget");
+    // One MiB holds no 2,048-face sphere? It does (about 0.6 MiB); a
+    // 512 x 256 one (131,072 faces) does not.
+    std::fs::write(
+        dir.path().join("big.des"),
+        scene.replace("sphere 64 32", "sphere 512 256"),
+    )
+    .unwrap();
+    let o = run(
+        dir.path(),
+        &["--check", "big.des", "--max-model-memory=1"],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("--max-model-memory"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(
+        text(&o.stderr).contains("big.des:7:1"),
+        "{}",
+        text(&o.stderr)
+    );
+}

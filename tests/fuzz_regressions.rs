@@ -111,6 +111,16 @@ fn pipeline_inputs() {
     replay("pipeline");
 }
 
+#[test]
+fn pixel_structs_inputs() {
+    replay("pixel_structs");
+}
+
+#[test]
+fn rftb_args_inputs() {
+    replay("rftb_args");
+}
+
 /// Every folder is a target, every target has a folder and a cargo-fuzz
 /// source file, so that no input is silently left unreplayed.
 #[test]

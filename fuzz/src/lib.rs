@@ -12,6 +12,8 @@
 //! directory, which the scene language target also makes the working
 //! directory (relative paths in a scene are looked up there too), and whose
 //! inputs may not name a path with `..`, `\` or a `/` outside comments.
+//! `rftb_args` writes nothing: it only looks up (stats) the paths a
+//! command line names, as the programs' name checks do.
 #![allow(clippy::missing_panics_doc)]
 
 use std::path::{Path, PathBuf};
@@ -24,12 +26,14 @@ use plytrace::tree::RecordStream;
 
 /// The names the fuzz targets are known by, which are also the folders of
 /// `tests/data/fuzz-regressions/`.
-pub const TARGETS: [&str; 5] = [
+pub const TARGETS: [&str; 7] = [
     "scene_language",
     "object_files",
     "meshes",
     "tree_files",
     "pipeline",
+    "pixel_structs",
+    "rftb_args",
 ];
 
 /// Runs the target called `name` on `data`.
@@ -40,6 +44,8 @@ pub fn run_target(name: &str, data: &[u8]) {
         "meshes" => meshes(data),
         "tree_files" => tree_files(data),
         "pipeline" => pipeline(data),
+        "pixel_structs" => pixel_structs(data),
+        "rftb_args" => rftb_args(data),
         other => panic!("no fuzz target called `{other}`"),
     }
 }
@@ -439,7 +445,9 @@ pub fn pipeline(data: &[u8]) {
             pixels: 1 << 20,
             frame_memory: 1 << 26,
             overdraw: 64,
-            rays: 1 << 24,
+            pair_tests: 1_000_000,
+            model_memory: 1 << 26,
+            rays: 1_000_000,
         },
     };
     let statements = overrides(&mut bytes);
@@ -485,5 +493,112 @@ pub fn pipeline(data: &[u8]) {
             }
         }
         Err(e) => check_error(&e),
+    }
+}
+
+/// `pixel_structs`: the bytes as an rftb4 pixel-struct file and its
+/// fragment side file (`read_pixel_structs`, and `visit_pixel_structs` as
+/// getrgb calls it). The first byte chooses: even, no side file; odd, the
+/// next two bytes (little-endian) are the length of the pixel-struct file
+/// and the rest is the side file. What reads has as many pixels as the
+/// file has structs and the resolution of the side file, each list
+/// decodes to its fragments, and the two readers agree.
+pub fn pixel_structs(data: &[u8]) {
+    use plytrace::output::{
+        FRAGMENT_BYTES, PIXEL_STRUCT_BYTES, read_pixel_structs, visit_pixel_structs,
+    };
+    let Some((&first, rest)) = data.split_first() else {
+        return;
+    };
+    let (bytes, side) = if first % 2 == 0 || rest.len() < 2 {
+        (rest, None)
+    } else {
+        let len = usize::from(u16::from_le_bytes([rest[0], rest[1]]));
+        let rest = &rest[2..];
+        let cut = len.min(rest.len());
+        (&rest[..cut], Some(&rest[cut..]))
+    };
+    let path = Path::new("fuzz.ps");
+    let side_path = Path::new("fuzz.ps.frag");
+    let side = side.map(|s| (s, side_path));
+    let read = read_pixel_structs(bytes, path, side);
+    let mut visited = Vec::new();
+    let visit = visit_pixel_structs(bytes, path, side, |p| {
+        assert_eq!(p.index, visited.len(), "pixels in order");
+        assert_eq!(p.fragments.len() % FRAGMENT_BYTES, 0, "whole fragments");
+        visited.push((p.rgb, p.pixstat, p.fragments.len() / FRAGMENT_BYTES));
+        Ok(())
+    });
+    match (read, visit) {
+        (Ok(read), Ok(resolution)) => {
+            assert_eq!(read.resolution, resolution, "the readers' resolutions");
+            assert_eq!(read.pixels.len(), bytes.len() / PIXEL_STRUCT_BYTES);
+            if let Some((w, h)) = resolution {
+                assert_eq!(u64::from(w) * u64::from(h), read.pixels.len() as u64);
+            }
+            assert_eq!(read.pixels.len(), visited.len(), "the readers' pixels");
+            for (p, v) in read.pixels.iter().zip(&visited) {
+                assert_eq!((p.rgb, p.pixstat, p.fragments.len()), *v);
+                assert!(side.is_some() || p.fragments.is_empty());
+            }
+        }
+        (Err(a), Err(b)) => {
+            check_error(&a);
+            assert_eq!(a.to_string(), b.to_string(), "the readers' errors");
+        }
+        (a, b) => panic!("the readers disagree: {:?} and {:?}", a.err(), b.err()),
+    }
+}
+
+/// `rftb_args`: the bytes as a command line (arguments split at NUL
+/// bytes, invalid UTF-8 kept as it is on Unix) for rftbN's and getrgb's
+/// parsers, and what parses through the checks that need no file (the
+/// budgets, the output names, the file size limit). Nothing is read or
+/// written; the checks must not panic whatever the numbers.
+pub fn rftb_args(data: &[u8]) {
+    use plytrace::rftb::{self, Command, Program};
+    use std::ffi::OsString;
+    use std::os::unix::ffi::OsStringExt;
+    let argv: Vec<OsString> = data
+        .split(|&b| b == 0)
+        .map(|a| OsString::from_vec(a.to_vec()))
+        .collect();
+    let sandbox = sandbox();
+    let log = sandbox.dir.join("rftb.log");
+    for program in [
+        Program::Rftb1,
+        Program::Rftb2,
+        Program::Rftb3,
+        Program::Rftb4,
+    ] {
+        match rftb::parse_args(argv.clone()) {
+            Ok(Command::Run(args)) => {
+                assert!(args.hres >= 1 && args.vres >= 1 && args.act_lines >= 1);
+                assert!(args.debug <= 9);
+                let _ = rftb::check_budgets(program, &args);
+                let _ = rftb::band_memory(program, &args);
+                let outputs = rftb::output_paths(program, &args);
+                assert!(!outputs.is_empty());
+                let _ = rftb::check_names(std::slice::from_ref(&args.input), &outputs, &log);
+                let _ = program.usage();
+            }
+            Ok(Command::Help) => {}
+            Err(rftb::UsageError(msg)) => assert!(!msg.is_empty()),
+        }
+    }
+    match rftb::parse_getrgb_args(argv) {
+        Ok(Command::Run(args)) => {
+            if let Some((w, h)) = args.resolution {
+                assert!(w >= 1 && h >= 1);
+                let _ = rftb::check_pixels(w, h, &args.budgets);
+            }
+            let _ = rftb::check_names(
+                &rftb::getrgb_inputs(&args),
+                &rftb::getrgb_outputs(&args),
+                &log,
+            );
+        }
+        Ok(Command::Help) => {}
+        Err(rftb::UsageError(msg)) => assert!(!msg.is_empty()),
     }
 }

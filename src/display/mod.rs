@@ -1,12 +1,12 @@
 //! The live display of the plytrace manual page (004 appendix: `disp on`
 //! "display virtual image tree on attached device", `wait` "waits for
-//! <return> before continuing"; 004 section 6.1: "real-time display of the
+//! `<return>` before continuing"; 004 section 6.1: "real-time display of the
 //! virtual image tree creation process").
 //!
 //! The library side is a frame callback, [`FrameObserver`]: after the tree
 //! is built, [`scan_levels`] scan converts it cut at level 1, 2, ... and
 //! hands each partial frame to the observer, the last one being the final
-//! image, bit for bit. A window ([`window`], behind the cargo feature
+//! image, bit for bit. A window (the `window` module, behind the cargo feature
 //! `display`) is one observer; tests are another. [`LiveDisplay`] is the
 //! session's state: `disp on` asks for the window, which opens at the next
 //! `run`; without the feature or without a display it says so once and

@@ -1,7 +1,7 @@
 //! Clipping in homogeneous coordinates against the standard view box
 //! `-w <= x, y, z <= w` (Garcia 1986, 004 section 4.5; Firebaugh, 001, 3D
 //! clipping with 6-bit Cohen-Sutherland outcodes), by Sutherland and
-//! Hodgman's re-entrant polygon clipper (004 reference [46]).
+//! Hodgman's re-entrant polygon clipper (004 reference \[46\]).
 //!
 //! Preconditions: points are homogeneous clip coordinates (`P * CTM`).
 //! Polygons may be non-convex; Sutherland-Hodgman then can leave

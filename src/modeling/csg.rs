@@ -184,122 +184,6 @@ fn split(
     }
 }
 
-/// A BSP tree in an arena; node 0 is the root.
-#[derive(Debug, Clone, Default)]
-struct Tree {
-    nodes: Vec<Node>,
-}
-
-#[derive(Debug, Clone, Default)]
-struct Node {
-    plane: Option<Plane>,
-    front: Option<usize>,
-    back: Option<usize>,
-    polygons: Vec<Poly>,
-}
-
-impl Tree {
-    fn new(polys: Vec<Poly>, eps: f64) -> Tree {
-        let mut t = Tree {
-            nodes: vec![Node::default()],
-        };
-        t.build(polys, eps);
-        t
-    }
-
-    /// Adds `polys` to the tree (iteratively: a convex solid makes a chain
-    /// as deep as its face count).
-    fn build(&mut self, polys: Vec<Poly>, eps: f64) {
-        let mut work = vec![(0usize, polys)];
-        while let Some((id, polys)) = work.pop() {
-            if polys.is_empty() {
-                continue;
-            }
-            let plane = *self.nodes[id].plane.get_or_insert(polys[0].plane);
-            let (mut cf, mut cb, mut front, mut back) = (vec![], vec![], vec![], vec![]);
-            for p in polys {
-                split(&plane, p, eps, &mut cf, &mut cb, &mut front, &mut back);
-            }
-            self.nodes[id].polygons.extend(cf);
-            self.nodes[id].polygons.extend(cb);
-            for (side, list) in [(true, front), (false, back)] {
-                if list.is_empty() {
-                    continue;
-                }
-                let child = if side {
-                    self.nodes[id].front
-                } else {
-                    self.nodes[id].back
-                };
-                let child = child.unwrap_or_else(|| {
-                    self.nodes.push(Node::default());
-                    let c = self.nodes.len() - 1;
-                    if side {
-                        self.nodes[id].front = Some(c);
-                    } else {
-                        self.nodes[id].back = Some(c);
-                    }
-                    c
-                });
-                work.push((child, list));
-            }
-        }
-    }
-
-    /// The parts of `polys` outside the solid (in front of the tree).
-    fn clip_polygons(&self, polys: Vec<Poly>, eps: f64) -> Vec<Poly> {
-        let mut out = Vec::new();
-        let mut work = vec![(0usize, polys)];
-        while let Some((id, polys)) = work.pop() {
-            let node = &self.nodes[id];
-            let Some(plane) = node.plane else {
-                out.extend(polys);
-                continue;
-            };
-            let (mut front, mut back) = (vec![], vec![]);
-            for p in polys {
-                let (mut cf, mut cb) = (vec![], vec![]);
-                split(&plane, p, eps, &mut cf, &mut cb, &mut front, &mut back);
-                front.extend(cf);
-                back.extend(cb);
-            }
-            match node.front {
-                Some(c) => work.push((c, front)),
-                None => out.extend(front),
-            }
-            if let Some(c) = node.back {
-                work.push((c, back));
-            }
-        }
-        out
-    }
-
-    /// Removes from this tree's polygons the parts inside `other`.
-    fn clip_to(&mut self, other: &Tree, eps: f64) {
-        for node in &mut self.nodes {
-            let polys = std::mem::take(&mut node.polygons);
-            node.polygons = other.clip_polygons(polys, eps);
-        }
-    }
-
-    /// Solid and empty space swapped.
-    fn invert(&mut self) {
-        for node in &mut self.nodes {
-            for p in &mut node.polygons {
-                p.flip();
-            }
-            if let Some(pl) = &mut node.plane {
-                pl.flip();
-            }
-            std::mem::swap(&mut node.front, &mut node.back);
-        }
-    }
-
-    fn all(self) -> Vec<Poly> {
-        self.nodes.into_iter().flat_map(|n| n.polygons).collect()
-    }
-}
-
 /// How many input faces were kept whole, cut, or dropped entirely.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Stats {
@@ -378,47 +262,459 @@ fn size_of(faces: &[Face]) -> f64 {
 /// Relative tolerance of plane classification and of joining points.
 pub const TOLERANCE: f64 = 1e-9;
 
-/// Combines two closed solids given by their faces.
+/// Why [`combine_within`] stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// More face pairs to test than allowed: the count when it stopped.
+    Pairs(u64),
+    /// Ctrl-C.
+    Cancelled,
+}
+
+/// Combines two closed solids given by their faces (unbounded; see
+/// [`combine_within`]).
 pub fn combine(a: Vec<Face>, b: Vec<Face>, op: Op) -> Result {
+    combine_within(a, b, op, u64::MAX).unwrap_or(Result {
+        faces: Vec::new(),
+        stats: Stats::default(),
+    })
+}
+
+/// The work done, counted against a budget, with Ctrl-C looked at every
+/// few thousand units.
+struct Work {
+    done: u64,
+    max: u64,
+}
+
+impl Work {
+    fn add(&mut self, n: u64) -> std::result::Result<(), Stop> {
+        let before = self.done;
+        self.done = self.done.saturating_add(n);
+        if self.done > self.max {
+            return Err(Stop::Pairs(self.done));
+        }
+        if before >> 14 != self.done >> 14 && crate::cancel::requested() {
+            return Err(Stop::Cancelled);
+        }
+        Ok(())
+    }
+}
+
+/// An axis-aligned box.
+#[derive(Debug, Clone, Copy)]
+struct Aabb {
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Aabb {
+    const EMPTY: Aabb = Aabb {
+        lo: DVec3::splat(f64::INFINITY),
+        hi: DVec3::splat(f64::NEG_INFINITY),
+    };
+
+    fn of(points: &[DVec3], pad: f64) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for p in points {
+            b.lo = b.lo.min(*p);
+            b.hi = b.hi.max(*p);
+        }
+        b.lo -= DVec3::splat(pad);
+        b.hi += DVec3::splat(pad);
+        b
+    }
+
+    fn union(self, o: Aabb) -> Aabb {
+        Aabb {
+            lo: self.lo.min(o.lo),
+            hi: self.hi.max(o.hi),
+        }
+    }
+
+    fn overlaps(&self, o: &Aabb) -> bool {
+        self.lo.cmple(o.hi).all() && o.lo.cmple(self.hi).all()
+    }
+
+    /// Whether the ray `o + t d`, `t >= 0`, meets the box (`inv` = 1/d).
+    fn hit_by(&self, o: DVec3, inv: DVec3) -> bool {
+        let t1 = (self.lo - o) * inv;
+        let t2 = (self.hi - o) * inv;
+        let near = t1.min(t2).max_element();
+        let far = t1.max(t2).min_element();
+        far >= near.max(0.0)
+    }
+}
+
+/// A bounding volume hierarchy over the faces of one operand: the spatial
+/// index that finds the faces near a face, or along a ray, in logarithmic
+/// time (a BSP tree of a convex solid is a chain as deep as its faces).
+struct Bvh {
+    boxes: Vec<Aabb>,
+    nodes: Vec<BNode>,
+    items: Vec<u32>,
+}
+
+struct BNode {
+    bounds: Aabb,
+    /// Children, or `None` for a leaf holding `items[start..start + count]`.
+    children: Option<(u32, u32)>,
+    start: u32,
+    count: u32,
+}
+
+impl Bvh {
+    fn new(polys: &[Poly], pad: f64) -> Bvh {
+        let boxes: Vec<Aabb> = polys.iter().map(|p| Aabb::of(&p.points, pad)).collect();
+        let mut items: Vec<u32> = (0..polys.len() as u32).collect();
+        let mut nodes = vec![BNode {
+            bounds: Aabb::EMPTY,
+            children: None,
+            start: 0,
+            count: items.len() as u32,
+        }];
+        let centre = |i: u32| {
+            let b = &boxes[i as usize];
+            (b.lo + b.hi) * 0.5
+        };
+        let mut stack = vec![0usize];
+        while let Some(id) = stack.pop() {
+            let (start, count) = (nodes[id].start as usize, nodes[id].count as usize);
+            let slice = &mut items[start..start + count];
+            let bounds = slice
+                .iter()
+                .fold(Aabb::EMPTY, |b, &i| b.union(boxes[i as usize]));
+            nodes[id].bounds = bounds;
+            if count <= 4 {
+                continue;
+            }
+            let ext = bounds.hi - bounds.lo;
+            let axis = if ext.x >= ext.y && ext.x >= ext.z {
+                0
+            } else if ext.y >= ext.z {
+                1
+            } else {
+                2
+            };
+            let half = count / 2;
+            slice
+                .select_nth_unstable_by(half, |a, b| centre(*a)[axis].total_cmp(&centre(*b)[axis]));
+            let l = nodes.len();
+            for (s, c) in [(start, half), (start + half, count - half)] {
+                nodes.push(BNode {
+                    bounds: Aabb::EMPTY,
+                    children: None,
+                    start: s as u32,
+                    count: c as u32,
+                });
+            }
+            nodes[id].children = Some((l as u32, l as u32 + 1));
+            stack.push(l);
+            stack.push(l + 1);
+        }
+        Bvh {
+            boxes,
+            nodes,
+            items,
+        }
+    }
+
+    /// The faces whose boxes meet `b`.
+    fn query(&self, b: &Aabb, out: &mut Vec<u32>) {
+        out.clear();
+        if self.items.is_empty() {
+            return;
+        }
+        let mut stack = vec![0u32];
+        while let Some(id) = stack.pop() {
+            let n = &self.nodes[id as usize];
+            if !n.bounds.overlaps(b) {
+                continue;
+            }
+            match n.children {
+                Some((l, r)) => {
+                    stack.push(l);
+                    stack.push(r);
+                }
+                None => {
+                    let items = &self.items[n.start as usize..(n.start + n.count) as usize];
+                    out.extend(
+                        items
+                            .iter()
+                            .filter(|&&i| self.boxes[i as usize].overlaps(b)),
+                    );
+                }
+            }
+        }
+    }
+
+    /// The faces whose boxes the ray from `o` along `d` meets.
+    fn along_ray(&self, o: DVec3, d: DVec3, out: &mut Vec<u32>) {
+        out.clear();
+        if self.items.is_empty() {
+            return;
+        }
+        let inv = d.recip();
+        let mut stack = vec![0u32];
+        while let Some(id) = stack.pop() {
+            let n = &self.nodes[id as usize];
+            if !n.bounds.hit_by(o, inv) {
+                continue;
+            }
+            match n.children {
+                Some((l, r)) => {
+                    stack.push(l);
+                    stack.push(r);
+                }
+                None => {
+                    let items = &self.items[n.start as usize..(n.start + n.count) as usize];
+                    out.extend(
+                        items
+                            .iter()
+                            .filter(|&&i| self.boxes[i as usize].hit_by(o, inv)),
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Where a fragment lies with respect to the other solid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Place {
+    Outside,
+    Inside,
+    /// On a face of the other solid facing the same way.
+    OnSame,
+    /// On a face of the other solid facing the other way.
+    OnOpposite,
+}
+
+/// Ray directions tried in turn (none along an axis or a diagonal, so
+/// that rays from the centres of aligned faces miss edges).
+const DIRECTIONS: [[f64; 3]; 7] = [
+    [0.577_215_66, 0.318_419_77, 0.751_988_27],
+    [-0.412_310_56, 0.694_237_11, 0.591_607_98],
+    [0.302_119_83, -0.866_025_40, 0.398_942_28],
+    [-0.706_016_51, -0.236_067_98, -0.665_191_42],
+    [0.915_965_59, 0.141_421_36, -0.375_492_32],
+    [-0.123_456_79, 0.987_654_32, -0.096_225_04],
+    [0.267_949_19, -0.358_979_31, -0.893_996_66],
+];
+
+/// The signed distances from `p` (in the plane of `poly`) to the lines of
+/// the polygon's edges, inward positive, the smallest: positive inside.
+fn inside_margin(poly: &Poly, p: DVec3) -> f64 {
+    let m = poly.points.len();
+    let n = poly.plane.n;
+    let mut margin = f64::INFINITY;
+    for i in 0..m {
+        let (a, b) = (poly.points[i], poly.points[(i + 1) % m]);
+        let e = b - a;
+        let len = e.length();
+        if len == 0.0 {
+            continue;
+        }
+        // Clockwise seen from outside, counter-clockwise about -n: the
+        // interior lies on the side of (-n) x e = e x n.
+        let inward = e.cross(n) / len;
+        margin = margin.min(inward.dot(p - a));
+    }
+    margin
+}
+
+/// Where the convex fragment `f` lies with respect to the closed solid
+/// `other` (its faces and their index): on one of its faces, else inside
+/// or outside by the parity of a ray's crossings, the ray chosen not to
+/// pass near an edge; the winding number if every ray does.
+fn classify(
+    f: &Poly,
+    other: &[Poly],
+    bvh: &Bvh,
+    eps: f64,
+    scratch: &mut Vec<u32>,
+    work: &mut Work,
+) -> std::result::Result<Place, Stop> {
+    let c = f.points.iter().sum::<DVec3>() / f.points.len() as f64;
+    let tol = eps * 10.0;
+    bvh.query(&Aabb::of(&[c], tol), scratch);
+    work.add(scratch.len() as u64)?;
+    for &g in scratch.iter() {
+        let g = &other[g as usize];
+        let parallel = g.plane.n.dot(f.plane.n);
+        if (g.plane.n.dot(c) - g.plane.w).abs() <= tol
+            && parallel.abs() > 1.0 - 1e-9
+            && inside_margin(g, c) >= -tol
+        {
+            return Ok(if parallel > 0.0 {
+                Place::OnSame
+            } else {
+                Place::OnOpposite
+            });
+        }
+    }
+    'ray: for d in DIRECTIONS {
+        let d = DVec3::from_array(d).normalize();
+        bvh.along_ray(c, d, scratch);
+        work.add(scratch.len() as u64)?;
+        let mut crossings = 0u32;
+        for &g in scratch.iter() {
+            let g = &other[g as usize];
+            let denom = g.plane.n.dot(d);
+            let dist = g.plane.w - g.plane.n.dot(c);
+            if denom.abs() < 1e-12 {
+                if dist.abs() <= tol {
+                    continue 'ray;
+                }
+                continue;
+            }
+            let t = dist / denom;
+            if t < -tol {
+                continue;
+            }
+            let h = c + d * t;
+            let margin = inside_margin(g, h);
+            if margin < -tol {
+                continue;
+            }
+            if margin <= tol || t <= tol {
+                continue 'ray;
+            }
+            crossings += 1;
+        }
+        return Ok(if crossings % 2 == 1 {
+            Place::Inside
+        } else {
+            Place::Outside
+        });
+    }
+    // Every ray grazed an edge: the generalized winding number.
+    work.add(other.len() as u64)?;
+    let mut solid = 0.0;
+    for g in other {
+        let a = g.points[0] - c;
+        for k in 1..g.points.len() - 1 {
+            let (b, e) = (g.points[k] - c, g.points[k + 1] - c);
+            let (la, lb, le) = (a.length(), b.length(), e.length());
+            let num = a.dot(b.cross(e));
+            let den = la * lb * le + a.dot(b) * le + a.dot(e) * lb + b.dot(e) * la;
+            solid += 2.0 * num.atan2(den);
+        }
+    }
+    Ok(if solid.abs() > std::f64::consts::TAU {
+        Place::Inside
+    } else {
+        Place::Outside
+    })
+}
+
+/// The fragments of `polys` cut by the planes of the faces of `other`
+/// whose boxes meet theirs: the surface of `other` then crosses no
+/// fragment's interior, so each lies wholly inside, outside or on it.
+fn fragments(
+    polys: Vec<Poly>,
+    other: &[Poly],
+    bvh: &Bvh,
+    eps: f64,
+    work: &mut Work,
+) -> std::result::Result<Vec<Poly>, Stop> {
+    let mut out = Vec::with_capacity(polys.len());
+    let mut near = Vec::new();
+    let (mut cf, mut cb, mut front, mut back) = (vec![], vec![], vec![], vec![]);
+    for p in polys {
+        bvh.query(&Aabb::of(&p.points, eps), &mut near);
+        work.add(near.len() as u64 + 1)?;
+        let mut frags = vec![p];
+        for &g in &near {
+            let g = &other[g as usize];
+            let gb = bvh.boxes_of(g, eps);
+            let mut next = Vec::with_capacity(frags.len() + 1);
+            for f in frags {
+                if !Aabb::of(&f.points, eps).overlaps(&gb) {
+                    next.push(f);
+                    continue;
+                }
+                work.add(1)?;
+                split(&g.plane, f, eps, &mut cf, &mut cb, &mut front, &mut back);
+                next.append(&mut cf);
+                next.append(&mut cb);
+                next.append(&mut front);
+                next.append(&mut back);
+            }
+            frags = next;
+        }
+        out.append(&mut frags);
+    }
+    Ok(out)
+}
+
+impl Bvh {
+    fn boxes_of(&self, g: &Poly, pad: f64) -> Aabb {
+        Aabb::of(&g.points, pad)
+    }
+}
+
+/// Combines two closed solids given by their faces, testing at most
+/// `max_pairs` pairs of faces (and of faces and rays): each face is cut
+/// by the planes of the other solid's faces near it (found through a
+/// bounding volume hierarchy), each fragment classified inside, outside
+/// or on the other solid, and kept by the operation:
+///
+/// | fragment of | union | intersection | difference |
+/// |---|---|---|---|
+/// | A outside B | kept | | kept |
+/// | A inside B | | kept | |
+/// | A on B, same way | kept | kept | |
+/// | A on B, opposite | | | kept |
+/// | B outside A | kept | | |
+/// | B inside A | | kept | kept, reversed |
+/// | B on A | | | |
+pub fn combine_within(
+    a: Vec<Face>,
+    b: Vec<Face>,
+    op: Op,
+    max_pairs: u64,
+) -> std::result::Result<Result, Stop> {
     let size = size_of(&a).max(size_of(&b));
     let eps = TOLERANCE * size;
     let total = a.len() + b.len();
     let na = a.len() as u32;
-    let mut ta = Tree::new(to_polys(a, 0), eps);
-    let mut tb = Tree::new(to_polys(b, na), eps);
-    let flip_result = match op {
-        Op::Union => {
-            ta.clip_to(&tb, eps);
-            tb.clip_to(&ta, eps);
-            tb.invert();
-            tb.clip_to(&ta, eps);
-            tb.invert();
-            false
-        }
-        Op::Difference => {
-            ta.invert();
-            ta.clip_to(&tb, eps);
-            tb.clip_to(&ta, eps);
-            tb.invert();
-            tb.clip_to(&ta, eps);
-            tb.invert();
-            true
-        }
-        Op::Intersection => {
-            ta.invert();
-            tb.clip_to(&ta, eps);
-            tb.invert();
-            ta.clip_to(&tb, eps);
-            tb.clip_to(&ta, eps);
-            true
-        }
+    let mut work = Work {
+        done: 0,
+        max: max_pairs,
     };
-    let mut polys = ta.all();
-    let mut from_b = tb.all();
-    polys.append(&mut from_b);
-    if flip_result {
-        for p in &mut polys {
-            p.flip();
+    let pa = to_polys(a, 0);
+    let pb = to_polys(b, na);
+    work.add((pa.len() + pb.len()) as u64)?;
+    let (ba, bb) = (Bvh::new(&pa, eps), Bvh::new(&pb, eps));
+    let fa = fragments(pa.clone(), &pb, &bb, eps, &mut work)?;
+    let fb = fragments(pb.clone(), &pa, &ba, eps, &mut work)?;
+    let mut polys = Vec::with_capacity(fa.len() + fb.len());
+    let mut scratch = Vec::new();
+    for f in fa {
+        let place = classify(&f, &pb, &bb, eps, &mut scratch, &mut work)?;
+        let keep = matches!(
+            (op, place),
+            (Op::Union, Place::Outside | Place::OnSame)
+                | (Op::Intersection, Place::Inside | Place::OnSame)
+                | (Op::Difference, Place::Outside | Place::OnOpposite)
+        );
+        if keep {
+            polys.push(f);
+        }
+    }
+    for mut f in fb {
+        let keep = match (op, classify(&f, &pa, &ba, eps, &mut scratch, &mut work)?) {
+            (Op::Union, Place::Outside) => true,
+            (Op::Intersection, Place::Inside) => true,
+            (Op::Difference, Place::Inside) => {
+                f.flip();
+                true
+            }
+            _ => false,
+        };
+        if keep {
+            polys.push(f);
         }
     }
     let mut whole = vec![false; total];
@@ -438,8 +734,9 @@ pub fn combine(a: Vec<Face>, b: Vec<Face>, op: Op) -> Result {
             _ => stats.removed += 1,
         }
     }
+    crate::cancel::check().map_err(|_| Stop::Cancelled)?;
     let faces = stitch(polys, eps * 10.0);
-    Result { faces, stats }
+    Ok(Result { faces, stats })
 }
 
 /// Joins points closer than `tol` (a grid of cells of that size, each
@@ -508,10 +805,7 @@ fn stitch(polys: Vec<Poly>, tol: f64) -> Vec<Face> {
                 l.normals.push(*n);
             }
         }
-        while l.ids.len() > 1 && l.ids.first() == l.ids.last() {
-            l.ids.pop();
-            l.normals.pop();
-        }
+        remove_spikes(&mut l);
         if l.ids.len() >= 3 {
             loops.push(l);
         }
@@ -540,6 +834,7 @@ fn stitch(polys: Vec<Poly>, tol: f64) -> Vec<Face> {
     }
     loops
         .into_iter()
+        .filter(|l| l.ids.len() >= 3)
         .map(|l| Face {
             points: l.ids.iter().map(|&i| reps[i as usize]).collect(),
             normals: l.normals,
@@ -591,6 +886,60 @@ fn insert_t_points(
             ids.push(c);
             normals.push(na.lerp(nb, t).normalize_or(na));
         }
+    }
+    l.ids = ids;
+    l.normals = normals;
+    remove_spikes(l);
+}
+
+/// Removes from a loop the points repeated in a row and the spikes
+/// `a, b, a` (a sliver welded flat, or a point inserted on both of its
+/// sides): each would use one edge twice and leave the mesh open.
+fn remove_spikes(l: &mut Loop) {
+    let mut ids: Vec<u32> = Vec::with_capacity(l.ids.len());
+    let mut normals: Vec<DVec3> = Vec::with_capacity(l.ids.len());
+    let push = |ids: &mut Vec<u32>, normals: &mut Vec<DVec3>, id: u32, n: DVec3| {
+        if ids.last() == Some(&id) {
+            return;
+        }
+        if ids.len() >= 2 && ids[ids.len() - 2] == id {
+            ids.pop();
+            normals.pop();
+            return;
+        }
+        ids.push(id);
+        normals.push(n);
+    };
+    for (&id, &n) in l.ids.iter().zip(&l.normals) {
+        push(&mut ids, &mut normals, id, n);
+    }
+    // Across the loop's start: rotate the spike or repetition away.
+    let mut guard = ids.len();
+    while ids.len() >= 3 && guard > 0 {
+        guard -= 1;
+        let m = ids.len();
+        if ids[0] == ids[m - 1] {
+            ids.pop();
+            normals.pop();
+        } else if ids[1] == ids[m - 1] {
+            // last, first, second = x, y, x.
+            ids.remove(0);
+            normals.remove(0);
+            ids.pop();
+            normals.pop();
+        } else if ids[0] == ids[m - 2] {
+            // second last, last, first = x, y, x.
+            ids.pop();
+            normals.pop();
+            ids.pop();
+            normals.pop();
+        } else {
+            break;
+        }
+    }
+    if ids.len() < 3 {
+        ids.clear();
+        normals.clear();
     }
     l.ids = ids;
     l.normals = normals;

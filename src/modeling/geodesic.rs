@@ -311,6 +311,47 @@ pub fn geodesic_turned(n: usize, division: Division, f: &TurnedRadial) -> Result
     Ok(Mesh { vertices, polygons })
 }
 
+/// Fans up to this degree compare every pair of their patch edges.
+const SMALL_FAN: usize = 16;
+
+/// `Err` when Ctrl-C asked the check to stop.
+fn stop_requested() -> Result<(), String> {
+    crate::cancel::check().map_err(|e| e.to_string())
+}
+
+/// The smallest angle between two nonadjacent `tangent`s (unit vectors
+/// perpendicular to `d`, or zero, which are ignored), in `O(m log m)`
+/// rather than over all `m^2` pairs: sorted by their angle about `d`, the
+/// closest nonadjacent pair has at most two tangents between them on the
+/// shorter arc (a third one would be nonadjacent to the first and closer,
+/// as each tangent has only two adjacent ones), so each tangent is
+/// compared with the next three in that order.
+fn closest_nonadjacent(
+    d: DVec3,
+    tangent: &[DVec3],
+    adjacent: impl Fn(usize, usize) -> bool,
+) -> f64 {
+    let (u, w) = d.any_orthonormal_pair();
+    let mut order: Vec<(f64, usize)> = tangent
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| **t != DVec3::ZERO)
+        .map(|(i, t)| (t.dot(w).atan2(t.dot(u)), i))
+        .collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let k = order.len();
+    let mut best = f64::INFINITY;
+    for a in 0..k {
+        for step in 1..=3.min(k.saturating_sub(1)) {
+            let (i, j) = (order[a].1, order[(a + step) % k].1);
+            if i != j && !adjacent(i, j) {
+                best = best.min(tangent[i].angle_between(tangent[j]));
+            }
+        }
+    }
+    best
+}
+
 /// What [`check_tessellation`] found.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TessellationReport {
@@ -348,7 +389,10 @@ pub fn check_tessellation(mesh: &Mesh, centre: DVec3) -> Result<TessellationRepo
     let mut max_ratio: f64 = 0.0;
     // Each vertex's outgoing patch edges, in the cyclic order of its patches.
     let mut next: Vec<HashMap<u32, u32>> = vec![HashMap::new(); dirs.len()];
-    for poly in &mesh.polygons {
+    for (f, poly) in mesh.polygons.iter().enumerate() {
+        if f % 4096 == 0 {
+            stop_requested()?;
+        }
         if poly.len() != 3 {
             return Err("the surface must be triangulated".into());
         }
@@ -371,6 +415,9 @@ pub fn check_tessellation(mesh: &Mesh, centre: DVec3) -> Result<TessellationRepo
     let mut min_nonadjacent = f64::INFINITY;
     let mut max_degree = 0;
     for (v, ring) in next.iter().enumerate() {
+        if v % 4096 == 0 {
+            stop_requested()?;
+        }
         if ring.is_empty() {
             continue;
         }
@@ -392,16 +439,28 @@ pub fn check_tessellation(mesh: &Mesh, centre: DVec3) -> Result<TessellationRepo
             .collect();
         let m = tangent.len();
         max_degree = max_degree.max(m);
+        let adjacent = |i: usize, j: usize| {
+            let (i, j) = (i.min(j), i.max(j));
+            j == i + 1 || (i == 0 && j == m - 1)
+        };
         for i in 0..m {
-            for j in i + 1..m {
-                let angle = tangent[i].angle_between(tangent[j]);
-                let adjacent = j == i + 1 || (i == 0 && j == m - 1);
-                if adjacent {
-                    max_adjacent = max_adjacent.max(angle);
-                } else {
-                    min_nonadjacent = min_nonadjacent.min(angle);
+            if m > 1 {
+                let j = (i + 1) % m;
+                if i < j || m > 2 {
+                    max_adjacent = max_adjacent.max(tangent[i].angle_between(tangent[j]));
                 }
             }
+        }
+        if m <= SMALL_FAN {
+            for i in 0..m {
+                for j in i + 2..m {
+                    if !adjacent(i, j) {
+                        min_nonadjacent = min_nonadjacent.min(tangent[i].angle_between(tangent[j]));
+                    }
+                }
+            }
+        } else {
+            min_nonadjacent = min_nonadjacent.min(closest_nonadjacent(d, &tangent, adjacent));
         }
     }
     let right = std::f64::consts::FRAC_PI_2 + 1e-9;

@@ -19,6 +19,24 @@ use glam::DVec3;
 
 use crate::scene::object_file::Mesh;
 
+/// Bytes a scene holds per vertex of a generated object (position,
+/// exact normal, their transformed copies, and the renderer's per-vertex
+/// data), measured on `plytrace --check` of spheres and cylinders.
+pub const BYTES_PER_VERTEX: u64 = 112;
+/// Bytes per polygon (its record, plane, colour and index list header).
+pub const BYTES_PER_POLYGON: u64 = 176;
+/// Bytes per polygon corner (a vertex index and its share of the rest).
+pub const BYTES_PER_CORNER: u64 = 8;
+
+/// The memory a generated object of `vertices`, `polygons` and `corners`
+/// will hold, saturating.
+pub fn model_bytes(vertices: usize, polygons: usize, corners: usize) -> u64 {
+    (vertices as u64)
+        .saturating_mul(BYTES_PER_VERTEX)
+        .saturating_add((polygons as u64).saturating_mul(BYTES_PER_POLYGON))
+        .saturating_add((corners as u64).saturating_mul(BYTES_PER_CORNER))
+}
+
 /// What a generator makes: polygons clockwise from outside, and for curved
 /// surfaces the exact unit normal at every vertex (vertices on a crease
 /// are repeated, one copy per side).
@@ -97,6 +115,30 @@ impl Primitive {
             Primitive::Superquadric { nu, nv, .. } => parametric::superquadric_face_count(*nu, *nv),
             Primitive::Lathe { profile, n } => profile.face_count(*n),
             Primitive::Extrude { outline, .. } => sweep::extrude_face_count(outline.len()),
+        }
+    }
+
+    /// The vertices and the polygon corners it will make (upper bounds,
+    /// `None` on overflow), computed before anything is built.
+    pub fn vertex_and_corner_counts(&self) -> Option<(usize, usize)> {
+        let faces = self.face_count()?;
+        match self {
+            Primitive::Sphere { nu, nv } | Primitive::Superquadric { nu, nv, .. } => {
+                let v = nu.checked_mul(nv.checked_sub(1)?)?.checked_add(2)?;
+                Some((v, faces.checked_mul(4)?))
+            }
+            Primitive::Cylinder { nu, .. } => Some((nu.checked_mul(4)?, nu.checked_mul(6)?)),
+            Primitive::Lathe { profile, n } => {
+                let k = profile.points().len().checked_add(2)?;
+                Some((
+                    k.checked_mul(*n)?,
+                    faces.checked_add(2 * n)?.checked_mul(4)?,
+                ))
+            }
+            Primitive::Extrude { outline, .. } => {
+                let k = outline.len();
+                Some((k.checked_mul(2)?, k.checked_mul(6)?))
+            }
         }
     }
 

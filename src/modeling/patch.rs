@@ -22,6 +22,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::{Generated, solid};
+use crate::budget::Budgets;
 use crate::error::{Error, Location};
 use crate::scene::object_file::Mesh;
 
@@ -133,16 +134,19 @@ fn tokens(text: &str) -> Vec<Tok<'_>> {
     for (l, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("");
         let mut rest = line;
-        let mut offset = 0;
+        // Characters before `rest`, counted as we go: counting from the
+        // line's start for every token is quadratic on a one-line file.
+        let mut column = 0;
         while let Some(start) = rest.find(|c: char| !c.is_whitespace()) {
+            column += rest[..start].chars().count();
             let from = &rest[start..];
             let len = from.find(char::is_whitespace).unwrap_or(from.len());
             out.push(Tok {
                 text: &from[..len],
                 line: l + 1,
-                column: line[..offset + start].chars().count() + 1,
+                column: column + 1,
             });
-            offset += start + len;
+            column += from[..len].chars().count();
             rest = &from[len..];
         }
     }
@@ -394,50 +398,123 @@ fn edge(p: &Patch, e: usize, u: f64) -> (DVec3, DVec3) {
 
 /// Checks C0 and C1 continuity between every two patches that share an
 /// edge (same end points, in either direction), sampling 9 points along
-/// it. A gap is measured relative to the surface's size.
+/// it. A gap is measured relative to the surface's size. Unbounded; see
+/// [`continuity_within`].
 pub fn continuity(set: &PatchSet) -> ContinuityReport {
+    match continuity_within(set, u64::MAX) {
+        Ok(r) => r,
+        Err(_) => ContinuityReport { joins: Vec::new() },
+    }
+}
+
+/// Why [`continuity_within`] stopped.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ContinuityStop {
+    /// More than the allowed edge pairs share their end points (patches
+    /// piled on one another): the count when it stopped.
+    Pairs(u64),
+    /// Ctrl-C.
+    Cancelled,
+}
+
+/// [`continuity`], comparing only edges whose end points meet (found
+/// through a grid of cells of the tolerance, not over all pairs of
+/// patches) and at most `max_pairs` edge pairs.
+pub fn continuity_within(
+    set: &PatchSet,
+    max_pairs: u64,
+) -> Result<ContinuityReport, ContinuityStop> {
     let size = set
         .patches
         .iter()
         .flat_map(|p| p.p.iter().flatten())
         .fold(0.0f64, |m, v| m.max(v.length()))
         .max(f64::MIN_POSITIVE);
-    let close = |a: DVec3, b: DVec3| a.distance(b) <= 1e-9 * size;
-    let mut joins = Vec::new();
-    for (a, pa) in set.patches.iter().enumerate() {
-        for (b, pb) in set.patches.iter().enumerate().skip(a + 1) {
-            for ea in 0..4 {
-                for eb in 0..4 {
-                    let (a0, a1) = (edge(pa, ea, 0.0).0, edge(pa, ea, 1.0).0);
-                    let (b0, b1) = (edge(pb, eb, 0.0).0, edge(pb, eb, 1.0).0);
-                    let reversed = if close(a0, b0) && close(a1, b1) {
-                        false
-                    } else if close(a0, b1) && close(a1, b0) {
-                        true
-                    } else {
-                        continue;
-                    };
-                    let (mut c0, mut c1, mut g1) = (0.0f64, 0.0f64, 0.0f64);
-                    for k in 0..=8 {
-                        let u = k as f64 / 8.0;
-                        let (qa, da) = edge(pa, ea, u);
-                        let (qb, db) = edge(pb, eb, if reversed { 1.0 - u } else { u });
-                        c0 = c0.max(qa.distance(qb) / size);
-                        // Outward from a is inward to b.
-                        c1 = c1.max((da + db).length() / size);
-                        g1 = g1.max(da.angle_between(-db));
+    let tol = 1e-9 * size;
+    let close = |a: DVec3, b: DVec3| a.distance(b) <= tol;
+    // The end points of every edge, and a grid of the first ones.
+    let ends: Vec<[(DVec3, DVec3); 4]> = set
+        .patches
+        .iter()
+        .map(|p| std::array::from_fn(|e| (edge(p, e, 0.0).0, edge(p, e, 1.0).0)))
+        .collect();
+    let cell = |p: DVec3| (p / tol).floor().to_array().map(|c| c as i64);
+    let mut grid: HashMap<[i64; 3], Vec<(u32, u8, bool)>> = HashMap::new();
+    for (b, e) in ends.iter().enumerate() {
+        for (eb, &(b0, b1)) in e.iter().enumerate() {
+            grid.entry(cell(b0))
+                .or_default()
+                .push((b as u32, eb as u8, false));
+            grid.entry(cell(b1))
+                .or_default()
+                .push((b as u32, eb as u8, true));
+        }
+    }
+    let mut pairs = 0u64;
+    let mut found: Vec<(usize, usize, usize, usize, bool)> = Vec::new();
+    let mut near = Vec::new();
+    for (a, ea_ends) in ends.iter().enumerate() {
+        if a % 1024 == 0 && crate::cancel::requested() {
+            return Err(ContinuityStop::Cancelled);
+        }
+        for (ea, &(a0, a1)) in ea_ends.iter().enumerate() {
+            // Edges with an end point near a0: a shared edge has one.
+            near.clear();
+            let c = cell(a0);
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        if let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
+                            near.extend(list.iter().filter(|(b, _, _)| *b as usize > a));
+                        }
                     }
-                    joins.push(Join {
-                        patches: (a, b),
-                        c0_gap: c0,
-                        c1_gap: c1,
-                        g1_angle: g1,
-                    });
                 }
+            }
+            near.sort_unstable();
+            near.dedup_by_key(|(b, eb, _)| (*b, *eb));
+            pairs = pairs.saturating_add(near.len() as u64);
+            if pairs > max_pairs {
+                return Err(ContinuityStop::Pairs(pairs));
+            }
+            for &(b, eb, _) in near.iter() {
+                let (b0, b1) = ends[b as usize][eb as usize];
+                let reversed = if close(a0, b0) && close(a1, b1) {
+                    false
+                } else if close(a0, b1) && close(a1, b0) {
+                    true
+                } else {
+                    continue;
+                };
+                found.push((a, b as usize, ea, eb as usize, reversed));
             }
         }
     }
-    ContinuityReport { joins }
+    // The order of a scan over all pairs: by patches, then edges.
+    found.sort_unstable();
+    let mut joins = Vec::with_capacity(found.len());
+    for (k, &(a, b, ea, eb, reversed)) in found.iter().enumerate() {
+        if k % 4096 == 0 && crate::cancel::requested() {
+            return Err(ContinuityStop::Cancelled);
+        }
+        let (pa, pb) = (&set.patches[a], &set.patches[b]);
+        let (mut c0, mut c1, mut g1) = (0.0f64, 0.0f64, 0.0f64);
+        for k in 0..=8 {
+            let u = k as f64 / 8.0;
+            let (qa, da) = edge(pa, ea, u);
+            let (qb, db) = edge(pb, eb, if reversed { 1.0 - u } else { u });
+            c0 = c0.max(qa.distance(qb) / size);
+            // Outward from a is inward to b.
+            c1 = c1.max((da + db).length() / size);
+            g1 = g1.max(da.angle_between(-db));
+        }
+        joins.push(Join {
+            patches: (a, b),
+            c0_gap: c0,
+            c1_gap: c1,
+            g1_angle: g1,
+        });
+    }
+    Ok(ContinuityReport { joins })
 }
 
 /// `plytrace continuity FILE [bezier|hermite]`: reads a patch file (the
@@ -445,6 +522,17 @@ pub fn continuity(set: &PatchSet) -> ContinuityReport {
 /// and reports, per shared edge and overall, C0 and C1 continuity (gaps
 /// relative to the surface's size, within `1e-9`) and the G1 angle.
 pub fn continuity_report(path: &Path, form: Option<&str>) -> Result<String, Error> {
+    continuity_report_within(path, form, &Budgets::default())
+}
+
+/// [`continuity_report`] under `budgets`: the patch count under
+/// [`Budgets::polygons`] (`--max-polygons`), the edge pairs compared
+/// under [`Budgets::pair_tests`] (`--max-pair-tests`).
+pub fn continuity_report_within(
+    path: &Path,
+    form: Option<&str>,
+    budgets: &Budgets,
+) -> Result<String, Error> {
     let form = match form.map(str::to_ascii_lowercase).as_deref() {
         Some("bezier") => Form::Bezier,
         Some("hermite") => Form::Hermite,
@@ -465,8 +553,30 @@ pub fn continuity_report(path: &Path, form: Option<&str>) -> Result<String, Erro
         }
         None => Form::Bezier,
     };
-    let set = read(path, form, |_| Ok(()))?;
-    let r = continuity(&set);
+    let set = read(path, form, |count| {
+        if count > budgets.polygons {
+            return Err(Error::at(
+                Location::file(path),
+                Budgets::exceeded(
+                    &format!("{count} patches"),
+                    budgets.polygons,
+                    "--max-polygons",
+                ),
+            ));
+        }
+        Ok(())
+    })?;
+    let r = continuity_within(&set, budgets.pair_tests).map_err(|stop| match stop {
+        ContinuityStop::Cancelled => Error::Cancelled,
+        ContinuityStop::Pairs(n) => Error::at(
+            Location::file(path),
+            Budgets::exceeded(
+                &format!("the patch edges sharing end points ({n} pairs and more)"),
+                budgets.pair_tests,
+                "--max-pair-tests",
+            ),
+        ),
+    })?;
     let tol = 1e-9;
     let yes = |b: bool| if b { "yes" } else { "NO" };
     let mut out = format!(

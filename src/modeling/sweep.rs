@@ -53,34 +53,111 @@ fn segments_meet(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
 /// The first pair of edges of the closed polygon `points` that meet other
 /// than at a shared corner (1-based edge numbers), if any. Adjacent edges
 /// meet only at their corner unless they fold back onto each other.
+/// Unbounded; see [`self_intersection_within`].
 pub fn self_intersection(points: &[DVec2]) -> Option<(usize, usize)> {
+    self_intersection_within(points, u64::MAX).unwrap_or(None)
+}
+
+/// Edge pairs compared before an outline is refused (see
+/// [`crate::budget::Budgets::pair_tests`]).
+pub const DEFAULT_PAIR_TESTS: u64 = 50_000_000;
+
+/// [`self_intersection`] by a sweep in x: the edges sorted by their
+/// smallest x, each compared only with the edges whose x range it meets
+/// (two per x for a convex outline, so near-linear after the sort on
+/// sound outlines). `Err(pairs)` when more than `max_pairs` pairs would
+/// be compared (an outline whose edges overlap in x by the thousand).
+pub fn self_intersection_within(
+    points: &[DVec2],
+    max_pairs: u64,
+) -> Result<Option<(usize, usize)>, u64> {
     let m = points.len();
     let edge = |i: usize| (points[i], points[(i + 1) % m]);
-    for i in 0..m {
-        for j in i + 1..m {
+    let mut order: Vec<(f64, usize)> = (0..m)
+        .map(|i| {
+            let (a, b) = edge(i);
+            (a.x.min(b.x), i)
+        })
+        .collect();
+    order.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+    // Active edges: (largest x, index).
+    let mut active: Vec<(f64, usize)> = Vec::new();
+    let mut first: Option<(usize, usize)> = None;
+    let mut pairs = 0u64;
+    for &(x0, e) in &order {
+        let (c, d) = edge(e);
+        let (ylo, yhi) = (c.y.min(d.y), c.y.max(d.y));
+        let mut k = 0;
+        while k < active.len() {
+            let (x1, o) = active[k];
+            if x1 < x0 {
+                active.swap_remove(k);
+                continue;
+            }
+            k += 1;
+            pairs += 1;
+            if pairs > max_pairs {
+                return Err(pairs);
+            }
+            let (i, j) = (o.min(e), o.max(e));
+            if first.is_some_and(|f| f <= (i + 1, j + 1)) {
+                continue;
+            }
             let (a, b) = edge(i);
             let (c, d) = edge(j);
             let adjacent = j == i + 1 || (i == 0 && j == m - 1);
-            if adjacent {
+            let meet = if adjacent {
                 // They share one corner; they overlap when the other end of
                 // one lies on the other, collinear.
                 let (shared, p, q) = if j == i + 1 { (b, a, d) } else { (a, b, c) };
-                let folds = orient(p, shared, q) == 0.0 && (p - shared).dot(q - shared) > 0.0;
-                if folds {
-                    return Some((i + 1, j + 1));
-                }
-            } else if segments_meet(a, b, c, d) {
-                return Some((i + 1, j + 1));
+                orient(p, shared, q) == 0.0 && (p - shared).dot(q - shared) > 0.0
+            } else {
+                let (olo, ohi) = (a.y.min(b.y), a.y.max(b.y));
+                olo <= yhi && ylo <= ohi && segments_meet(a, b, c, d)
+            };
+            if meet {
+                first = Some((i + 1, j + 1));
             }
         }
+        active.push((c.x.max(d.x), e));
     }
-    None
+    Ok(first)
+}
+
+/// [`self_intersection_within`] of the `what` under `max_pairs` (`None`:
+/// a pre-pass under the default budget, passed when it runs out), its
+/// budget error as a message naming the flag.
+fn checked(
+    points: &[DVec2],
+    max_pairs: Option<u64>,
+    what: &str,
+) -> Result<Option<(usize, usize)>, String> {
+    let Some(max_pairs) = max_pairs else {
+        // A pre-pass: the crossings it can find within the default budget.
+        return Ok(self_intersection_within(points, DEFAULT_PAIR_TESTS).unwrap_or(None));
+    };
+    self_intersection_within(points, max_pairs).map_err(|pairs| {
+        crate::budget::Budgets::exceeded(
+            &format!("checking that the {what} is simple ({pairs} edge pairs and more)"),
+            max_pairs,
+            "--max-pair-tests",
+        )
+    })
 }
 
 /// `extrude DEPTH x1 y1 ... xk yk`: the outline checked (a last point
 /// equal to the first dropped; at least 3 distinct points, non-zero area,
 /// simple) and made counter-clockwise.
-pub fn extrude_outline(mut points: Vec<DVec2>) -> Result<Vec<DVec2>, String> {
+pub fn extrude_outline(points: Vec<DVec2>) -> Result<Vec<DVec2>, String> {
+    extrude_outline_within(points, Some(DEFAULT_PAIR_TESTS))
+}
+
+/// [`extrude_outline`] comparing at most `max_pairs` edge pairs (`None`:
+/// a pre-pass, which passes an outline past the default budget).
+pub fn extrude_outline_within(
+    mut points: Vec<DVec2>,
+    max_pairs: Option<u64>,
+) -> Result<Vec<DVec2>, String> {
     points.dedup();
     if points.len() > 1 && points.first() == points.last() {
         points.pop();
@@ -102,7 +179,8 @@ pub fn extrude_outline(mut points: Vec<DVec2>) -> Result<Vec<DVec2>, String> {
     if collinear {
         return Err("the extrude outline has zero area (its points are collinear)".into());
     }
-    if let Some((i, j)) = self_intersection(&points) {
+    let crossing = checked(&points, max_pairs, "extrude outline")?;
+    if let Some((i, j)) = crossing {
         return Err(format!(
             "the extrude outline intersects itself: edges {i} and {j} cross (an outline must be simple)"
         ));
@@ -161,13 +239,19 @@ impl Profile {
     /// Checks `points` (`x` = r, `y` = z): at least two distinct points,
     /// `r >= 0`, `r = 0` only at the ends, the outline closed through the
     /// axis simple and of non-zero area.
-    pub fn new(mut points: Vec<DVec2>) -> Result<Profile, String> {
+    pub fn new(points: Vec<DVec2>) -> Result<Profile, String> {
+        Profile::new_within(points, Some(DEFAULT_PAIR_TESTS))
+    }
+
+    /// [`Profile::new`] comparing at most `max_pairs` edge pairs (`None`:
+    /// a pre-pass, which passes a profile past the default budget).
+    pub fn new_within(mut points: Vec<DVec2>, max_pairs: Option<u64>) -> Result<Profile, String> {
         points.dedup();
         if points.len() < 2 {
             return Err("a lathe profile needs at least 2 distinct points".into());
         }
         if points.len() >= 4 && points.first() == points.last() {
-            return Profile::ring(points);
+            return Profile::ring(points, max_pairs);
         }
         if let Some(i) = points.iter().position(|p| p.x < 0.0) {
             return Err(format!(
@@ -192,7 +276,8 @@ impl Profile {
         if area.abs() <= 1e-12 * scale * scale {
             return Err("the lathe profile encloses no area with the axis".into());
         }
-        if let Some((i, j)) = self_intersection(&closed) {
+        let crossing = checked(&closed, max_pairs, "lathe profile")?;
+        if let Some((i, j)) = crossing {
             return Err(format!(
                 "the lathe profile, closed along the axis, intersects itself (its edges {i} and {j} cross)"
             ));
@@ -208,7 +293,7 @@ impl Profile {
 
     /// A closed profile (its last point repeating the first) off the axis:
     /// spun, it makes a ring with no caps.
-    fn ring(mut points: Vec<DVec2>) -> Result<Profile, String> {
+    fn ring(mut points: Vec<DVec2>, max_pairs: Option<u64>) -> Result<Profile, String> {
         points.pop();
         if let Some(i) = points.iter().position(|p| p.x <= 0.0) {
             return Err(format!(
@@ -217,7 +302,8 @@ impl Profile {
             ));
         }
         let scale = points.iter().fold(0.0f64, |m, p| m.max(p.length()));
-        if let Some((i, j)) = self_intersection(&points) {
+        let crossing = checked(&points, max_pairs, "closed lathe profile")?;
+        if let Some((i, j)) = crossing {
             return Err(format!(
                 "the closed lathe profile intersects itself (its edges {i} and {j} cross)"
             ));

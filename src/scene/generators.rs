@@ -69,7 +69,16 @@ pub(super) enum Pending {
 const MAX_STEPS: i64 = u32::MAX as i64;
 
 /// Parses a generator command (its name is `a.spec.name`).
+///
+/// This is the pre-pass over a whole file: an outline too long to check
+/// simple within the default pair budget is left to [`parse_within`].
 pub(super) fn parse(a: &Args) -> Result<Pending> {
+    parse_within(a, None)
+}
+
+/// [`parse`] checking outlines simple within `pair_tests` edge pairs
+/// (`None`: the pre-pass).
+pub(super) fn parse_within(a: &Args, pair_tests: Option<u64>) -> Result<Pending> {
     let name = a.spec.name;
     let steps = |i: usize, min: i64| a.integer(i, min, MAX_STEPS).map(|v| v as usize);
     let positive = |i: usize, what: &str| -> Result<f64> {
@@ -153,13 +162,15 @@ pub(super) fn parse(a: &Args) -> Result<Pending> {
         "lathe" => {
             a.count(5, usize::MAX)?;
             let n = steps(0, 3)?;
-            let profile = Profile::new(pairs(1)?).map_err(|e| a.ctx.error(a.cmd, e))?;
+            let profile =
+                Profile::new_within(pairs(1)?, pair_tests).map_err(|e| a.ctx.error(a.cmd, e))?;
             Primitive::Lathe { profile, n }
         }
         "extrude" => {
             a.count(7, usize::MAX)?;
             let depth = positive(0, "DEPTH")?;
-            let outline = sweep::extrude_outline(pairs(1)?).map_err(|e| a.ctx.error(a.cmd, e))?;
+            let outline = sweep::extrude_outline_within(pairs(1)?, pair_tests)
+                .map_err(|e| a.ctx.error(a.cmd, e))?;
             Primitive::Extrude { outline, depth }
         }
         _ => {
@@ -205,7 +216,7 @@ pub(super) struct Ending<'a> {
 impl Interpreter {
     /// Records a generator command in the active object.
     pub(super) fn add_generator(&mut self, a: &Args) -> Result<()> {
-        let pending = parse(a)?;
+        let pending = parse_within(a, Some(self.budgets.pair_tests))?;
         let loc = a.ctx.location(a.cmd);
         let Some(active) = &mut self.active else {
             return Err(a.ctx.error(
@@ -252,6 +263,10 @@ impl Interpreter {
             Pending::Primitive(p) => {
                 let faces = p.face_count().unwrap_or(usize::MAX);
                 self.check_polygons(faces, &loc, &format!("this generator ({faces} polygons)"))?;
+                let (vertices, corners) = p
+                    .vertex_and_corner_counts()
+                    .unwrap_or((usize::MAX, usize::MAX));
+                self.check_model_memory(vertices, faces, corners, &loc)?;
                 p.build()
             }
             Pending::Patches { form, file, nu, nv } => {
@@ -306,7 +321,12 @@ impl Interpreter {
                 faces,
                 loc,
                 &format!("{count} patches at {nu} x {nv} ({faces} triangles)"),
-            )
+            )?;
+            let vertices = count
+                .checked_mul(nu.saturating_add(1))
+                .and_then(|v| v.checked_mul(nv.saturating_add(1)))
+                .unwrap_or(usize::MAX);
+            self.check_model_memory(vertices, faces, faces.saturating_mul(3), loc)
         };
         let set = patch::read(&path, form, budget).map_err(|e| match e {
             Error::Input(mut d) => {
@@ -316,6 +336,34 @@ impl Interpreter {
             other => other,
         })?;
         Ok(patch::tessellate(&set, nu, nv))
+    }
+
+    /// Refuses a generated object whose `vertices`, `polygons` and
+    /// `corners` would hold more than [`Budgets::model_memory`], before
+    /// it is built.
+    fn check_model_memory(
+        &self,
+        vertices: usize,
+        polygons: usize,
+        corners: usize,
+        loc: &Location,
+    ) -> Result<()> {
+        let need = crate::modeling::model_bytes(vertices, polygons, corners);
+        let limit = self.budgets.model_memory;
+        if need <= limit {
+            return Ok(());
+        }
+        Err(Error::at(
+            loc.clone(),
+            Budgets::exceeded(
+                &format!(
+                    "this generator's {vertices} vertices and {polygons} polygons ({} MiB)",
+                    need.div_ceil(1 << 20)
+                ),
+                format!("{} MiB", limit >> 20),
+                "--max-model-memory",
+            ),
+        ))
     }
 
     /// Builds and adds the object (transform, exact normals, budget).
@@ -448,7 +496,20 @@ impl Interpreter {
             );
         }
         let (na, nb) = (self.scene.objects[ia].number, self.scene.objects[ib].number);
-        let result = csg::combine(fa, fb, op);
+        let result =
+            csg::combine_within(fa, fb, op, self.budgets.pair_tests).map_err(
+                |stop| match stop {
+                    csg::Stop::Cancelled => Error::Cancelled,
+                    csg::Stop::Pairs(n) => Error::at(
+                        loc.clone(),
+                        Budgets::exceeded(
+                            &format!("combining `{a}` and `{b}` ({n} face pair tests and more)"),
+                            self.budgets.pair_tests,
+                            "--max-pair-tests",
+                        ),
+                    ),
+                },
+            )?;
         let (mesh, normals, attrs) = csg::to_mesh(&result.faces, with_normals);
         let s = result.stats;
         let closed = solid::check_closed(&solid::weld_exact(&mesh.vertices), &mesh.polygons);

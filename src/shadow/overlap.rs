@@ -6,7 +6,7 @@
 //!
 //! A floor under a detailed object may carry thousands of pieces per
 //! light, so the pieces of each light are indexed by a uniform grid over
-//! their boxes in the target's plane ([`PieceGrid`]): a region is tested
+//! their boxes in the target's plane (`PieceGrid`): a region is tested
 //! only against the pieces whose cells it meets, in their original order,
 //! so the regions made are the same as testing every pair.
 

@@ -17,7 +17,7 @@
 //!
 //! x and y are normalized screen coordinates, 0 to 1 from the lower left
 //! corner, as the figure says ("x,y floats 0 to 1"), so one file renders
-//! at any resolution. They are snapped into [0, 1] ([`unit`]) in one
+//! at any resolution. They are snapped into [0, 1] ([`fn@unit`]) in one
 //! place, where plytrace makes them (`crate::emit`): a vertex clipped to
 //! the screen's edge can come out a rounding error beyond it (`-1.1e-16`,
 //! or `-0`), which the figure does not allow. Both forms then write the

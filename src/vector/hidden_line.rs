@@ -216,7 +216,7 @@ fn covered_by_later_edges(faces: &[(Vec<Pt>, Vec<bool>)]) -> crate::error::Resul
             let (a, b) = (pts[e], pts[(e + 1) % m]);
             let mut d = [b[0] - a[0], b[1] - a[1]];
             let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
-            if len.is_nan() || len <= 0.0 || !len.is_finite() {
+            if !len.is_finite() || len <= 0.0 {
                 continue;
             }
             if d[0] < 0.0 || (d[0] == 0.0 && d[1] < 0.0) {

@@ -202,6 +202,14 @@ pub struct Cli {
     #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
           help_heading = BUDGETS)]
     pub max_overdraw: Option<u64>,
+    /// Pair tests of one modeling operation: CSG, outline checks.
+    #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
+          help_heading = BUDGETS)]
+    pub max_pair_tests: Option<u64>,
+    /// MiB of one generated object's vertices and polygons (default 1024).
+    #[arg(long, value_name = "MiB", value_parser = positive, allow_hyphen_values = true,
+          help_heading = BUDGETS)]
+    pub max_model_memory: Option<u64>,
     /// MiB of a whole frame held in memory (default 1024).
     #[arg(long, value_name = "MiB", value_parser = positive, allow_hyphen_values = true,
           help_heading = BUDGETS)]
@@ -596,6 +604,12 @@ impl Cli {
         }
         if let Some(n) = self.max_frame_memory {
             b.frame_memory = n.saturating_mul(1 << 20);
+        }
+        if let Some(n) = self.max_pair_tests {
+            b.pair_tests = n;
+        }
+        if let Some(n) = self.max_model_memory {
+            b.model_memory = n.saturating_mul(1 << 20);
         }
         if let Some(n) = self.max_rays {
             b.rays = n;

@@ -128,6 +128,22 @@ mod tests {
         assert!(text.contains("translate tx ty tz"), "{text}");
     }
 
+    /// One table: every command the interpreter knows has help text, and
+    /// `--help` and the prompt's `help` list each of them.
+    #[test]
+    fn every_command_has_help_in_every_place() {
+        let all = after_help();
+        for c in COMMANDS {
+            assert!(!c.help.trim().is_empty(), "`{}` has no help", c.name);
+            assert!(
+                all.contains(&format!("    {} ", c.name))
+                    || all.contains(&format!("    {}\n", c.name))
+            );
+            assert!(command_help(Some(c.name)).contains(c.help.split_whitespace().next().unwrap()));
+            assert!(crate::repl::command_candidates(c.name).contains(&c.name));
+        }
+    }
+
     #[test]
     fn a_topic_selects_by_prefix() {
         assert!(command_help(Some("transl")).starts_with("    translate"));

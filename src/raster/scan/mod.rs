@@ -3,9 +3,9 @@
 //!
 //! The types below are the fixed interface between the record stream, the
 //! scan converters and the outputs (PNG, separations, pixel-struct files).
-//! Inside: the tiler of section 5.5 ([`tiler`]), the integrators of
-//! sections 5.6-5.9 ([`single`], [`multilevel`], [`painter`]) and the
-//! virtual frame buffer of section 5.10 ([`band`]).
+//! Inside: the tiler of section 5.5 (`tiler`), the integrators of
+//! sections 5.6-5.9 (`single`, `multilevel`, `painter`) and the
+//! virtual frame buffer of section 5.10 (`band`).
 //!
 //! Which stream each method accepts, and which hidden-surface logic runs:
 //!
@@ -170,6 +170,20 @@ pub struct Row<'a> {
     pub pixels: Option<&'a [PixelStruct]>,
     /// With [`ScanOptions::ids`]: record ids.
     pub ids: Option<&'a [u32]>,
+}
+
+impl<'a> Row<'a> {
+    /// A row of colours alone (no coverage, masks, pixel-structs or ids).
+    pub fn colors(y: u32, rgb: &'a [[f32; 3]]) -> Row<'a> {
+        Row {
+            y,
+            rgb,
+            coverage: None,
+            mask: None,
+            pixels: None,
+            ids: None,
+        }
+    }
 }
 
 /// Receives the rows of a scan conversion, top row first, each once.

@@ -1,0 +1,768 @@
+//! The small public face of the library: a [`Scene`] read from a scene
+//! descriptor file or built in code from arrays, and [`fn@render`],
+//! [`render_vector`] and [`render_rows`] to turn it into pixels or vector
+//! graphics. Everything the `plytrace` program does with a scene goes
+//! through the modules behind it (Garcia 1986, figure 3.2: scene →
+//! geometry → visibility → virtual image tree → scan conversion); this
+//! module only gathers what a caller needs and checks what it is given.
+//!
+//! ```
+//! use plytrace::api::{Camera, Light, Material, MeshData, Options, Scene, VectorFormat};
+//!
+//! let cube = MeshData::new(
+//!     vec![[-1., -1., -1.], [1., -1., -1.], [1., 1., -1.], [-1., 1., -1.],
+//!          [-1., -1., 1.], [1., -1., 1.], [1., 1., 1.], [-1., 1., 1.]],
+//!     vec![vec![0, 3, 2, 1], vec![4, 5, 6, 7], vec![0, 1, 5, 4],
+//!          vec![2, 3, 7, 6], vec![1, 2, 6, 5], vec![0, 4, 7, 3]],
+//! );
+//! let mut scene = Scene::new(Camera::looking_at([4., -6., 3.], [0., 0., 0.]), 64, 64);
+//! scene.add_light(Light::point([5., -5., 8.], [1., 1., 1.]));
+//! scene.add_mesh("cube", &cube, &Material::color([0.2, 0.6, 1.0]))?;
+//! let image = plytrace::api::render(&scene, &Options::default())?;
+//! assert_eq!((image.width, image.height, image.rgb.len()), (64, 64, 64 * 64 * 3));
+//! let png = image.to_png()?;
+//! let svg = plytrace::api::render_vector(&scene, &Options::default(), VectorFormat::Svg)?;
+//! assert!(png.starts_with(b"\x89PNG") && svg.starts_with(b"<?xml"));
+//! # Ok::<(), plytrace::Error>(())
+//! ```
+
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::error::{Error, Result};
+use crate::math::{self, Matrix4};
+use crate::render::{self, RenderOptions, RenderStats};
+use crate::scene::interpreter::{ObjectParts, build_object};
+use crate::scene::model::{self, LightKind, Surface, SurfaceType, Viewport};
+use crate::scene::object_file::{ColorEntry, Mesh};
+
+pub use crate::raster::scan::Method as Antialiasing;
+pub use crate::vector::Format as VectorFormat;
+
+/// How the scene is seen: an eye, the point it looks at, a twist about
+/// the line of sight, and a projection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    /// The eye.
+    pub eye: [f64; 3],
+    /// The point looked at.
+    pub target: [f64; 3],
+    /// The world direction shown up on the screen.
+    pub up: [f64; 3],
+    /// Rotation about the line of sight, degrees (the manual's `lookat`).
+    pub twist: f64,
+    /// The projection.
+    pub projection: Projection,
+}
+
+/// The projection of a [`Camera`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Projection {
+    /// `perspective fovy aspect near far`; the aspect is the image's.
+    Perspective {
+        /// Vertical field of view, degrees.
+        fovy: f64,
+        /// Nearest distance drawn.
+        near: f64,
+        /// Farthest distance drawn.
+        far: f64,
+    },
+    /// `ortho left right bottom top near far`, in eye coordinates.
+    Orthographic {
+        /// Left edge.
+        left: f64,
+        /// Right edge.
+        right: f64,
+        /// Bottom edge.
+        bottom: f64,
+        /// Top edge.
+        top: f64,
+        /// Nearest distance drawn.
+        near: f64,
+        /// Farthest distance drawn.
+        far: f64,
+    },
+}
+
+impl Camera {
+    /// A camera at `eye` looking at `target` with a 45-degree perspective
+    /// (near 0.01, far 10,000) and +z up, as in most plotting tools. (The
+    /// scene language's `lookat` keeps +y up, as IRIS GL did: set `up` to
+    /// `[0, 1, 0]` for the same view.)
+    pub fn looking_at(eye: [f64; 3], target: [f64; 3]) -> Camera {
+        Camera {
+            eye,
+            target,
+            up: [0.0, 0.0, 1.0],
+            twist: 0.0,
+            projection: Projection::Perspective {
+                fovy: 45.0,
+                near: 0.01,
+                far: 10_000.0,
+            },
+        }
+    }
+
+    /// World to clip coordinates for an image of `aspect` = width / height:
+    /// the projection, pre-multiplied by the view (IRIS GL order).
+    fn matrix(&self, aspect: f64) -> Result<Matrix4> {
+        let projection = match self.projection {
+            Projection::Perspective { fovy, near, far } => {
+                check_range("fovy", fovy, 0.0, 180.0)?;
+                check_depths(near, far)?;
+                math::perspective(fovy, aspect, near, far)
+            }
+            Projection::Orthographic {
+                left,
+                right,
+                bottom,
+                top,
+                near,
+                far,
+            } => {
+                let all = [left, right, bottom, top, near, far];
+                if all.iter().any(|v| !v.is_finite())
+                    || left == right
+                    || bottom == top
+                    || near == far
+                {
+                    return Err(invalid(
+                        "an orthographic camera needs finite, distinct bounds",
+                    ));
+                }
+                math::ortho(left, right, bottom, top, near, far)
+            }
+        };
+        let (eye, target) = (
+            finite3("camera eye", self.eye)?,
+            finite3("camera target", self.target)?,
+        );
+        let up = finite3("camera up", self.up)?;
+        let view = math::lookat_up(eye, target, up, self.twist).ok_or_else(|| {
+            invalid("the camera's eye and target are the same point, or it looks along `up`")
+        })?;
+        Ok(view.mul(&projection))
+    }
+}
+
+/// A light source.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Light {
+    /// Position in world coordinates.
+    pub position: [f64; 3],
+    /// Colour, 0 to 1.
+    pub color: [f64; 3],
+    /// Distance at which its light falls to nothing (004 section 4.8).
+    pub range: f64,
+    /// Whether it casts shadows (the manual's `Point`; else `Diffuse`).
+    pub shadows: bool,
+}
+
+impl Light {
+    /// A shadow-casting light with a range of 10,000.
+    pub fn point(position: [f64; 3], color: [f64; 3]) -> Light {
+        Light {
+            position,
+            color,
+            range: 10_000.0,
+            shadows: true,
+        }
+    }
+}
+
+/// The surface of an object: the coefficients of the scene language's
+/// `color`, `diffuse`, `specular`, `shininess`, `reflectance`,
+/// `transmittance`, `index` and `transparency` commands (004 section 4.8),
+/// and whether both sides of its faces are seen (`type polygon open`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Material {
+    /// The scene language's surface attributes.
+    pub surface: Surface,
+    /// Both sides of each face are drawn (an open surface).
+    pub two_sided: bool,
+    /// Vertex normals are interpolated (`type polygon curved`).
+    pub smooth: bool,
+}
+
+impl Material {
+    /// The default surface in colour `rgb`.
+    pub fn color(rgb: [f64; 3]) -> Material {
+        let mut m = Material::default();
+        m.surface.color = DVec3::from_array(rgb);
+        m
+    }
+}
+
+/// An object's geometry as arrays: vertices, and faces as lists of
+/// 0-based vertex indices, counter-clockwise seen from outside (the
+/// convention of OBJ, PLY and numpy-based tools; the scene language's
+/// object files are clockwise). Optional colours per face or per vertex.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MeshData {
+    /// Vertex positions.
+    pub vertices: Vec<[f64; 3]>,
+    /// Faces: at least three vertex indices each.
+    pub faces: Vec<Vec<u32>>,
+    /// One colour per face, 0 to 1.
+    pub face_colors: Option<Vec<[f64; 3]>>,
+    /// One colour per vertex, 0 to 1 (Gouraud shaded).
+    pub vertex_colors: Option<Vec<[f64; 3]>>,
+}
+
+impl MeshData {
+    /// A mesh of `vertices` and counter-clockwise `faces`.
+    pub fn new(vertices: Vec<[f64; 3]>, faces: Vec<Vec<u32>>) -> MeshData {
+        MeshData {
+            vertices,
+            faces,
+            ..MeshData::default()
+        }
+    }
+
+    /// Checks the arrays: finite coordinates and colours, faces of three
+    /// or more indices within the vertices, colour arrays of the right
+    /// length.
+    pub fn validate(&self) -> Result<()> {
+        if let Some(i) = self
+            .vertices
+            .iter()
+            .position(|v| v.iter().any(|c| !c.is_finite()))
+        {
+            return Err(invalid(&format!(
+                "vertex {i} is not finite: {:?}",
+                self.vertices[i]
+            )));
+        }
+        let n = self.vertices.len();
+        for (f, face) in self.faces.iter().enumerate() {
+            if face.len() < 3 {
+                return Err(invalid(&format!(
+                    "face {f} has {} vertices; a face needs 3",
+                    face.len()
+                )));
+            }
+            if let Some(&i) = face.iter().find(|&&i| i as usize >= n) {
+                return Err(invalid(&format!(
+                    "face {f} names vertex {i}, but there are {n} vertices"
+                )));
+            }
+        }
+        for (what, colors, want) in [
+            ("face_colors", &self.face_colors, self.faces.len()),
+            ("vertex_colors", &self.vertex_colors, n),
+        ] {
+            let Some(colors) = colors else { continue };
+            if colors.len() != want {
+                return Err(invalid(&format!(
+                    "{what} has {} colours for {want} {}",
+                    colors.len(),
+                    if what == "face_colors" {
+                        "faces"
+                    } else {
+                        "vertices"
+                    }
+                )));
+            }
+            if let Some(i) = colors.iter().position(|c| c.iter().any(|v| !v.is_finite())) {
+                return Err(invalid(&format!("{what}[{i}] is not finite")));
+            }
+        }
+        Ok(())
+    }
+
+    /// The scene language's mesh: faces clockwise from outside.
+    fn to_mesh(&self) -> Mesh {
+        Mesh {
+            vertices: self
+                .vertices
+                .iter()
+                .map(|v| DVec3::from_array(*v))
+                .collect(),
+            polygons: self
+                .faces
+                .iter()
+                .map(|f| f.iter().rev().copied().collect())
+                .collect(),
+        }
+    }
+}
+
+/// A scene ready to render.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    inner: model::Scene,
+    camera: Option<(Camera, u32, u32)>,
+}
+
+impl Scene {
+    /// An empty scene of `width` x `height` pixels seen by `camera`, with
+    /// the scene language's defaults (black background, white ambient).
+    pub fn new(camera: Camera, width: u32, height: u32) -> Scene {
+        let inner = model::Scene {
+            viewport: Viewport::of_size(width.max(1), height.max(1)),
+            ..model::Scene::default()
+        };
+        Scene {
+            inner,
+            camera: Some((camera, width.max(1), height.max(1))),
+        }
+    }
+
+    /// Reads a scene descriptor file, as `plytrace -f FILE` does (its
+    /// `run` commands are not acted on: render it with [`fn@render`]).
+    pub fn from_file(path: &Path) -> Result<Scene> {
+        let (inner, _warnings) = crate::scene::load(path)?;
+        Ok(Scene {
+            inner,
+            camera: None,
+        })
+    }
+
+    /// Reads a scene from the text of a scene descriptor file; object
+    /// files are looked up from `dir`.
+    pub fn from_text(text: &str, dir: &Path) -> Result<Scene> {
+        let mut interp = crate::scene::Interpreter::new();
+        interp.execute_source(text, Path::new("<text>"), dir, &mut crate::scene::NoHost)?;
+        Ok(Scene {
+            inner: interp.current().clone(),
+            camera: None,
+        })
+    }
+
+    /// Adds a light.
+    pub fn add_light(&mut self, light: Light) {
+        self.inner.lights.push(model::Light {
+            position: DVec3::from_array(light.position),
+            color: DVec3::from_array(light.color),
+            range: light.range,
+            kind: if light.shadows {
+                LightKind::Point
+            } else {
+                LightKind::Diffuse
+            },
+        });
+    }
+
+    /// Adds an object made from `mesh` with `material`, in world
+    /// coordinates. Degenerate faces are skipped, as in object files.
+    pub fn add_mesh(&mut self, name: &str, mesh: &MeshData, material: &Material) -> Result<()> {
+        mesh.validate()?;
+        let colors = |c: &Option<Vec<[f64; 3]>>| {
+            c.as_ref().map(|c| {
+                Arc::new(
+                    c.iter()
+                        .map(|rgb| ColorEntry {
+                            color: DVec3::from_array(*rgb),
+                            diffuse: material.surface.diffuse,
+                            reflectance: material.surface.reflectance,
+                            transmittance: material.surface.transmittance,
+                        })
+                        .collect::<Vec<_>>(),
+                )
+            })
+        };
+        let parts = ObjectParts {
+            number: self.inner.objects.len() as u32,
+            name: name.to_string(),
+            mesh: Arc::new(mesh.to_mesh()),
+            polygon_colors: colors(&mesh.face_colors),
+            vertex_colors: colors(&mesh.vertex_colors),
+            transform: Matrix4::IDENTITY,
+            surface: material.surface,
+            surface_type: SurfaceType {
+                open: material.two_sided,
+                curved: material.smooth,
+                ..SurfaceType::default()
+            },
+        };
+        let object = build_object(parts, &mut |_| {}).map_err(Error::Invalid)?;
+        if mesh.vertex_colors.is_some() {
+            self.inner.modes.vertex_shades = true;
+        }
+        self.inner.objects.push(object);
+        Ok(())
+    }
+
+    /// The background colour, 0 to 1.
+    pub fn set_background(&mut self, rgb: [f64; 3]) {
+        self.inner.background = DVec3::from_array(rgb);
+    }
+
+    /// The ambient light's colour, 0 to 1.
+    pub fn set_ambient(&mut self, rgb: [f64; 3]) {
+        self.inner.ambient = DVec3::from_array(rgb);
+    }
+
+    /// Levels of reflection and refraction followed (the manual's
+    /// `depth`, 1 to 14).
+    pub fn set_depth(&mut self, levels: u32) -> Result<()> {
+        if !(1..=14).contains(&levels) {
+            return Err(invalid(&format!("depth {levels}: expected 1 to 14")));
+        }
+        self.inner.modes.max_level = levels;
+        Ok(())
+    }
+
+    /// The image size.
+    pub fn size(&self) -> (u32, u32) {
+        (self.inner.viewport.width(), self.inner.viewport.height())
+    }
+
+    /// The scene model the renderer reads, with the camera applied.
+    fn model(&self) -> Result<std::borrow::Cow<'_, model::Scene>> {
+        let Some((camera, w, h)) = &self.camera else {
+            return Ok(std::borrow::Cow::Borrowed(&self.inner));
+        };
+        let mut scene = self.inner.clone();
+        scene.projection = camera.matrix(f64::from(*w) / f64::from(*h))?;
+        Ok(std::borrow::Cow::Owned(scene))
+    }
+}
+
+/// How to render.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Image size overriding the scene's.
+    pub size: Option<(u32, u32)>,
+    /// Anti-aliasing; `None` is the best for the scene (method 4).
+    pub antialiasing: Option<Antialiasing>,
+    /// Shadows from the lights that cast them (the manual's `run y`).
+    pub shadows: bool,
+    /// Worker threads; 0 is all cores. The image does not depend on it.
+    pub threads: usize,
+    /// Limits on the work, as the program's `--max-*` flags.
+    pub budgets: crate::budget::Budgets,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            size: None,
+            antialiasing: None,
+            shadows: true,
+            threads: 0,
+            budgets: crate::budget::Budgets::default(),
+        }
+    }
+}
+
+impl Options {
+    fn render_options(&self) -> RenderOptions {
+        RenderOptions {
+            size: self.size,
+            shadows: self.shadows,
+            aa: self.antialiasing,
+            threads: self.threads,
+            budgets: self.budgets,
+            ..RenderOptions::default()
+        }
+    }
+}
+
+/// A rendered image: 8-bit RGB, rows from the top.
+#[derive(Debug, Clone)]
+pub struct Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width * height * 3` bytes.
+    pub rgb: Vec<u8>,
+    /// What the render did.
+    pub stats: RenderStats,
+}
+
+impl Image {
+    /// The image as a PNG file's bytes.
+    pub fn to_png(&self) -> Result<Vec<u8>> {
+        let mut out = Vec::new();
+        let mut encoder = png::Encoder::new(&mut out, self.width, self.height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder
+            .write_header()
+            .map_err(|e| Error::Invalid(format!("PNG: {e}")))?;
+        writer
+            .write_image_data(&self.rgb)
+            .map_err(|e| Error::Invalid(format!("PNG: {e}")))?;
+        writer
+            .finish()
+            .map_err(|e| Error::Invalid(format!("PNG: {e}")))?;
+        Ok(out)
+    }
+}
+
+/// Renders `scene` to an image in memory.
+pub fn render(scene: &Scene, options: &Options) -> Result<Image> {
+    let mut rgb = Vec::new();
+    let (mut width, mut height) = (0, 0);
+    let stats = render_rows(scene, options, &mut |y, row| {
+        width = (row.len() / 3) as u32;
+        height = y + 1;
+        rgb.extend_from_slice(row);
+        Ok(())
+    })?;
+    Ok(Image {
+        width,
+        height,
+        rgb,
+        stats,
+    })
+}
+
+/// Renders `scene` row by row: `sink` gets each row's index from the top
+/// and its RGB bytes, in order, as the scan converter finishes them; the
+/// whole image is never held when the scene takes the streamed path (the
+/// virtual image tree).
+pub fn render_rows(
+    scene: &Scene,
+    options: &Options,
+    sink: &mut dyn FnMut(u32, &[u8]) -> Result<()>,
+) -> Result<RenderStats> {
+    let model = scene.model()?;
+    let (w, h) = options.size.unwrap_or(scene.size());
+    if u64::from(w) * u64::from(h) > options.budgets.pixels {
+        return Err(Error::Invalid(crate::budget::Budgets::exceeded(
+            &format!("the image of {w} x {h} pixels"),
+            options.budgets.pixels,
+            "--max-pixels",
+        )));
+    }
+    let mode = model.outmode;
+    let mut bytes = Vec::new();
+    let mut rows = ByteRows {
+        mode,
+        bytes: &mut bytes,
+        sink,
+    };
+    match render::plan(&model, &options.render_options())? {
+        render::Plan::Tree(prepared) => Ok(render::scan_into(*prepared, &mut rows)?.stats),
+        render::Plan::Painted(rendered) => {
+            let frame = &rendered.frame;
+            for (y, row) in frame.color.chunks(frame.width.max(1) as usize).enumerate() {
+                crate::raster::scan::RowSink::row(
+                    &mut rows,
+                    &crate::raster::scan::Row::colors(y as u32, row),
+                )?;
+            }
+            Ok(rendered.stats)
+        }
+    }
+}
+
+/// Rows of colours to rows of bytes.
+struct ByteRows<'a> {
+    mode: model::OutMode,
+    bytes: &'a mut Vec<u8>,
+    sink: &'a mut dyn FnMut(u32, &[u8]) -> Result<()>,
+}
+
+impl crate::raster::scan::RowSink for ByteRows<'_> {
+    fn row(&mut self, row: &crate::raster::scan::Row<'_>) -> Result<()> {
+        crate::cancel::check()?;
+        crate::output::rgb8_row(row.rgb, row.y, self.mode, self.bytes);
+        (self.sink)(row.y, self.bytes)
+    }
+}
+
+/// Renders `scene` as vector graphics (SVG, one-page PDF or TikZ): the
+/// polygons of the virtual image tree, split and ordered by NNS, painted
+/// back to front.
+pub fn render_vector(scene: &Scene, options: &Options, format: VectorFormat) -> Result<Vec<u8>> {
+    let model = scene.model()?;
+    let style = crate::vector::Style::Shaded;
+    let input = crate::vector::prepare_for(&model, &options.render_options(), style)?;
+    let picture = crate::vector::picture(&input, style);
+    let mut out = Vec::new();
+    format
+        .write(&picture, &mut out)
+        .map_err(|e| Error::Invalid(format!("vector output: {e}")))?;
+    Ok(out)
+}
+
+fn invalid(message: &str) -> Error {
+    Error::Invalid(message.to_string())
+}
+
+fn finite3(what: &str, v: [f64; 3]) -> Result<DVec3> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(DVec3::from_array(v))
+    } else {
+        Err(invalid(&format!("{what} is not finite: {v:?}")))
+    }
+}
+
+fn check_range(what: &str, v: f64, lo: f64, hi: f64) -> Result<()> {
+    if v.is_finite() && v > lo && v < hi {
+        Ok(())
+    } else {
+        Err(invalid(&format!(
+            "{what} {v}: expected more than {lo} and less than {hi}"
+        )))
+    }
+}
+
+fn check_depths(near: f64, far: f64) -> Result<()> {
+    if near.is_finite() && far.is_finite() && near > 0.0 && far > near {
+        Ok(())
+    } else {
+        Err(invalid(&format!(
+            "near {near} and far {far}: expected 0 < near < far"
+        )))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> MeshData {
+        MeshData::new(
+            vec![[-1., -1., 0.], [1., -1., 0.], [1., 1., 0.], [-1., 1., 0.]],
+            vec![vec![0, 1, 2, 3]],
+        )
+    }
+
+    #[test]
+    fn bad_arrays_are_refused_with_the_reason() {
+        let mut m = square();
+        m.vertices[2][1] = f64::NAN;
+        assert!(
+            m.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("vertex 2 is not finite")
+        );
+        let mut m = square();
+        m.faces[0][3] = 9;
+        assert!(
+            m.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("names vertex 9, but there are 4")
+        );
+        let mut m = square();
+        m.faces.push(vec![0, 1]);
+        assert!(
+            m.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("face 1 has 2 vertices")
+        );
+        let mut m = square();
+        m.face_colors = Some(vec![]);
+        assert!(
+            m.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("0 colours for 1 faces")
+        );
+    }
+
+    #[test]
+    fn a_square_seen_from_above_fills_the_middle_in_its_colour() {
+        let mut camera = Camera::looking_at([0., 0., 5.], [0., 0., 0.]);
+        camera.up = [0., 1., 0.];
+        let mut scene = Scene::new(camera, 32, 32);
+        scene.set_ambient([1., 1., 1.]);
+        let mut red = Material::color([1., 0., 0.]);
+        red.surface.diffuse = 0.0;
+        scene.add_mesh("square", &square(), &red).unwrap();
+        let image = render(&scene, &Options::default()).unwrap();
+        let centre = ((16 * 32 + 16) * 3) as usize;
+        // Ambient only: k_a = 1 - k_d = 1, the colour itself.
+        assert_eq!(&image.rgb[centre..centre + 3], &[255, 0, 0]);
+        assert_eq!(&image.rgb[0..3], &[0, 0, 0], "the corner is background");
+        // Seen from behind, a one-sided square is culled; two-sided it shows.
+        camera.eye = [0., 0., -5.];
+        let mut back = Scene::new(camera, 32, 32);
+        back.add_mesh("square", &square(), &red).unwrap();
+        let culled = render(&back, &Options::default()).unwrap();
+        assert_eq!(&culled.rgb[centre..centre + 3], &[0, 0, 0]);
+        red.two_sided = true;
+        let mut back = Scene::new(camera, 32, 32);
+        back.add_mesh("square", &square(), &red).unwrap();
+        let shown = render(&back, &Options::default()).unwrap();
+        assert_ne!(&shown.rgb[centre..centre + 3], &[0, 0, 0]);
+    }
+
+    /// The unit cube, counter-clockwise faces; the top (z = +1) is face 1.
+    fn cube() -> MeshData {
+        MeshData::new(
+            vec![
+                [-1., -1., -1.],
+                [1., -1., -1.],
+                [1., 1., -1.],
+                [-1., 1., -1.],
+                [-1., -1., 1.],
+                [1., -1., 1.],
+                [1., 1., 1.],
+                [-1., 1., 1.],
+            ],
+            vec![
+                vec![0, 3, 2, 1],
+                vec![4, 5, 6, 7],
+                vec![0, 1, 5, 4],
+                vec![2, 3, 7, 6],
+                vec![1, 2, 6, 5],
+                vec![0, 4, 7, 3],
+            ],
+        )
+    }
+
+    #[test]
+    fn counter_clockwise_faces_face_out_and_z_is_up() {
+        let mut mesh = cube();
+        let mut colors = vec![[0., 0., 1.]; 6];
+        colors[1] = [1., 0., 0.];
+        mesh.face_colors = Some(colors);
+        let mut material = Material::default();
+        material.surface.diffuse = 0.0;
+        let pixel = |up: [f64; 3], x: usize, y: usize| {
+            let mut camera = Camera::looking_at([3., -5., 6.], [0., 0., 0.]);
+            camera.up = up;
+            let mut scene = Scene::new(camera, 40, 40);
+            scene.add_mesh("cube", &mesh, &material).unwrap();
+            let image = render(&scene, &Options::default()).unwrap();
+            let i = (y * 40 + x) * 3;
+            [image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]]
+        };
+        let red = |p: [u8; 3]| p[0] > 200 && p[1] == 0 && p[2] < 30;
+        let blue = |p: [u8; 3]| p[2] > 200 && p[0] < 30 && p[1] == 0;
+        // Above the centre the red top is seen; below it a blue side.
+        assert!(
+            red(pixel([0., 0., 1.], 20, 12)),
+            "{:?}",
+            pixel([0., 0., 1.], 20, 12)
+        );
+        assert!(
+            blue(pixel([0., 0., 1.], 20, 28)),
+            "{:?}",
+            pixel([0., 0., 1.], 20, 28)
+        );
+        // Upside down, the top is below the centre.
+        assert!(
+            red(pixel([0., 0., -1.], 20, 28)),
+            "{:?}",
+            pixel([0., 0., -1.], 20, 28)
+        );
+    }
+
+    #[test]
+    fn a_scene_from_text_renders_like_the_program() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+        let text = std::fs::read_to_string(dir.join("ccube.des")).unwrap();
+        let scene = Scene::from_text(&text, &dir).unwrap();
+        let options = Options {
+            size: Some((48, 48)),
+            ..Options::default()
+        };
+        let image = render(&scene, &options).unwrap();
+        let from_file =
+            render(&Scene::from_file(&dir.join("ccube.des")).unwrap(), &options).unwrap();
+        assert_eq!(image.rgb, from_file.rgb);
+        assert!(image.stats.polygons_tiled > 0);
+    }
+}
