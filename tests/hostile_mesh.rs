@@ -11,7 +11,7 @@ fn refused(path: &std::path::Path, budget: usize) -> String {
     let err = read_mesh_within(path, budget).unwrap_err().to_string();
     assert!(err.contains("--max-polygons"), "{err}");
     assert!(
-        t.elapsed() < Duration::from_secs(2),
+        t.elapsed() < Duration::from_secs(20),
         "{:?}: {err}",
         t.elapsed()
     );
