@@ -8,6 +8,9 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+mod support;
+use support::copy_tree;
+
 fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_plytrace")
 }
@@ -22,19 +25,6 @@ fn workdir() -> tempfile::TempDir {
     std::fs::copy(scenes.join("office2.des"), dir.path().join("office2.des")).expect("office2");
     copy_tree(&scenes.join("det"), &dir.path().join("det"));
     dir
-}
-
-fn copy_tree(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for entry in std::fs::read_dir(from).unwrap_or_else(|e| panic!("{}: {e}", from.display())) {
-        let entry = entry.unwrap();
-        let target = to.join(entry.file_name());
-        if entry.file_type().unwrap().is_dir() {
-            copy_tree(&entry.path(), &target);
-        } else {
-            std::fs::copy(entry.path(), target).unwrap();
-        }
-    }
 }
 
 fn run(dir: &Path, args: &[&str], stdin: Option<&[u8]>) -> Output {

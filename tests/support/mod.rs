@@ -218,3 +218,18 @@ pub fn closed(o: &plytrace::scene::model::Object) -> bool {
         .iter()
         .all(|((a, b), n)| *n == 1 && edges.get(&(*b, *a)) == Some(&1))
 }
+
+/// Copies the folder `from` into `to`, recursively (fixtures into a
+/// temporary working directory).
+pub fn copy_tree(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap_or_else(|e| panic!("{}: {e}", from.display())) {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_tree(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), target).unwrap();
+        }
+    }
+}
