@@ -551,3 +551,18 @@ fn the_modeling_budgets_are_flags() {
         text(&o.stderr)
     );
 }
+
+/// A job of a scheduler often may use fewer CPUs than the machine has (a
+/// Slurm or Kubernetes cpuset); `taskset` makes one. A quiet run says
+/// nothing there either (the allocator once warned on every run).
+#[test]
+fn a_quiet_run_on_one_cpu_of_many_says_nothing() {
+    let dir = workdir();
+    let out = Command::new("taskset")
+        .args(["-c", "0", bin(), "-q", "--size", "32x32", "ccube.des"])
+        .current_dir(dir.path())
+        .output()
+        .expect("taskset (util-linux) runs");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stderr), "", "stderr of a quiet run");
+}
