@@ -127,7 +127,7 @@ fn tree(c: &mut Criterion) {
             let mut s = scene.clone();
             let mut kept = 0;
             s.lights.retain(|l| {
-                if l.kind == plytrace::scene::model::LightKind::Diffuse {
+                if l.kind == plytrace::model::LightKind::Diffuse {
                     return true;
                 }
                 kept += 1;

@@ -21,10 +21,10 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use plytrace::model::LightKind;
 use plytrace::raytrace::{self, RayTraceOptions};
 use plytrace::render::{self, Plan, RenderOptions};
 use plytrace::scene::Scene;
-use plytrace::scene::model::LightKind;
 
 fn scenes() -> Vec<(String, PathBuf)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes");

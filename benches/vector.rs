@@ -94,9 +94,9 @@ fn bench(c: &mut Criterion) {
         ..RenderOptions::default()
     };
     g.bench_function("stage/prepare", |b| {
-        b.iter(|| vector::prepare(&scene, &options).unwrap())
+        b.iter(|| plytrace::render::vector::prepare(&scene, &options).unwrap())
     });
-    let input = vector::prepare(&scene, &options).unwrap();
+    let input = plytrace::render::vector::prepare(&scene, &options).unwrap();
     g.bench_function("stage/picture+svg", |b| {
         b.iter(|| vector::svg::to_svg(&vector::picture(&input, Style::Shaded)))
     });

@@ -16,7 +16,6 @@ use std::fmt::Write as _;
 
 use glam::DVec3;
 use plytrace::geometry::view::View;
-use plytrace::shading::polygon_material;
 
 fn v(p: DVec3) -> String {
     format!("<{:.9}, {:.9}, {:.9}>", p.x, p.y, p.z)
@@ -65,7 +64,7 @@ fn main() {
     .unwrap();
     for light in &scene.lights {
         let c = light.color;
-        let shadowless = if light.kind == plytrace::scene::model::LightKind::Point {
+        let shadowless = if light.kind == plytrace::model::LightKind::Point {
             ""
         } else {
             " shadowless"
@@ -90,7 +89,7 @@ fn main() {
         }
         writeln!(meshes, "mesh {{").unwrap();
         for (pi, poly) in object.polygons.iter().enumerate() {
-            let m = polygon_material(object, pi);
+            let m = object.material(pi);
             let tex = format!(
                 "texture {{ pigment {{ rgbt <{}, {}, {}, {}> }} finish {{ ambient {} diffuse {} specular {} roughness {} reflection {} }} }}",
                 m.color.x,

@@ -33,10 +33,10 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::math::{self, Matrix4};
+use crate::model::{self, LightKind, Surface, SurfaceType, Viewport};
+use crate::model::{ColorEntry, Mesh};
 use crate::render::{self, RenderOptions, RenderStats};
 use crate::scene::interpreter::{ObjectParts, build_object};
-use crate::scene::model::{self, LightKind, Surface, SurfaceType, Viewport};
-use crate::scene::object_file::{ColorEntry, Mesh};
 
 pub use crate::raster::scan::Method as Antialiasing;
 pub use crate::vector::Format as VectorFormat;
@@ -573,7 +573,7 @@ impl crate::raster::scan::RowSink for ByteRows<'_> {
 pub fn render_vector(scene: &Scene, options: &Options, format: VectorFormat) -> Result<Vec<u8>> {
     let model = scene.model()?;
     let style = crate::vector::Style::Shaded;
-    let input = crate::vector::prepare_for(&model, &options.render_options(), style)?;
+    let input = crate::render::vector::prepare_for(&model, &options.render_options(), style)?;
     let picture = crate::vector::picture(&input, style);
     let mut out = Vec::new();
     format

@@ -16,7 +16,7 @@ use rayon::prelude::*;
 
 use crate::geometry::view::View;
 use crate::image_tree::{Fragment, FragmentKind, VirtualImageTree};
-use crate::scene::model::{Color, Scene, SortOrder};
+use crate::model::{Color, Scene, SortOrder};
 use crate::shading::{
     interpolate_in_polygon, phong_vertices, transparency_of, vertex_shades, vertex_transparency,
 };

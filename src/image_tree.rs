@@ -44,9 +44,9 @@ use crate::geometry::face_splitter;
 use crate::geometry::polygon;
 use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
+use crate::model::{Color, Scene, SortOrder};
 use crate::profile::{Category, Profile};
-use crate::scene::model::{Color, Scene, SortOrder};
-use crate::shading::{FacetTerms, ShadingModel, polygon_material};
+use crate::shading::{FacetTerms, ShadingModel};
 pub use crate::shadow::overlap::{ShadowRegion, intersect_in_plane, overlap_regions};
 use crate::visibility::{depth_sort, nns};
 use rayon::prelude::*;
@@ -840,7 +840,7 @@ impl<'a> Builder<'a> {
     /// from `c`, pre-blended shade `blended`) that pass the threshold.
     fn queue_branches(&mut self, at: &LevelState<'_>, c: &Candidate, id: usize, blended: Color) {
         let object = &self.scene.objects[c.object as usize];
-        let material = polygon_material(object, c.polygon as usize);
+        let material = object.material(c.polygon as usize);
         let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
             return;
         };
@@ -1167,7 +1167,7 @@ impl ShadowCaster<'_> {
         };
         let mut per_light = Vec::new();
         for (j, light) in self.scene.lights.iter().enumerate() {
-            if light.kind != crate::scene::model::LightKind::Point {
+            if light.kind != crate::model::LightKind::Point {
                 continue;
             }
             let pieces = casting.pieces(&target, j, light.position, scratch);

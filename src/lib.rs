@@ -20,6 +20,7 @@ pub mod geometry;
 pub mod image_tree;
 pub mod input_guard;
 pub mod math;
+pub mod model;
 pub mod modeling;
 pub mod output;
 pub mod precision;

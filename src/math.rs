@@ -403,6 +403,15 @@ pub fn refraction(plane: DVec4, view: DVec3, eta: f64) -> Option<Matrix4> {
     Some(m)
 }
 
+/// The box around `points`: its lowest and highest corners (infinite and
+/// inverted when there are none).
+pub fn bounds(points: impl IntoIterator<Item = DVec3>) -> (DVec3, DVec3) {
+    points.into_iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -59,9 +59,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Location, Result};
+use crate::model::OutMode;
 use crate::raster::frame_buffer::FrameBuffer;
 use crate::raster::scan::{PixelStruct, Row, RowSink, SavedFragment};
-use crate::scene::model::OutMode;
 
 /// One row of colours as 8-bit RGB bytes in `mode` (row `y` for the
 /// dither), the same conversion as the streamed PNG; `out` is replaced.

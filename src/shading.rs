@@ -18,39 +18,43 @@
 use glam::{DVec3, DVec4};
 
 use crate::geometry::view::View;
-use crate::scene::model::{Color, Light, Object, Scene};
-use crate::scene::object_file::ColorEntry;
+use crate::model::{Color, Light, Material, Object, Scene};
 
-/// The surface parameters at one point.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Material {
-    /// Surface colour.
-    pub color: Color,
-    /// Diffuse coefficient kd.
-    pub diffuse: f64,
-    /// Specular coefficient ks.
-    pub specular: f64,
-    /// Shininess n.
-    pub shininess: f64,
-    /// Reflection coefficient kr.
-    pub reflectance: f64,
-    /// Transmission coefficient kt.
-    pub transmittance: f64,
+/// Per vertex: the shade without highlights `I_e` (3 values), then per
+/// light the highlight normal vector `hltnml` (the vertex normal in a frame
+/// whose z axis is the halfway vector H) and the light's highlight
+/// intensity `I_L` (3 + 3 values). At a pixel, the interpolated values give
+/// `I = I_e + sum I_L (h_z / |h|)^n` (004 section 4.8).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhongVertices {
+    /// Number of highlight lights.
+    pub lights: usize,
+    /// Shininess `n`.
+    pub shininess: f32,
+    /// `stride()` values per vertex.
+    pub attrs: Vec<f32>,
 }
 
-impl Material {
-    /// The ambient coefficient `max(0, 1 - (kd + kr + kt))`.
-    pub fn ambient_coefficient(&self) -> f64 {
-        (1.0 - (self.diffuse + self.reflectance + self.transmittance)).max(0.0)
+impl PhongVertices {
+    /// Values per vertex.
+    pub fn stride(&self) -> usize {
+        3 + 6 * self.lights
     }
 
-    /// This material with colour and coefficients of a `.pcl`/`.vcl` entry.
-    pub fn with_entry(mut self, e: &ColorEntry) -> Material {
-        self.color = e.color;
-        self.diffuse = e.diffuse;
-        self.reflectance = e.reflectance;
-        self.transmittance = e.transmittance;
-        self
+    /// The colour from interpolated values `v`.
+    pub fn shade(&self, v: &[f32]) -> [f32; 3] {
+        let mut c = [v[0], v[1], v[2]];
+        for l in 0..self.lights {
+            let h = &v[3 + 6 * l..6 + 6 * l];
+            let len = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
+            if len > 0.0 && h[2] > 0.0 {
+                let k = (h[2] / len).powf(self.shininess);
+                for (ci, i) in c.iter_mut().zip(&v[6 + 6 * l..9 + 6 * l]) {
+                    *ci += i * k;
+                }
+            }
+        }
+        c.map(|x| x.clamp(0.0, 1.0))
     }
 }
 
@@ -173,7 +177,7 @@ impl<'a> FacetTerms<'a> {
         let object = &scene.objects[object as usize];
         let pi = polygon as usize;
         let poly = &object.polygons[pi];
-        let material = polygon_material(object, pi);
+        let material = object.material(pi);
         let point = at.unwrap_or_else(|| {
             poly.indices
                 .iter()
@@ -298,36 +302,6 @@ pub fn shade_donovan(
     c.clamp(DVec3::ZERO, DVec3::ONE)
 }
 
-/// The material of polygon `pi` of `object`, with its `.pcl` entry or the
-/// average of its vertices' `.vcl` entries.
-pub fn polygon_material(object: &Object, pi: usize) -> Material {
-    let s = &object.surface;
-    let base = Material {
-        color: s.color,
-        diffuse: s.diffuse,
-        specular: s.specular,
-        shininess: s.shininess,
-        reflectance: s.reflectance,
-        transmittance: s.transmittance,
-    };
-    if let Some(pcl) = &object.polygon_colors {
-        let source = object.source_polygon[pi] as usize;
-        return base.with_entry(&pcl[source]);
-    }
-    if let Some(vcl) = &object.vertex_colors {
-        let idx = &object.polygons[pi].indices;
-        let n = idx.len() as f64;
-        let mut avg = vcl[idx[0] as usize];
-        let sum = |f: &dyn Fn(usize) -> f64| idx.iter().map(|&i| f(i as usize)).sum::<f64>() / n;
-        avg.color = idx.iter().map(|&i| vcl[i as usize].color).sum::<DVec3>() / n;
-        avg.diffuse = sum(&|i| vcl[i].diffuse);
-        avg.reflectance = sum(&|i| vcl[i].reflectance);
-        avg.transmittance = sum(&|i| vcl[i].transmittance);
-        return base.with_entry(&avg);
-    }
-    base
-}
-
 // ---------------------------------------------------------------------
 // Shades of polygons and their vertices in a scene: faceted, Gouraud and
 // Phong (004 section 4.8), transparency (004 section 4.9).
@@ -380,14 +354,14 @@ fn vertex_normal_at(o: &Object, pi: usize, back: bool, p: DVec3) -> DVec3 {
 /// `.vcl` vertex colours the entries of the nearest edge's vertices,
 /// interpolated.
 fn material_at(o: &Object, pi: usize, p: DVec3) -> Material {
-    let base = polygon_material(o, pi);
+    let base = o.material(pi);
     let (Some(vcl), None) = (&o.vertex_colors, &o.polygon_colors) else {
         return base;
     };
     let (ia, ib, t) = edge_position(o, pi, p);
     let (a, b) = (vcl[ia], vcl[ib]);
     let lerp = |x: f64, y: f64| x + (y - x) * t;
-    base.with_entry(&crate::scene::object_file::ColorEntry {
+    base.with_entry(&crate::model::ColorEntry {
         color: a.color + (b.color - a.color) * t,
         diffuse: lerp(a.diffuse, b.diffuse),
         reflectance: lerp(a.reflectance, b.reflectance),
@@ -442,13 +416,13 @@ pub fn phong_vertices(
     world: &[DVec3],
     offset: Color,
     weight: f64,
-) -> Option<crate::raster::frame_buffer::PhongVertices> {
+) -> Option<PhongVertices> {
     if !scene.modes.phong {
         return None;
     }
     let o = &scene.objects[object as usize];
     let pi = polygon as usize;
-    let material = polygon_material(o, pi);
+    let material = o.material(pi);
     if o.surface_type.ltsrc || material.specular <= 0.0 {
         return None;
     }
@@ -479,7 +453,7 @@ pub fn phong_vertices(
             );
         }
     }
-    Some(crate::raster::frame_buffer::PhongVertices {
+    Some(PhongVertices {
         lights: scene.lights.len(),
         shininess: material.shininess as f32,
         attrs,
@@ -636,7 +610,7 @@ pub fn facet_shade_with(
     object: u32,
     polygon: u32,
     back: bool,
-    lights: &[crate::scene::model::Light],
+    lights: &[crate::model::Light],
     at: Option<DVec3>,
 ) -> Color {
     facet_shade_with_model(
@@ -659,14 +633,14 @@ pub fn facet_shade_with_model(
     object: u32,
     polygon: u32,
     back: bool,
-    lights: &[crate::scene::model::Light],
+    lights: &[crate::model::Light],
     at: Option<DVec3>,
     model: ShadingModel,
 ) -> Color {
     let object = &scene.objects[object as usize];
     let pi = polygon as usize;
     let polygon = &object.polygons[pi];
-    let material = polygon_material(object, pi);
+    let material = object.material(pi);
     if object.surface_type.ltsrc {
         return material.color;
     }
@@ -698,7 +672,7 @@ pub fn facet_shade_with_model(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::model::LightKind;
+    use crate::model::LightKind;
 
     fn material() -> Material {
         Material {

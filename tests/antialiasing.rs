@@ -16,8 +16,9 @@ mod support;
 
 use plytrace::geometry::view::View;
 use plytrace::raster::scan::Method;
-use plytrace::render::{RenderOptions, facet_shade, render};
+use plytrace::render::{RenderOptions, render};
 use plytrace::scene::Scene;
+use plytrace::shading::facet_shade;
 use plytrace::visibility::Algorithm;
 use plytrace::visibility::ray_cast::RayCaster;
 

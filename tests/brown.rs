@@ -94,7 +94,7 @@ fn general_surface_agrees_with_the_oracle() {
         .filter(|p| p.iter().all(|&i| mesh.vertices[i as usize].z < 0.45))
         .cloned()
         .collect();
-    let bowl = plytrace::scene::object_file::Mesh {
+    let bowl = plytrace::model::Mesh {
         vertices: mesh.vertices.clone(),
         polygons: keep,
     };

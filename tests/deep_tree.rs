@@ -15,8 +15,8 @@ mod support;
 use glam::DVec3;
 use plytrace::geometry::view::View;
 use plytrace::image_tree::{self, FragmentKind, TreeOptions, VirtualImageTree};
+use plytrace::model::{LightKind, SortOrder};
 use plytrace::scene::Scene;
-use plytrace::scene::model::{LightKind, SortOrder};
 use plytrace::visibility::ray_cast::RayCaster;
 
 /// The scene of `des` (without its header), with `cube.det` and a unit
@@ -90,7 +90,7 @@ fn follow(
         let p = o + d * hit.t;
         last = Some(((hit.object, hit.polygon, level), p));
         let object = &scene.objects[hit.object as usize];
-        let kr = plytrace::shading::polygon_material(object, hit.polygon as usize).reflectance;
+        let kr = object.material(hit.polygon as usize).reflectance;
         if kr <= 0.0 {
             break;
         }

@@ -103,7 +103,7 @@ fn run_in(dir: &Path, text: &str) -> Outcome {
         .collect();
     let mut scene = interp.scene();
     // Keep renders small whatever the input asked for.
-    scene.viewport = plytrace::scene::model::Viewport::of_size(24, 24);
+    scene.viewport = plytrace::model::Viewport::of_size(24, 24);
     let render = render(
         &scene,
         &RenderOptions {

@@ -120,7 +120,8 @@ fn drawn_edges_are_the_true_visible_edges() {
     for name in ["cycles.des", "ccube.des", "mirror.des"] {
         let sc = scene(name);
         let truth = oracle_edges(&sc);
-        let input = vector::prepare_for(&sc, &options(), Style::HiddenLine).unwrap();
+        let input =
+            plytrace::render::vector::prepare_for(&sc, &options(), Style::HiddenLine).unwrap();
         check(name, "png aa", &png_drawn(&input, true), &truth);
         check(name, "png point", &png_drawn(&input, false), &truth);
         check(name, "svg", &svg_drawn(&input), &truth);
@@ -143,7 +144,8 @@ fn split_and_clipped_edges_are_not_drawn() {
     for name in ["cycles.des", "office1.des"] {
         let sc = scene(name);
         let truth = oracle_edges(&sc);
-        let mut input = vector::prepare_for(&sc, &options(), Style::HiddenLine).unwrap();
+        let mut input =
+            plytrace::render::vector::prepare_for(&sc, &options(), Style::HiddenLine).unwrap();
         let real = stray(&png_drawn(&input, false), &truth);
         for (flags, r) in input.original_edges.iter_mut().zip(&input.stream.records) {
             if !flags.is_empty() {
@@ -163,7 +165,7 @@ fn split_and_clipped_edges_are_not_drawn() {
 #[test]
 fn hidden_line_png_is_black_on_white_and_anti_aliased_only_with_aa() {
     let sc = scene("ccube.des");
-    let input = vector::prepare_for(&sc, &options(), Style::HiddenLine).unwrap();
+    let input = plytrace::render::vector::prepare_for(&sc, &options(), Style::HiddenLine).unwrap();
     let segments = hidden_line::visible_edges(&input);
     let grey = |aa| {
         hidden_line::rasterize(&segments, SIZE, SIZE, aa)

@@ -377,7 +377,7 @@ fn brute_self_intersection(points: &[DVec2]) -> Option<(usize, usize)> {
 }
 
 /// A fan of `n` triangles about a hub at (0, 0, 1).
-fn fan(n: usize, jitter: bool) -> plytrace::scene::object_file::Mesh {
+fn fan(n: usize, jitter: bool) -> plytrace::model::Mesh {
     let mut vertices = vec![DVec3::new(0.0, 0.0, 1.0)];
     for i in 0..n {
         let mut a = std::f64::consts::TAU * i as f64 / n as f64;
@@ -389,7 +389,7 @@ fn fan(n: usize, jitter: bool) -> plytrace::scene::object_file::Mesh {
     let polygons = (0..n as u32)
         .map(|i| vec![0, 1 + i, 1 + (i + 1) % n as u32])
         .collect();
-    plytrace::scene::object_file::Mesh { vertices, polygons }
+    plytrace::model::Mesh { vertices, polygons }
 }
 
 #[test]

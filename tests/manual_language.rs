@@ -426,7 +426,7 @@ fn a_successful_csg_is_silent() {
 // 3. The simple depth sort's keys.
 // ---------------------------------------------------------------------
 
-use plytrace::scene::model::SortOrder;
+use plytrace::model::SortOrder;
 use plytrace::visibility::Algorithm;
 
 fn ids_with(scene: &Scene, algorithm: Algorithm) -> Vec<Option<(u32, u32)>> {
@@ -530,7 +530,7 @@ fn plain(scene: &Scene) -> bool {
             o.surface.transparency.0 == 0.0
                 && (scene.modes.max_level == 1
                     || (0..o.polygons.len()).all(|p| {
-                        let m = plytrace::shading::polygon_material(o, p);
+                        let m = o.material(p);
                         m.reflectance == 0.0 && m.transmittance == 0.0
                     }))
         })

@@ -10,11 +10,11 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use glam::DVec3;
 use plytrace::error::Diagnostic;
+use plytrace::model::Object;
 use plytrace::modeling::parametric::{Superquadric, spow};
 use plytrace::modeling::patch::{self, Form};
 use plytrace::render::{RenderOptions, render};
 use plytrace::scene::Scene;
-use plytrace::scene::model::Object;
 
 const PRELUDE: &str =
     "resolution 64 64\nperspective 40 1 0.1 100\npolarview 7 30 60 0\npushmatrix\nident\n";

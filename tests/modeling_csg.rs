@@ -9,8 +9,8 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 use plytrace::error::Diagnostic;
+use plytrace::model::Object;
 use plytrace::scene::Scene;
-use plytrace::scene::model::Object;
 use plytrace::visibility::ray_cast::RayCaster;
 
 const PRELUDE: &str =

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use plytrace::error::Error;
+use plytrace::model::{ColorEntry, Mesh};
 use plytrace::scene::mesh_import::*;
 use plytrace::scene::object_file::*;
 use proptest::prelude::*;

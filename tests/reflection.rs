@@ -10,9 +10,9 @@ mod support;
 use glam::DVec3;
 use plytrace::geometry::view::View;
 use plytrace::image_tree::{self, Branch, TreeOptions};
+use plytrace::model::SortOrder;
 use plytrace::render::{RenderOptions, render};
 use plytrace::scene::Scene;
-use plytrace::scene::model::SortOrder;
 use plytrace::visibility::ray_cast::RayCaster;
 
 fn traced_oracle(scene: &Scene, size: u32) -> Vec<Option<(u32, u32)>> {

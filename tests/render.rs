@@ -84,7 +84,7 @@ fn assert_matches_oracle(scene: &Scene, size: u32) {
     )
     .unwrap();
     let mut scene = scene.clone();
-    scene.viewport = plytrace::scene::model::Viewport::of_size(size, size);
+    scene.viewport = plytrace::model::Viewport::of_size(size, size);
     let oracle = support::oracle_ids(&scene, size, size);
     let painted = support::painted_ids(&r);
     let (checked, bad) = support::mismatches(&oracle, &painted, size, size);
@@ -135,7 +135,7 @@ fn front_to_back_and_back_to_front_agree_on_separated_polygons() {
     .unwrap();
     let mut scene = scene::load(&scene_path).unwrap().0;
     let a = render(&scene, &RenderOptions::default()).unwrap();
-    scene.sort_order = plytrace::scene::model::SortOrder::FrontToBack;
+    scene.sort_order = plytrace::model::SortOrder::FrontToBack;
     let b = render(&scene, &RenderOptions::default()).unwrap();
     let (ia, ib) = (support::painted_ids(&a), support::painted_ids(&b));
     let differing = ia.iter().zip(&ib).filter(|(x, y)| x != y).count();
@@ -238,7 +238,7 @@ fn phong_keeps_a_highlight_inside_a_polygon() {
 #[test]
 fn parent_shade_interpolation_of_figure_4_16() {
     use glam::DVec3;
-    use plytrace::render::interpolate_in_polygon;
+    use plytrace::shading::interpolate_in_polygon;
     // A triangle with a linear value x + 2y: exact everywhere inside.
     let tri = [
         DVec3::new(0.0, 0.0, 0.0),
@@ -351,13 +351,14 @@ fn transparency_per_vertex_follows_the_roll_off() {
         .iter()
         .map(|&i| o.vertices[i as usize])
         .collect();
-    let kt = plytrace::render::vertex_transparency(&scene, view.eye, 0, 0, false, &world).unwrap();
+    let kt = plytrace::shading::vertex_transparency(&scene, view.eye, 0, 0, false, &world).unwrap();
     let cos = 4.0 / 18f64.sqrt();
     for k in kt {
         assert!((k as f64 - 0.8 * cos * cos).abs() < 1e-6, "{k}");
     }
     let centre = [world.iter().copied().sum::<glam::DVec3>() / 4.0];
-    let kt = plytrace::render::vertex_transparency(&scene, view.eye, 0, 0, false, &centre).unwrap();
+    let kt =
+        plytrace::shading::vertex_transparency(&scene, view.eye, 0, 0, false, &centre).unwrap();
     assert!((kt[0] - 0.8).abs() < 1e-6);
 }
 
@@ -368,7 +369,7 @@ fn transparency_per_vertex_follows_the_roll_off() {
 #[test]
 fn light_kinds_and_tree_output_do_not_change_the_picture() {
     let mut scene = ccube();
-    scene.sort_order = plytrace::scene::model::SortOrder::FrontToBack;
+    scene.sort_order = plytrace::model::SortOrder::FrontToBack;
     let options = RenderOptions {
         shadows: true,
         ..RenderOptions::default()
@@ -376,7 +377,7 @@ fn light_kinds_and_tree_output_do_not_change_the_picture() {
     let point = render(&scene, &options).unwrap();
     let mut diffuse = scene.clone();
     for l in &mut diffuse.lights {
-        l.kind = plytrace::scene::model::LightKind::Diffuse;
+        l.kind = plytrace::model::LightKind::Diffuse;
     }
     let diffuse = render(&diffuse, &options).unwrap();
     let (w, h) = (point.frame.width, point.frame.height);
@@ -428,7 +429,7 @@ fn image_space_algorithms_refuse_the_tree_by_name() {
 fn records_made_while_freeing_the_tree_are_the_records_of_the_tree() {
     use plytrace::emit::{self, Emit};
     use plytrace::image_tree::{self, TreeOptions};
-    use plytrace::scene::model::SortOrder;
+    use plytrace::model::SortOrder;
     let scene = scene::load(&support::scene_fixture("office2.des"))
         .unwrap()
         .0;

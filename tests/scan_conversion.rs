@@ -2,11 +2,12 @@
 //! Donovan 1973, 000 section 6) through `raster::scan::scan_convert`.
 
 use glam::DVec2;
-use plytrace::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode, PhongVertices};
+use plytrace::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
 use plytrace::raster::scan::{
     Method, PixelStruct, Row, RowSink, SavedFragment, ScanOptions, ScanStats, TransparencyRule,
     scan_convert,
 };
+use plytrace::shading::PhongVertices;
 use plytrace::tree::{PhongShades, Record, RecordStream, Shades};
 use proptest::prelude::*;
 

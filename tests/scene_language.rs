@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use plytrace::error::Result;
 use plytrace::math::Matrix4;
-use plytrace::scene::model::*;
+use plytrace::model::*;
 use plytrace::scene::{Flow, Host, Interpreter, NoHost, Scene};
 
 const SQUARE: &str =
@@ -361,7 +361,7 @@ fn det_dir_pcolors_and_vcolors() {
     );
     assert_eq!(o.vertex_colors.as_ref().unwrap().len(), 4);
     // The material of the polygon follows its .pcl entry.
-    let m = plytrace::render::polygon_material(o, 0);
+    let m = o.material(0);
     assert_eq!(m.color, DVec3::new(0.1, 0.2, 0.3));
     assert!((m.ambient_coefficient() - 0.0).abs() < 1e-12);
 }

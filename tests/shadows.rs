@@ -10,9 +10,9 @@ mod support;
 use glam::DVec3;
 use plytrace::geometry::view::View;
 use plytrace::image_tree::{self, FragmentKind, TreeOptions};
+use plytrace::model::LightKind;
 use plytrace::render::{RenderOptions, render};
 use plytrace::scene::Scene;
-use plytrace::scene::model::LightKind;
 use plytrace::visibility::ray_cast::RayCaster;
 
 fn level_one(name: &str) -> Scene {

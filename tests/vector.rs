@@ -96,7 +96,7 @@ fn interior(r: &Rendered) -> Vec<bool> {
 fn object_mismatch(name: &str) -> (usize, usize) {
     let sc = scene(name);
     let r = png(&sc);
-    let input = vector::prepare(&sc, &options()).unwrap();
+    let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
     let svg = vector::svg::to_svg(&vector::picture(&input, Style::Ids));
     let (w, h) = (r.frame.width, r.frame.height);
     let raster = rasterize(&svg, w, h);
@@ -150,7 +150,7 @@ fn shaded_svg_matches_the_png_s_colours() {
     ] {
         let sc = scene(name);
         let r = png(&sc);
-        let input = vector::prepare(&sc, &options()).unwrap();
+        let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
         let svg = vector::svg::to_svg(&vector::picture(&input, Style::Shaded));
         let (w, h) = (r.frame.width, r.frame.height);
         let raster = rasterize(&svg, w, h);
@@ -225,7 +225,7 @@ fn seam_share(svg: &[u8], r: &Rendered) -> (usize, usize) {
 fn a_one_colour_sphere_of_5120_triangles_has_no_seams() {
     let sc = one_colour_sphere("");
     let r = png(&sc);
-    let input = vector::prepare(&sc, &options()).unwrap();
+    let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
     eprintln!("sphere records: {}", input.stream.records.len());
     assert!(input.stream.records.len() > 1500);
     let svg = vector::svg::to_svg(&vector::picture(&input, Style::Shaded));
@@ -256,7 +256,7 @@ fn a_one_colour_sphere_of_5120_triangles_has_no_seams() {
 #[test]
 fn pdf_is_one_upright_page_with_type_4_shadings_for_gouraud() {
     let sc = sphere("setmode v on", "curved");
-    let input = vector::prepare(&sc, &options()).unwrap();
+    let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
     let pic = vector::picture(&input, Style::Shaded);
     assert!(
         pic.items
@@ -279,7 +279,7 @@ fn pdf_is_one_upright_page_with_type_4_shadings_for_gouraud() {
 #[test]
 fn tikz_is_one_picture_with_the_frame_as_bounding_box() {
     let sc = scene("cycles.des");
-    let input = vector::prepare(&sc, &options()).unwrap();
+    let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
     let pic = vector::picture(&input, Style::Shaded);
     let tex = String::from_utf8(vector::tikz::to_tikz(&pic)).unwrap();
     assert_eq!(tex.matches("\\begin{tikzpicture}").count(), 1);
@@ -313,7 +313,7 @@ fn tikz_is_one_picture_with_the_frame_as_bounding_box() {
 fn gouraud_sphere_in_flat_pieces_matches_the_png() {
     let sc = sphere("setmode v on", "curved");
     let r = png(&sc);
-    let input = vector::prepare(&sc, &options()).unwrap();
+    let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
     let svg = vector::svg::to_svg(&vector::picture(&input, Style::Shaded));
     let raster = rasterize(&svg, r.frame.width, r.frame.height);
     // Pixels with the sphere all over their 5 x 5 neighbourhood: the

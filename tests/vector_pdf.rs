@@ -21,7 +21,7 @@ fn options() -> RenderOptions {
 
 /// The PDF of `scene` as pdftoppm paints it: RGB rows, top first.
 fn pdf_raster(scene: &Scene) -> (Vec<[u8; 3]>, u32, u32) {
-    let input = vector::prepare(scene, &options()).unwrap();
+    let input = plytrace::render::vector::prepare(scene, &options()).unwrap();
     let pdf = vector::pdf::to_pdf(&vector::picture(&input, Style::Shaded));
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("p.pdf");

@@ -29,7 +29,7 @@ fn svg(path: &std::path::Path, style: Style) -> Vec<u8> {
         shadows: true,
         ..RenderOptions::default()
     };
-    let input = vector::prepare_for(&scene, &options, style).unwrap();
+    let input = plytrace::render::vector::prepare_for(&scene, &options, style).unwrap();
     vector::svg::to_svg(&vector::picture(&input, style))
 }
 

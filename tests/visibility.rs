@@ -77,7 +77,7 @@ fn library_ray_caster_equals_brute_force_oracle() {
     for scene in scenes {
         let size = 64;
         let mut s = scene.clone();
-        s.viewport = plytrace::scene::model::Viewport::of_size(size, size);
+        s.viewport = plytrace::model::Viewport::of_size(size, size);
         let brute = support::oracle_ids(&s, size, size);
         let bvh: Vec<Option<(u32, u32)>> = RayCaster::new(&scene)
             .id_image(size, size)
@@ -124,7 +124,7 @@ fn warnock_agrees_with_the_oracle_on_every_shared_scene() {
 fn nns_front_to_back_agrees_too() {
     for name in ["intersect.des", "cycles.des", "office1.des"] {
         let mut scene = shared(name);
-        scene.sort_order = plytrace::scene::model::SortOrder::FrontToBack;
+        scene.sort_order = plytrace::model::SortOrder::FrontToBack;
         assert_agrees(name, &scene, Algorithm::Nns, 128);
     }
 }

@@ -469,7 +469,7 @@ pub fn pipeline(data: &[u8]) {
     if scene.polygon_count() > MAX_POLYGONS || scene.lights.len() > MAX_LIGHTS {
         return;
     }
-    scene.viewport = plytrace::scene::model::Viewport::of_size(SIZE, SIZE);
+    scene.viewport = plytrace::model::Viewport::of_size(SIZE, SIZE);
     match render(&scene, &options) {
         Ok(r) => {
             assert_eq!((r.frame.width, r.frame.height), (SIZE, SIZE), "image size");

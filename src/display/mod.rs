@@ -18,7 +18,7 @@ pub mod window;
 use crate::error::Result;
 use crate::raster::frame_buffer::FrameBuffer;
 use crate::raster::scan;
-use crate::render::{self, FrameSink, Prepared, Rendered};
+use crate::render::{self, Prepared, Rendered};
 use crate::tree::RecordStream;
 
 /// The image after one more level of the virtual image tree.
@@ -75,11 +75,7 @@ pub fn scan_levels(prepared: Prepared, observer: &mut dyn FrameObserver) -> Resu
     for level in 1..levels {
         let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
         let partial = cut(&prepared.picture, level);
-        scan::scan_convert(
-            &partial,
-            &prepared.scan,
-            &mut FrameSink { frame: &mut frame },
-        )?;
+        scan::scan_convert(&partial, &prepared.scan, &mut frame)?;
         observer.frame(&PartialFrame {
             level,
             levels,

@@ -18,7 +18,7 @@
 
 use glam::{DVec3, DVec4};
 
-use crate::scene::model::Scene;
+use crate::model::Scene;
 
 /// Items per leaf, at most.
 pub const LEAF_SIZE: usize = 4;
@@ -261,7 +261,7 @@ impl WorldPolygons {
                 } else {
                     (0, 1)
                 };
-                let material = crate::shading::polygon_material(object, pi);
+                let material = object.material(pi);
                 polygons.push(WorldPolygon {
                     object: oi as u32,
                     polygon: pi as u32,

@@ -49,14 +49,7 @@ pub fn extent(points: &[DVec3]) -> f64 {
     (hi - lo).max(DVec3::ZERO).length()
 }
 
-/// The box around `points`: its lowest and highest corners (infinite and
-/// inverted when there are none).
-pub fn bounds(points: impl IntoIterator<Item = DVec3>) -> (DVec3, DVec3) {
-    points.into_iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(p), hi.max(p)),
-    )
-}
+pub use crate::math::bounds;
 
 /// What is wrong with a polygon, if anything.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -13,7 +13,7 @@ use glam::{DVec3, DVec4};
 
 use super::clip::{self, ClipVertex, Containment};
 use crate::math::Matrix4;
-use crate::scene::model::{Object, Scene};
+use crate::model::{Object, Scene};
 
 /// The vector from world point `p` towards the homogeneous eye `eye`
 /// (for an eye at infinity, `w = 0`, its direction), not normalized.
@@ -271,7 +271,7 @@ struct Expansion<'a> {
 
 impl Expansion<'_> {
     /// `None` for a back face.
-    fn polygon(&self, pi: usize, polygon: &crate::scene::model::Polygon) -> Option<Outcome> {
+    fn polygon(&self, pi: usize, polygon: &crate::model::Polygon) -> Option<Outcome> {
         let (object, view) = (self.object, self.view);
         let front = view.faces_eye(polygon.plane);
         if !front && !object.surface_type.open {

@@ -31,7 +31,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use crate::geometry::polygon;
-use crate::scene::object_file::Mesh;
+use crate::model::Mesh;
 
 /// The Boolean operation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -29,7 +29,7 @@ use std::collections::HashMap;
 
 use glam::{DMat3, DVec3};
 
-use crate::scene::object_file::Mesh;
+use crate::model::Mesh;
 
 /// How the icosahedral edges are divided.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

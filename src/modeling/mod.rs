@@ -17,7 +17,7 @@ pub mod sweep;
 
 use glam::DVec3;
 
-use crate::scene::object_file::Mesh;
+use crate::model::Mesh;
 
 /// Bytes a scene holds per vertex of a generated object (position,
 /// exact normal, their transformed copies, and the renderer's per-vertex

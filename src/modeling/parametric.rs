@@ -12,7 +12,7 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 use glam::DVec3;
 
 use super::Generated;
-use crate::scene::object_file::Mesh;
+use crate::model::Mesh;
 
 /// `sign(x) |x|^e`: the signed power that keeps equation 8.19 real for
 /// negative sines and cosines (Firebaugh's replacement after figure 8.9).

@@ -24,7 +24,7 @@ use glam::DVec3;
 use super::{Generated, solid};
 use crate::budget::Budgets;
 use crate::error::{Error, Location};
-use crate::scene::object_file::Mesh;
+use crate::model::Mesh;
 
 /// The two patch forms.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::scene::object_file::Mesh;
+use crate::model::Mesh;
 
 /// The volume enclosed by `polygons` over `vertices`, positive when they
 /// are clockwise seen from outside. Exact for closed meshes of planar

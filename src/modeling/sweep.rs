@@ -16,7 +16,7 @@ use std::f64::consts::TAU;
 use glam::{DVec2, DVec3};
 
 use super::Generated;
-use crate::scene::object_file::Mesh;
+use crate::model::Mesh;
 
 /// Twice the signed area of a closed polygon (positive counter-clockwise).
 fn twice_area(points: &[DVec2]) -> f64 {

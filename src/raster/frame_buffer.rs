@@ -38,45 +38,7 @@ pub struct PaintItem {
     /// colour component (004 section 4.9), else `transparency` throughout.
     pub vertex_transparency: Option<Vec<f32>>,
     /// Phong highlight vectors (004 section 4.8), overriding the others.
-    pub phong: Option<PhongVertices>,
-}
-
-/// Per vertex: the shade without highlights `I_e` (3 values), then per
-/// light the highlight normal vector `hltnml` (the vertex normal in a frame
-/// whose z axis is the halfway vector H) and the light's highlight
-/// intensity `I_L` (3 + 3 values). At a pixel, the interpolated values give
-/// `I = I_e + sum I_L (h_z / |h|)^n` (004 section 4.8).
-#[derive(Debug, Clone, PartialEq)]
-pub struct PhongVertices {
-    /// Number of highlight lights.
-    pub lights: usize,
-    /// Shininess `n`.
-    pub shininess: f32,
-    /// `stride()` values per vertex.
-    pub attrs: Vec<f32>,
-}
-
-impl PhongVertices {
-    /// Values per vertex.
-    pub fn stride(&self) -> usize {
-        3 + 6 * self.lights
-    }
-
-    /// The colour from interpolated values `v`.
-    pub fn shade(&self, v: &[f32]) -> [f32; 3] {
-        let mut c = [v[0], v[1], v[2]];
-        for l in 0..self.lights {
-            let h = &v[3 + 6 * l..6 + 6 * l];
-            let len = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
-            if len > 0.0 && h[2] > 0.0 {
-                let k = (h[2] / len).powf(self.shininess);
-                for (ci, i) in c.iter_mut().zip(&v[6 + 6 * l..9 + 6 * l]) {
-                    *ci += i * k;
-                }
-            }
-        }
-        c.map(|x| x.clamp(0.0, 1.0))
-    }
+    pub phong: Option<crate::shading::PhongVertices>,
 }
 
 /// An RGB frame buffer with an id per pixel. Row 0 is the top of the image.
@@ -288,6 +250,19 @@ impl FrameBuffer {
         (0..items.len())
             .filter(|&k| touched.iter().any(|t| t[k]))
             .count()
+    }
+}
+
+/// A frame buffer fills from scan-converted rows (of its width).
+impl crate::raster::scan::RowSink for FrameBuffer {
+    fn row(&mut self, row: &crate::raster::scan::Row<'_>) -> crate::error::Result<()> {
+        let w = self.width as usize;
+        let at = row.y as usize * w;
+        self.color[at..at + w].copy_from_slice(row.rgb);
+        if let Some(ids) = row.ids {
+            self.ids[at..at + w].copy_from_slice(ids);
+        }
+        Ok(())
     }
 }
 

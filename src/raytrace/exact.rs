@@ -37,10 +37,9 @@ use crate::emit::{self, Emit};
 use crate::error::Result;
 use crate::geometry::view::View;
 use crate::image_tree::{FragmentKind, VirtualImageTree};
+use crate::model::{Color, Scene, SortOrder};
 use crate::raster::frame_buffer::FrameBuffer;
 use crate::raster::scan::{self, Method, Row, RowSink, ScanOptions};
-use crate::scene::model::{Color, Scene, SortOrder};
-use crate::shading::polygon_material;
 
 use super::{Counter, Ray, RayStats, RayTracer};
 
@@ -64,7 +63,7 @@ fn is_site(scene: &Scene, tree: &VirtualImageTree, n: usize) -> bool {
     if f.kind != FragmentKind::Polygon || f.back_facing || f.level >= scene.modes.max_level {
         return false;
     }
-    let m = polygon_material(&scene.objects[f.object as usize], f.polygon as usize);
+    let m = scene.objects[f.object as usize].material(f.polygon as usize);
     m.transmittance > 0.0 && f.weight * m.transmittance > scene.threshold
 }
 
@@ -242,7 +241,7 @@ fn site_colour(
         bends: 0,
     };
     let object = &tracer.scene.objects[f.object as usize];
-    let kt = polygon_material(object, f.polygon as usize).transmittance;
+    let kt = object.material(f.polygon as usize).transmittance;
     tracer.refracted(&ray, (f.object, f.polygon), pw, rest, counter) * (kt * f.weight)
 }
 
@@ -307,11 +306,7 @@ fn scan_frame(
         transparency: scan::TransparencyRule::Garcia,
         ..*picture
     };
-    scan::scan_convert(
-        stream,
-        &options,
-        &mut crate::render::FrameSink { frame: &mut frame },
-    )?;
+    scan::scan_convert(stream, &options, &mut frame)?;
     Ok(frame)
 }
 
@@ -388,7 +383,7 @@ pub fn linear_error(scene: &Scene, view: &View) -> f64 {
             continue;
         }
         for (pi, poly) in object.polygons.iter().enumerate() {
-            let m = polygon_material(object, pi);
+            let m = object.material(pi);
             if m.transmittance <= 0.0 {
                 continue;
             }

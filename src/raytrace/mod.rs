@@ -47,9 +47,9 @@ use rayon::prelude::*;
 use crate::error::{Error, Result};
 use crate::geometry::bvh::{Hit, WorldPolygons};
 use crate::geometry::view::View;
+use crate::model::{Color, LightKind, Scene};
 use crate::raster::frame_buffer::FrameBuffer;
-use crate::scene::model::{Color, LightKind, Scene};
-use crate::shading::{FacetTerms, ShadingModel, polygon_material, shade_with_model};
+use crate::shading::{FacetTerms, ShadingModel, shade_with_model};
 
 /// Options of a ray-traced render.
 #[derive(Debug, Clone, Copy)]
@@ -337,10 +337,7 @@ impl<'a> RayTracer<'a> {
         if ray.level >= self.max_level || back {
             return c;
         }
-        let m = polygon_material(
-            &self.scene.objects[hit.object as usize],
-            hit.polygon as usize,
-        );
+        let m = self.scene.objects[hit.object as usize].material(hit.polygon as usize);
         if m.reflectance > 0.0 && ray.weight * m.reflectance > self.threshold {
             let child = Ray {
                 origin: point,
@@ -374,7 +371,7 @@ impl<'a> RayTracer<'a> {
             return Color::ZERO;
         };
         let object = &self.scene.objects[id.0 as usize];
-        let m = polygon_material(object, id.1 as usize);
+        let m = object.material(id.1 as usize);
         let eta = 1.0 / object.surface.index;
         let dir = optics::refract(rest, p.plane.truncate(), eta).direction();
         let child = Ray {
@@ -429,7 +426,7 @@ impl<'a> RayTracer<'a> {
         let blocked = self.blocked(id, point, back, counter);
         if self.per_point {
             let object = &self.scene.objects[id.0 as usize];
-            let m = polygon_material(object, id.1 as usize);
+            let m = object.material(id.1 as usize);
             if object.surface_type.ltsrc {
                 return m.color;
             }

@@ -599,7 +599,7 @@ fn operand_faces(o: &Object, entries: &mut Vec<ColorEntry>) -> Vec<csg::Face> {
         .iter()
         .enumerate()
         .map(|(pi, p)| {
-            let m = crate::shading::polygon_material(o, pi);
+            let m = o.material(pi);
             entries.push(ColorEntry {
                 color: m.color,
                 diffuse: m.diffuse,

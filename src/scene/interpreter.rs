@@ -18,7 +18,7 @@ use super::commands::{self, CommandSpec, Lookup};
 use super::lexer::{self, Statement, Token};
 use super::mesh_import;
 use super::model::*;
-use super::object_file::{self, ColorEntry, ColorKind, Mesh};
+use super::object_file::{self, ColorKind};
 use crate::budget::Budgets;
 use crate::error::{
     Diagnostic, Error, Location, MAX_SHOWN_PATH, MAX_SHOWN_TOKEN, Result, printable,

@@ -18,8 +18,8 @@ use glam::DVec3;
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{DefaultElement, Property};
 
-use super::object_file::Mesh;
 use crate::error::{Error, Location, Result};
+use crate::model::Mesh;
 
 /// File extensions [`read_mesh`] understands, lower case.
 pub const MESH_EXTENSIONS: &[&str] = &["obj", "ply", "stl"];

@@ -5,7 +5,7 @@ pub mod commands;
 pub mod interpreter;
 pub mod lexer;
 pub mod mesh_import;
-pub mod model;
+pub use crate::model;
 pub mod object_file;
 
 pub use interpreter::{Flow, Host, Interpreter, NoHost};

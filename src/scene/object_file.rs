@@ -9,31 +9,9 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use crate::model::{ColorEntry, Mesh};
+
 use crate::error::{Diagnostic, Error, Location, Result};
-
-/// Geometry of one object in its own coordinates, as read from a file.
-/// Polygons are lists of 0-based vertex indices, clockwise seen from outside
-/// (right-handed coordinates), as in a `.det` file.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Mesh {
-    /// Vertex coordinates.
-    pub vertices: Vec<DVec3>,
-    /// Polygons: 0-based indices into `vertices`, clockwise from outside.
-    pub polygons: Vec<Vec<u32>>,
-}
-
-/// One entry of a polygon or vertex colour file: `r g b dif ref trn`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ColorEntry {
-    /// Red, green, blue in 0..=1.
-    pub color: DVec3,
-    /// Diffuse coefficient.
-    pub diffuse: f64,
-    /// Reflection coefficient.
-    pub reflectance: f64,
-    /// Transmission coefficient.
-    pub transmittance: f64,
-}
 
 /// Which colour table a `PCL`/`VCL` file holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -23,8 +23,8 @@ use glam::{DVec3, DVec4};
 use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::math::Matrix4;
+use crate::model::Scene;
 use crate::profile::{Category, Profile};
-use crate::scene::Scene;
 
 /// A polygon that may cast a shadow, in world coordinates; identical
 /// polygons (the same vertices from the same start, the same `type open`)

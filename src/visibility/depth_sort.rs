@@ -10,7 +10,7 @@
 //! Preconditions: keys are finite. The order is wrong whenever polygons
 //! overlap in depth and on the screen; that is the NNS sorter's job.
 
-use crate::scene::model::SortOrder;
+use crate::model::SortOrder;
 
 /// Below this many items, insertion sort (004 section 4.4).
 pub const INSERTION_SORT_LIMIT: usize = 64;

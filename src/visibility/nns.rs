@@ -366,7 +366,7 @@ pub fn sort_budgeted(
                     .fold(f64::NEG_INFINITY, f64::max);
                 crate::visibility::depth_sort::sort_key(
                     (f64::NEG_INFINITY, zmax),
-                    crate::scene::model::SortOrder::BackToFront,
+                    crate::model::SortOrder::BackToFront,
                 )
             })
             .collect();

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 pub use crate::geometry::bvh::Hit;
 use crate::geometry::bvh::{WorldPolygon, WorldPolygons};
 use crate::math::Matrix4;
-use crate::scene::model::Scene;
+use crate::model::Scene;
 
 /// The scene's polygons, their hierarchy ([`crate::geometry::bvh`], the
 /// project's one BVH) and the inverse projection that makes the rays.

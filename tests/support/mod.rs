@@ -189,7 +189,7 @@ pub fn cube_and_square_dir() -> tempfile::TempDir {
 /// Volume of a mesh by the divergence theorem over its world polygons
 /// (clockwise from outside: each fan triangle reversed is
 /// counter-clockwise).
-pub fn volume(o: &plytrace::scene::model::Object) -> f64 {
+pub fn volume(o: &plytrace::model::Object) -> f64 {
     let mut six = 0.0;
     for p in &o.polygons {
         let v = |k: usize| o.vertices[p.indices[k] as usize];
@@ -202,7 +202,7 @@ pub fn volume(o: &plytrace::scene::model::Object) -> f64 {
 
 /// Whether every edge (by vertex position) is used exactly once in each
 /// direction: a closed, consistently oriented mesh.
-pub fn closed(o: &plytrace::scene::model::Object) -> bool {
+pub fn closed(o: &plytrace::model::Object) -> bool {
     let key = |v: DVec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
     let mut edges: std::collections::HashMap<([u64; 3], [u64; 3]), i32> =
         std::collections::HashMap::new();

@@ -320,8 +320,12 @@ impl CliHost {
             .size
             .unwrap_or((scene.viewport.width(), scene.viewport.height()));
         if plytrace::vector::Format::from_path(&out.path).is_some() || self.hidden_line {
-            let run =
-                plytrace::vector::render_run(out.image.take(), scene, &options, self.hidden_line)?;
+            let run = plytrace::render::vector::render_run(
+                out.image.take(),
+                scene,
+                &options,
+                self.hidden_line,
+            )?;
             staged.extend(run.0);
             let rendered = render::Rendered {
                 tree: run.2,
@@ -409,8 +413,8 @@ impl CliHost {
             (render::Plan::Tree(prepared), None) => {
                 let (w, h) = (prepared.scan.width, prepared.scan.height);
                 let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
-                let mut sink = render::FrameSink { frame: &mut frame };
-                let mut bar = ProgressSink::new(&mut sink, h, progress);
+
+                let mut bar = ProgressSink::new(&mut frame, h, progress);
                 let rendered = render::scan_into(*prepared, &mut bar);
                 bar.finish();
                 let mut rendered = rendered?;

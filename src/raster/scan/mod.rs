@@ -37,6 +37,7 @@
 //! judged on the pixel's samples, not on the centre alone.
 
 mod band;
+mod edge;
 mod mask;
 mod multilevel;
 mod painter;

@@ -8,7 +8,7 @@
 
 use glam::DVec2;
 
-use super::tiler::Edge;
+use super::edge::Edge;
 use crate::error::{Error, Result};
 use crate::tree::{Record, Shades};
 

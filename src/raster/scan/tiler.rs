@@ -26,6 +26,7 @@
 
 use glam::DVec2;
 
+use super::edge::Edge;
 use super::mask::SampleMask;
 use super::shade::Prepared;
 
@@ -40,31 +41,6 @@ pub(crate) struct Partial {
     pub mask: SampleMask,
     /// Whether the pixel centre sample is covered.
     pub centre: bool,
-}
-
-/// An edge in canonical order (`lo` below `hi`, ties by x).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Edge {
-    pub lo: DVec2,
-    pub hi: DVec2,
-    /// +1 if the polygon walks the edge upwards, else -1.
-    dir: f64,
-    /// Vertex indices of `lo` and `hi`.
-    pub lo_vertex: u32,
-    pub hi_vertex: u32,
-}
-
-impl Edge {
-    /// The point sampler's crossing at `y` (`lo.y <= y < hi.y`).
-    fn cross(&self, y: f64) -> Option<f64> {
-        (self.lo.y <= y && y < self.hi.y).then(|| {
-            self.lo.x + (y - self.lo.y) * (self.hi.x - self.lo.x) / (self.hi.y - self.lo.y)
-        })
-    }
-
-    fn x_at(&self, y: f64) -> f64 {
-        self.lo.x + (y - self.lo.y) * (self.hi.x - self.lo.x) / (self.hi.y - self.lo.y)
-    }
 }
 
 /// The tiler's results for one row.

@@ -11,9 +11,65 @@ use std::sync::Arc;
 
 use glam::{DVec3, DVec4};
 
-use super::object_file::{ColorEntry, Mesh};
 use crate::math::Matrix4;
 use crate::precision;
+
+/// Geometry of one object in its own coordinates, as read from a file.
+/// Polygons are lists of 0-based vertex indices, clockwise seen from outside
+/// (right-handed coordinates), as in a `.det` file.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Mesh {
+    /// Vertex coordinates.
+    pub vertices: Vec<DVec3>,
+    /// Polygons: 0-based indices into `vertices`, clockwise from outside.
+    pub polygons: Vec<Vec<u32>>,
+}
+
+/// One entry of a polygon or vertex colour file: `r g b dif ref trn`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColorEntry {
+    /// Red, green, blue in 0..=1.
+    pub color: DVec3,
+    /// Diffuse coefficient.
+    pub diffuse: f64,
+    /// Reflection coefficient.
+    pub reflectance: f64,
+    /// Transmission coefficient.
+    pub transmittance: f64,
+}
+
+/// The surface parameters at one point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    /// Surface colour.
+    pub color: Color,
+    /// Diffuse coefficient kd.
+    pub diffuse: f64,
+    /// Specular coefficient ks.
+    pub specular: f64,
+    /// Shininess n.
+    pub shininess: f64,
+    /// Reflection coefficient kr.
+    pub reflectance: f64,
+    /// Transmission coefficient kt.
+    pub transmittance: f64,
+}
+
+impl Material {
+    /// The ambient coefficient `max(0, 1 - (kd + kr + kt))`.
+    pub fn ambient_coefficient(&self) -> f64 {
+        (1.0 - (self.diffuse + self.reflectance + self.transmittance)).max(0.0)
+    }
+
+    /// This material with colour and coefficients of a `.pcl`/`.vcl` entry.
+    pub fn with_entry(mut self, e: &ColorEntry) -> Material {
+        self.color = e.color;
+        self.diffuse = e.diffuse;
+        self.reflectance = e.reflectance;
+        self.transmittance = e.transmittance;
+        self
+    }
+}
 
 /// An RGB colour, components nominally in 0..=1.
 pub type Color = DVec3;
@@ -115,6 +171,39 @@ pub struct Object {
     pub surface: Surface,
     /// Surface type attributes.
     pub surface_type: SurfaceType,
+}
+
+impl Object {
+    /// The material of polygon `pi`, with its `.pcl` entry or the
+    /// average of its vertices' `.vcl` entries.
+    pub fn material(&self, pi: usize) -> Material {
+        let s = &self.surface;
+        let base = Material {
+            color: s.color,
+            diffuse: s.diffuse,
+            specular: s.specular,
+            shininess: s.shininess,
+            reflectance: s.reflectance,
+            transmittance: s.transmittance,
+        };
+        if let Some(pcl) = &self.polygon_colors {
+            let source = self.source_polygon[pi] as usize;
+            return base.with_entry(&pcl[source]);
+        }
+        if let Some(vcl) = &self.vertex_colors {
+            let idx = &self.polygons[pi].indices;
+            let n = idx.len() as f64;
+            let mut avg = vcl[idx[0] as usize];
+            let sum =
+                |f: &dyn Fn(usize) -> f64| idx.iter().map(|&i| f(i as usize)).sum::<f64>() / n;
+            avg.color = idx.iter().map(|&i| vcl[i as usize].color).sum::<DVec3>() / n;
+            avg.diffuse = sum(&|i| vcl[i].diffuse);
+            avg.reflectance = sum(&|i| vcl[i].reflectance);
+            avg.transmittance = sum(&|i| vcl[i].transmittance);
+            return base.with_entry(&avg);
+        }
+        base
+    }
 }
 
 /// `light ... Point` casts shadows, `Diffuse` does not.
@@ -321,9 +410,8 @@ impl Scene {
     /// The size of the scene: the diagonal of the box around every vertex
     /// (1 for an empty scene). Tolerances relative to the scene use it.
     pub fn size(&self) -> f64 {
-        let (lo, hi) = crate::geometry::polygon::bounds(
-            self.objects.iter().flat_map(|o| o.vertices.iter().copied()),
-        );
+        let (lo, hi) =
+            crate::math::bounds(self.objects.iter().flat_map(|o| o.vertices.iter().copied()));
         if lo.x.is_finite() {
             (hi - lo).length()
         } else {

@@ -17,98 +17,29 @@
 //! shadows (`run y`; without them, `run n`, these algorithms render every
 //! scene that has none of the others).
 
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use glam::{DVec2, DVec3};
 
 use crate::emit::{self, Emit, Source};
 use crate::error::{Error, Result};
-use crate::geometry::view::{self, GeometryStats, ScreenPolygon, View};
+use crate::geometry::view::{self, ScreenPolygon, View};
+use crate::model::{Color, Scene, SortOrder};
 use crate::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
-use crate::raster::scan::{self, Method, Row, RowSink, ScanOptions, ScanStats};
-use crate::scene::model::{Color, Scene, SortOrder};
-pub use crate::shading::{
-    facet_shade, facet_shade_from, facet_shade_with, interpolate_in_polygon, phong_vertices,
-    polygon_material, transparency_of, vertex_shades, vertex_transparency,
-};
+use crate::raster::scan::{self, Method, RowSink, ScanOptions};
 use crate::tree::RecordStream;
-use crate::visibility::nns::NnsStats;
 use crate::visibility::ray_cast::RayCaster;
 use crate::visibility::z_buffer::{self, DepthItem};
 use crate::visibility::{Algorithm, brown, depth_sort, scan_line, warnock};
 
-/// Options of one render beyond the scene.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct RenderOptions {
-    /// Image size overriding the scene's viewport.
-    pub size: Option<(u32, u32)>,
-    /// `run y`: cast shadows from Point lights (004 section 4.7); `run n`
-    /// (false) paints no shadow, which the image-space algorithms need.
-    pub shadows: bool,
-    /// The visible-surface algorithm; by default the scene's (`setmode n`).
-    pub visibility: Option<Algorithm>,
-    /// Time the parts of the tree builder (table 6.2, `--profile`).
-    pub profile: bool,
-    /// The refraction matrix (`--refraction`).
-    pub refraction: crate::image_tree::Refraction,
-    /// The scan conversion method (`--aa`, `--supersample`); `None` is the
-    /// best for the scene ([`best_method`]).
-    pub aa: Option<Method>,
-    /// Worker threads for scan conversion (0: all cores).
-    pub threads: usize,
-    /// The illumination model (`--shading`); Donovan's brings his
-    /// transparency rule (3) to the scan converter.
-    pub shading: crate::shading::ShadingModel,
-    /// Limits on the tree (nodes) and the NNS sort (splits).
-    pub budgets: crate::budget::Budgets,
-}
+mod options;
+pub mod vector;
 
-/// Memory a whole-frame (image-space) render needs per pixel, at most:
-/// the frame buffer's colour and id, and the depth or hit each algorithm
-/// keeps beside it.
-pub const PAINTED_BYTES_PER_PIXEL: u64 = 40;
+pub use options::{FRAME_BYTES_PER_PIXEL, PAINTED_BYTES_PER_PIXEL, RenderOptions, RenderStats};
 
-/// Memory per pixel of a finished frame kept whole (colour and id).
-pub const FRAME_BYTES_PER_PIXEL: u64 = 16;
-
-/// Figures of one render.
-#[derive(Debug, Clone, Default)]
-pub struct RenderStats {
-    /// The algorithm used.
-    pub algorithm: Option<Algorithm>,
-    /// Polygons in the sorted list (pieces after splitting included).
-    pub polygons_listed: usize,
-    /// Polygons that covered at least one pixel.
-    pub polygons_tiled: usize,
-    /// Deepest level of the virtual image tree reached.
-    pub max_depth: u32,
-    /// Geometry stage counters.
-    pub geometry: GeometryStats,
-    /// NNS counters, when it ran.
-    pub nns: Option<NnsStats>,
-    /// Time in the geometry stage.
-    pub geometry_time: Duration,
-    /// Time sorting (or building the ray caster's hierarchy).
-    pub sort_time: Duration,
-    /// Time shading.
-    pub shading_time: Duration,
-    /// Time painting (or casting rays).
-    pub paint_time: Duration,
-    /// The scan conversion method, for the tree path.
-    pub method: Option<Method>,
-    /// Scan conversion figures (fragments of method 4).
-    pub scan: ScanStats,
-    /// Branches of the tree pruned by its node budget.
-    pub pruned: usize,
-    /// What the tree builder had to give up (budgets), for the user.
-    pub warnings: Vec<String>,
-    /// Brown's order: objects sorted and reused (`--visibility brown`).
-    pub brown: Option<brown::BrownStats>,
-    /// Ray tracer figures (`--raytrace`, or `--refraction exact`).
-    pub raytrace: Option<crate::raytrace::RayStats>,
-    /// Which refraction model was used, in words, when the scene refracts.
-    pub refraction: Option<String>,
-}
+use crate::shading::{
+    facet_shade, phong_vertices, transparency_of, vertex_shades, vertex_transparency,
+};
 
 /// A rendered image and what is painted where.
 #[derive(Debug, Clone)]
@@ -172,7 +103,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Rendered> {
 pub fn scan_into_frame(prepared: Prepared) -> Result<Rendered> {
     let (w, h) = (prepared.scan.width, prepared.scan.height);
     let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
-    let rendered = scan_into(prepared, &mut FrameSink { frame: &mut frame })?;
+    let rendered = scan_into(prepared, &mut frame)?;
     Ok(rendered.with_frame(frame))
 }
 
@@ -580,7 +511,7 @@ pub fn refraction_model(
     let refracts = scene.modes.max_level > 1
         && scene.objects.iter().any(|o| {
             !o.surface_type.hidden
-                && (0..o.polygons.len()).any(|p| polygon_material(o, p).transmittance > 0.0)
+                && (0..o.polygons.len()).any(|p| o.material(p).transmittance > 0.0)
         });
     if !refracts {
         return (asked, None);
@@ -635,24 +566,6 @@ pub fn scan_into(prepared: Prepared, sink: &mut dyn RowSink) -> Result<Rendered>
     })
 }
 
-/// Fills a frame buffer from scan-converted rows.
-pub struct FrameSink<'a> {
-    /// The frame buffer, of the image's size.
-    pub frame: &'a mut FrameBuffer,
-}
-
-impl RowSink for FrameSink<'_> {
-    fn row(&mut self, row: &Row<'_>) -> Result<()> {
-        let w = self.frame.width as usize;
-        let at = row.y as usize * w;
-        self.frame.color[at..at + w].copy_from_slice(row.rgb);
-        if let Some(ids) = row.ids {
-            self.frame.ids[at..at + w].copy_from_slice(ids);
-        }
-        Ok(())
-    }
-}
-
 /// What of the scene needs the virtual image tree, in words; empty when
 /// level 1 painted point by point shows all of it. Each item names the
 /// objects concerned (the first few) and what about them needs the tree:
@@ -661,7 +574,7 @@ impl RowSink for FrameSink<'_> {
 pub fn tree_effects(scene: &Scene, options: &RenderOptions) -> Vec<String> {
     const NAMED: usize = 3;
     let mut what = Vec::new();
-    let named = |o: &crate::scene::model::Object| format!("object `{}` (#{})", o.name, o.number);
+    let named = |o: &crate::model::Object| format!("object `{}` (#{})", o.name, o.number);
     let visible = || scene.objects.iter().filter(|o| !o.surface_type.hidden);
     let list = |items: Vec<String>| {
         let n = items.len();
@@ -676,7 +589,7 @@ pub fn tree_effects(scene: &Scene, options: &RenderOptions) -> Vec<String> {
             .filter_map(|o| {
                 let (mut kr, mut kt) = (0.0f64, 0.0f64);
                 for p in 0..o.polygons.len() {
-                    let m = polygon_material(o, p);
+                    let m = o.material(p);
                     kr = kr.max(m.reflectance);
                     kt = kt.max(m.transmittance);
                 }
@@ -842,7 +755,7 @@ pub fn has_point_light(scene: &Scene) -> bool {
     scene
         .lights
         .iter()
-        .any(|l| l.kind == crate::scene::model::LightKind::Point)
+        .any(|l| l.kind == crate::model::LightKind::Point)
 }
 
 /// Whether the scene has anything to trace below level 1.
@@ -851,7 +764,7 @@ pub fn needs_tree(scene: &Scene) -> bool {
         && scene.objects.iter().any(|o| {
             !o.surface_type.hidden
                 && (0..o.polygons.len()).any(|p| {
-                    let m = polygon_material(o, p);
+                    let m = o.material(p);
                     m.reflectance > 0.0 || m.transmittance > 0.0
                 })
         })
@@ -890,7 +803,7 @@ pub fn bounding_box_scene(scene: &Scene) -> Scene {
         let parts = crate::scene::interpreter::ObjectParts {
             number: object.number,
             name: object.name.clone(),
-            mesh: std::sync::Arc::new(crate::scene::object_file::Mesh {
+            mesh: std::sync::Arc::new(crate::model::Mesh {
                 vertices: corners.to_vec(),
                 polygons,
             }),
