@@ -14,6 +14,8 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
+use super::build::warning_kind;
+pub use super::build::{ObjectParts, build_object};
 use super::commands::{self, CommandSpec, Lookup};
 use super::lexer::{self, Statement, Token};
 use super::mesh_import;
@@ -23,7 +25,6 @@ use crate::budget::Budgets;
 use crate::error::{
     Diagnostic, Error, Location, MAX_SHOWN_PATH, MAX_SHOWN_TOKEN, Result, printable,
 };
-use crate::geometry::polygon::{self, PolygonDefect};
 use crate::math::{self, Axis, Matrix4};
 use crate::modeling::geodesic::{self, Division, Radial, TurnedRadial};
 
@@ -1586,175 +1587,6 @@ impl Warnings {
     }
 }
 
-/// The kind of a warning of [`build_object`], for counting.
-fn warning_kind(message: &str) -> &'static str {
-    if message.contains("not planar") {
-        "non-planar polygon"
-    } else if message.contains("distinct vertices") || message.contains("zero area") {
-        "degenerate polygon"
-    } else {
-        "object"
-    }
-}
-
-/// What `endobj` needs to build an [`Object`].
-pub struct ObjectParts {
-    /// Object number.
-    pub number: u32,
-    /// Name.
-    pub name: String,
-    /// Geometry in object coordinates.
-    pub mesh: Arc<Mesh>,
-    /// Polygon colours.
-    pub polygon_colors: Option<Arc<Vec<ColorEntry>>>,
-    /// Vertex colours.
-    pub vertex_colors: Option<Arc<Vec<ColorEntry>>>,
-    /// Object to world.
-    pub transform: Matrix4,
-    /// Surface attributes.
-    pub surface: Surface,
-    /// Type attributes.
-    pub surface_type: SurfaceType,
-}
-
-/// Transforms an object to world coordinates and computes its planes
-/// (004 section 4.3). Degenerate polygons (fewer than three distinct
-/// vertices, zero area) are skipped and non-planar ones split into a
-/// triangle fan, each with a warning through `warn`. A transform with a
-/// negative determinant (a mirror image) reverses the vertex order so that
-/// polygons stay clockwise from outside. Fails on non-finite coordinates.
-pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<Object, String> {
-    let ObjectParts {
-        number,
-        name,
-        mesh,
-        polygon_colors,
-        vertex_colors,
-        transform,
-        surface,
-        surface_type,
-    } = parts;
-    let vertices: Vec<DVec3> = mesh
-        .vertices
-        .iter()
-        .map(|v| transform.transform_point(*v))
-        .collect();
-    // The name as messages show it.
-    let shown = printable(&name, MAX_SHOWN_TOKEN);
-    if let Some(i) = vertices.iter().position(|v| !v.is_finite()) {
-        return Err(format!(
-            "object `{shown}`: vertex {} is not finite after transformation by the CTM (a projection is still on the CTM, or a number overflowed; scenes usually `pushmatrix` and `ident` before defining objects)",
-            i + 1
-        ));
-    }
-    let mirrored = linear_determinant(&transform) < 0.0;
-    // Each polygon's vertex list (reversed when mirrored) and plane, in
-    // parallel (a pure function of the polygon); the polygons are then
-    // taken in order, with their warnings.
-    type Oriented = (Vec<u32>, std::result::Result<glam::DVec4, PolygonDefect>);
-    let oriented: Vec<Option<Oriented>> = {
-        use rayon::prelude::*;
-        mesh.polygons
-            .par_iter()
-            .with_min_len(1024)
-            .map_init(Vec::new, |points: &mut Vec<DVec3>, indices| {
-                points.clear();
-                for &i in indices {
-                    points.push(*vertices.get(i as usize)?);
-                }
-                let mut indices = indices.clone();
-                if mirrored {
-                    points.reverse();
-                    indices.reverse();
-                }
-                Some((indices, polygon::outward_plane(points)))
-            })
-            .collect()
-    };
-    let mut polygons = Vec::with_capacity(mesh.polygons.len());
-    let mut source_polygon = Vec::with_capacity(mesh.polygons.len());
-    for (pi, oriented) in oriented.into_iter().enumerate() {
-        let Some((indices, plane)) = oriented else {
-            return Err(format!(
-                "object `{shown}` polygon {}: a vertex index is beyond the {} vertices",
-                pi + 1,
-                vertices.len()
-            ));
-        };
-        match plane {
-            Ok(plane) => {
-                polygons.push(Polygon { indices, plane });
-                source_polygon.push(pi as u32);
-            }
-            Err(PolygonDefect::TooFewVertices(n)) => warn(format!(
-                "warning: object `{shown}` polygon {}: only {n} distinct vertices; skipped",
-                pi + 1
-            )),
-            Err(PolygonDefect::ZeroArea) => warn(format!(
-                "warning: object `{shown}` polygon {}: zero area; skipped",
-                pi + 1
-            )),
-            Err(PolygonDefect::NonPlanar(off)) => {
-                warn(format!(
-                    "warning: object `{shown}` polygon {}: not planar (off by {off:.2e} of its size); split into triangles",
-                    pi + 1
-                ));
-                for k in 1..indices.len() - 1 {
-                    let tri = vec![indices[0], indices[k], indices[k + 1]];
-                    let pts: Vec<DVec3> = tri
-                        .iter()
-                        .filter_map(|&i| vertices.get(i as usize).copied())
-                        .collect();
-                    if let Ok(plane) = polygon::outward_plane(&pts) {
-                        polygons.push(Polygon {
-                            indices: tri,
-                            plane,
-                        });
-                        source_polygon.push(pi as u32);
-                    }
-                }
-            }
-        }
-    }
-    let vertex_normals = surface_type.curved.then(|| {
-        let faces: Vec<(Vec<u32>, DVec3)> = polygons
-            .iter()
-            .map(|p| (p.indices.clone(), p.normal()))
-            .collect();
-        polygon::vertex_normals(vertices.len(), &faces)
-    });
-    let (lo, hi) = polygon::bounds(mesh.vertices.iter().copied());
-    let (lo, hi) = if mesh.vertices.is_empty() {
-        (DVec3::ZERO, DVec3::ZERO)
-    } else {
-        (lo, hi)
-    };
-    let mut bbox_corners = [DVec3::ZERO; 8];
-    for (i, c) in bbox_corners.iter_mut().enumerate() {
-        let p = DVec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        );
-        *c = transform.transform_point(p);
-    }
-    Ok(Object {
-        number,
-        name,
-        mesh,
-        polygon_colors,
-        vertex_colors,
-        transform,
-        vertices,
-        polygons,
-        source_polygon,
-        vertex_normals,
-        bbox_corners,
-        surface,
-        surface_type,
-    })
-}
-
 /// Near and far of `ortho2`'s box: so far apart that nothing is clipped
 /// in z.
 pub const ORTHO2_DEPTH: f64 = 1e30;
@@ -1766,13 +1598,6 @@ pub const ORTHO2_DEPTH: f64 = 1e30;
 /// the order of depths is that of [`math::ortho`]).
 pub fn ortho2(l: f64, r: f64, b: f64, t: f64) -> Matrix4 {
     math::ortho(l, r, b, t, -ORTHO2_DEPTH, ORTHO2_DEPTH)
-}
-
-fn linear_determinant(m: &Matrix4) -> f64 {
-    let a = &m.m;
-    a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
-        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
 }
 
 /// `path` if it exists, else `folded()` (the name as written folded to

@@ -1,6 +1,7 @@
 //! Scene description (Garcia 1986, 004 section 4.3 and appendix): the
 //! scene descriptor language, object files and the scene model it builds.
 
+pub mod build;
 pub mod commands;
 pub mod interpreter;
 pub mod lexer;
