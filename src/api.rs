@@ -34,7 +34,7 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::math::{self, Matrix4};
 use crate::render::{self, RenderOptions, RenderStats};
-use crate::scene::interpreter::{ObjectParts, build_object};
+use crate::scene::build::{ObjectParts, build_object};
 use crate::scene::model::{self, LightKind, Surface, SurfaceType, Viewport};
 use crate::scene::object_file::{ColorEntry, Mesh};
 
