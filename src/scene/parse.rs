@@ -650,3 +650,189 @@ fn mode_value(a: &Args, ok: impl Fn(f64) -> bool, expected: &str) -> Result<f64>
     }
     Ok(v)
 }
+
+#[cfg(test)]
+mod tests {
+    //! One table for the parser and `help`: every command of the table
+    //! has help text, parses to the [`Command`] variant of its own verb,
+    //! and keeps every abbreviation the manual's rule gives it.
+
+    use std::path::{Path, PathBuf};
+
+    use super::*;
+    use crate::scene::commands::{ADDED, COMMANDS, MANUAL};
+
+    /// Valid arguments for each command (a new command must add its own:
+    /// the match is exhaustive).
+    fn sample(verb: Verb) -> &'static str {
+        match verb {
+            Verb::Ambient | Verb::Background | Verb::Color => "0.1 0.2 0.3",
+            Verb::Bezier | Verb::Hermite => "wave.bpt 8 8",
+            Verb::Call | Verb::Get => "scene.des",
+            Verb::Callobj => "3",
+            Verb::Cylinder => "32 open",
+            Verb::Defobj => "cube 3",
+            Verb::Delobj => "3 cube",
+            Verb::Depth => "2",
+            Verb::DetDir => "det",
+            Verb::Difference | Verb::Intersection | Verb::Union => "a b",
+            Verb::Diffuse | Verb::Reflectance | Verb::Specular | Verb::Transmittance => "0.5",
+            Verb::Disp => "off",
+            Verb::Extrude => "0.5 0 0 1 0 1 1",
+            Verb::Fname => "picture",
+            Verb::Geodesic => "4 equal",
+            Verb::Getobj => "cube",
+            Verb::Index | Verb::Shininess | Verb::Threshold => "1.5",
+            Verb::Lathe => "24 0 0 1 0 1 2 0 2",
+            Verb::Light => "1 2 3 1 1 1 10 diffuse",
+            Verb::Lookat => "0 0 5 0 0 0 0",
+            Verb::Ortho | Verb::Window => "-1 1 -1 1 1 10",
+            Verb::Ortho2 | Verb::Viewport => "0 511 0 511",
+            Verb::Outmode => "a 4",
+            Verb::Pcolors | Verb::Vcolors => "cube",
+            Verb::Perspective | Verb::Polarview => "45 1 1 100",
+            Verb::Radial => "bumps 0.1 3",
+            Verb::Resolution => "512 256",
+            Verb::Rotate => "30 y",
+            Verb::Run => "y",
+            Verb::Scale | Verb::Translate => "1 2 3",
+            Verb::Setmode => "v on",
+            Verb::Sort => "ftb",
+            Verb::Sphere => "24 12",
+            Verb::Superquadric => "0.5 1 24 12 1 1 2",
+            Verb::Transparency => "0.5 1",
+            Verb::Type => "polygon open curved",
+            Verb::Clear
+            | Verb::Endobj
+            | Verb::Ident
+            | Verb::Init
+            | Verb::Nolight
+            | Verb::Popmatrix
+            | Verb::Pushmatrix
+            | Verb::Quit
+            | Verb::Wait => "",
+        }
+    }
+
+    /// `text` parsed as one statement.
+    fn parse_line(text: &str) -> Result<Parsed> {
+        let file = Path::new("t.des");
+        let statements = crate::scene::lexer::lex(text, file)?;
+        let ctx = Context {
+            file,
+            dir: PathBuf::from("."),
+            source: text,
+        };
+        parse(&ctx, &statements[0])
+    }
+
+    /// What the manual's rule (the module comment of
+    /// [`crate::scene::commands`]) makes of `word`, computed from the
+    /// table: an exact name; else a prefix unique among the manual's
+    /// commands, even if an added command shares it; else ambiguous among
+    /// several manual commands; else the same among the added commands.
+    /// `Err` holds the candidates of an ambiguous word.
+    fn by_the_rule(word: &str) -> std::result::Result<&'static str, Vec<&'static str>> {
+        if let Some(c) = COMMANDS.iter().find(|c| c.name == word) {
+            return Ok(c.name);
+        }
+        let starting = |names: &[&'static str]| -> Vec<&'static str> {
+            names
+                .iter()
+                .copied()
+                .filter(|n| n.starts_with(word))
+                .collect()
+        };
+        let manual = starting(MANUAL);
+        let among = if manual.is_empty() {
+            starting(ADDED)
+        } else {
+            manual
+        };
+        match among.as_slice() {
+            [one] => Ok(one),
+            _ => Err(among),
+        }
+    }
+
+    #[test]
+    fn every_command_has_help_and_usage_text() {
+        for c in COMMANDS {
+            assert!(!c.help.trim().is_empty(), "`{}` has no help", c.name);
+            assert_eq!(c.help, c.help.trim(), "`{}`", c.name);
+            assert_eq!(c.usage, c.usage.trim(), "`{}`", c.name);
+            assert!(
+                c.name
+                    .bytes()
+                    .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_'),
+                "`{}`",
+                c.name
+            );
+            assert_eq!(c.verb.name(), c.name);
+        }
+    }
+
+    /// Every entry of the table parses, by its full name, to the variant
+    /// of its own verb, and every verb is reached: no entry without a
+    /// variant, no variant without an entry.
+    #[test]
+    fn every_command_parses_to_its_own_variant() {
+        let mut reached = Vec::new();
+        for c in COMMANDS {
+            let line = format!("{} {}", c.name, sample(c.verb));
+            let parsed = parse_line(&line).unwrap_or_else(|e| panic!("`{line}`: {e}"));
+            assert_eq!(parsed.command.verb(), c.verb, "`{line}`");
+            assert_eq!(parsed.word.text, c.name);
+            reached.push(parsed.command.verb());
+        }
+        assert_eq!(reached, Verb::ALL);
+    }
+
+    /// Every prefix of every command resolves as the manual's rule says:
+    /// the manual's commands keep every prefix unique among them (`b` is
+    /// `background`, not `bezier`), a prefix of several manual commands is
+    /// ambiguous, and the added commands have the rest. The parser reads
+    /// the statement as that command, in any case.
+    #[test]
+    fn every_prefix_resolves_as_the_manual_rule_says() {
+        let (mut found, mut ambiguous) = (0, 0);
+        for c in COMMANDS {
+            for k in 1..=c.name.len() {
+                let prefix = &c.name[..k];
+                for word in [prefix.to_string(), prefix.to_uppercase()] {
+                    match (by_the_rule(prefix), commands::lookup(&word)) {
+                        (Ok(name), Lookup::Found(spec)) => {
+                            assert_eq!(spec.name, name, "`{word}`");
+                            let line = format!("{word} {}", sample(spec.verb));
+                            let parsed = parse_line(&line).unwrap_or_else(|e| panic!("{e}"));
+                            assert_eq!(parsed.command.verb(), spec.verb, "`{line}`");
+                            found += 1;
+                        }
+                        (Err(names), Lookup::Ambiguous(got)) => {
+                            assert_eq!(got, names, "`{word}`");
+                            let e = parse_line(&word).unwrap_err().to_string();
+                            assert!(e.contains("ambiguous command"), "{e}");
+                            ambiguous += 1;
+                        }
+                        (want, got) => panic!("`{word}`: the rule says {want:?}, found {got:?}"),
+                    }
+                }
+            }
+        }
+        assert!(found > 600 && ambiguous > 50, "{found} {ambiguous}");
+        for (word, name) in [
+            ("b", "background"),
+            ("e", "endobj"),
+            ("dif", "diffuse"),
+            ("sp", "specular"),
+            ("be", "bezier"),
+            ("sph", "sphere"),
+            ("u", "union"),
+            ("ortho", "ortho"),
+            ("call", "call"),
+        ] {
+            assert_eq!(by_the_rule(word), Ok(name), "`{word}`");
+        }
+        assert_eq!(by_the_rule("po"), Err(vec!["polarview", "popmatrix"]));
+    }
+}
