@@ -36,7 +36,7 @@ use crate::math::{self, Matrix4};
 use crate::model::{self, LightKind, Surface, SurfaceType, Viewport};
 use crate::model::{ColorEntry, Mesh};
 use crate::render::{self, RenderOptions, RenderStats};
-use crate::scene::interpreter::{ObjectParts, build_object};
+use crate::scene::build::{ObjectParts, build_object};
 
 pub use crate::raster::scan::Method as Antialiasing;
 pub use crate::vector::Format as VectorFormat;

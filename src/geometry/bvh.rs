@@ -341,7 +341,7 @@ impl WorldPolygons {
 }
 
 fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
-    crate::geometry::polygon::bounds(points.iter().copied())
+    crate::math::bounds(points.iter().copied())
 }
 
 /// Whether the segment `o + t / inv`, `t` in `0..=limit`, meets the box.

@@ -45,11 +45,9 @@ pub fn extent(points: &[DVec3]) -> f64 {
     if points.len() < 2 {
         return 0.0;
     }
-    let (lo, hi) = bounds(points.iter().copied());
+    let (lo, hi) = crate::math::bounds(points.iter().copied());
     (hi - lo).max(DVec3::ZERO).length()
 }
-
-pub use crate::math::bounds;
 
 /// What is wrong with a polygon, if anything.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -321,7 +321,7 @@ fn is_below_detail(points: &[DVec3], view: &View) -> bool {
     if view.min_detail <= 0.0 {
         return false;
     }
-    let (lo, hi) = crate::geometry::polygon::bounds(points.iter().copied());
+    let (lo, hi) = crate::math::bounds(points.iter().copied());
     // Extents in normalized units (the image spans 2).
     let dx = (hi.x - lo.x) * 2.0 / view.width;
     let dy = (hi.y - lo.y) * 2.0 / view.height;

@@ -800,7 +800,7 @@ pub fn bounding_box_scene(scene: &Scene) -> Scene {
                 }
             })
             .collect();
-        let parts = crate::scene::interpreter::ObjectParts {
+        let parts = crate::scene::build::ObjectParts {
             number: object.number,
             name: object.name.clone(),
             mesh: std::sync::Arc::new(crate::model::Mesh {
@@ -813,7 +813,7 @@ pub fn bounding_box_scene(scene: &Scene) -> Scene {
             surface: object.surface,
             surface_type: object.surface_type,
         };
-        if let Ok(b) = crate::scene::interpreter::build_object(parts, &mut |_| {}) {
+        if let Ok(b) = crate::scene::build::build_object(parts, &mut |_| {}) {
             *object = b;
         }
     }

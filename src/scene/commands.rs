@@ -7,171 +7,189 @@
 //! recognized by a unique prefix; an exact name always wins (`ortho`
 //! versus `ortho2`). The table also holds commands the manual does not
 //! have (the modeling commands of Firebaugh's chapter and Brown's
-//! geodesics: [`ADDED`]); they must not take an abbreviation away from
-//! the manual's own commands. So a word is looked up first among the
-//! manual's commands ([`MANUAL`]): a prefix unique there names that
-//! command even if an added command shares it (`b` is `background`, not
-//! `bezier`; `e` is `endobj`); a prefix of several manual commands is
-//! ambiguous; a prefix of no manual command is looked up among the added
-//! ones (`be` is `bezier`, `sph` is `sphere`).
+//! geodesics, marked `added` in the table: [`ADDED`]); they must not take
+//! an abbreviation away from the manual's own commands. So a word is
+//! looked up first among the manual's commands ([`MANUAL`]): a prefix
+//! unique there names that command even if an added command shares it
+//! (`b` is `background`, not `bezier`; `e` is `endobj`); a prefix of
+//! several manual commands is ambiguous; a prefix of no manual command is
+//! looked up among the added ones (`be` is `bezier`, `sph` is `sphere`).
+//!
+//! Each line of the table makes a [`CommandSpec`] and a [`Verb`]: the
+//! parser, the prompt's `help`, its completion and `--help` all read this
+//! one table.
 
 /// A command of the language.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CommandSpec {
+    /// The command's word as a type: the parser turns a statement of this
+    /// command into the `Command` variant of the same name.
+    pub verb: Verb,
     /// The full name.
     pub name: &'static str,
+    /// Whether the manual page (004 appendix B) has the command; the
+    /// others are added (modeling), and never take an abbreviation from a
+    /// manual command (see the module comment).
+    pub manual: bool,
     /// Its arguments, as the manual writes them.
     pub usage: &'static str,
     /// What it does.
     pub help: &'static str,
 }
 
-macro_rules! commands {
-    ($( $name:literal, $usage:literal, $help:literal; )*) => {
-        /// Every command, in the manual's (alphabetical) order.
-        pub const COMMANDS: &[CommandSpec] = &[
-            $( CommandSpec { name: $name, usage: $usage, help: $help }, )*
-        ];
+/// `manual` or `added` in the table, as a `bool`.
+macro_rules! is_manual {
+    (manual) => {
+        true
+    };
+    (added) => {
+        false
     };
 }
 
-commands! {
-    "ambient", "r g b", "ambient illumination colour (default 1 1 1)";
-    "background", "r g b", "background colour (default 0 0 0)";
-    "bezier", "FILE NU NV", "in defobj: bicubic Bezier patches (Firebaugh eq. 8.6) from det_dir/FILE, e.g. bezier teapot.bpt 8 8";
-    "call", "file", "read commands from a file without initializing";
-    "callobj", "obj-number", "copy geometry and colours of an existing object";
-    "clear", "", "clear the frame buffer to the background colour";
-    "color", "r g b", "global or active object colour (default 1 1 1)";
-    "cylinder", "NU [capped|open]", "in defobj: radius 1 about z, z -1..1, NU steps, e.g. cylinder 32 open";
-    "defobj", "name [number]", "begin an object read from name.det in the detail directory";
-    "delobj", "number...", "delete objects";
-    "depth", "1-14", "maximum reflection/refraction recursion depth (default 1)";
-    "det_dir", "path", "detail directory for .det/.pcl/.vcl files (default det/)";
-    "difference", "A B", "in defobj: CSG A - B of two closed objects (consumed), e.g. difference plate hole";
-    "diffuse", "k", "diffuse coefficient (default 0.6)";
-    "disp", "[on|off]", "show the tree level by level in a window (build feature `display`); files are written either way";
-    "endobj", "", "end the object: read its files and transform it by the CTM";
-    "extrude", "DEPTH x1 y1 ... xk yk", "in defobj: a simple outline swept z 0..DEPTH, capped, e.g. extrude 0.5 0 0 1 0 1 1";
-    "fname", "name", "output file name (name.png, name.out)";
-    "geodesic", "n [equal|angle]", "in defobj: a geodesic icosahedron, n divisions per edge (Brown 1978)";
-    "get", "file", "initialize, then read commands from a file";
-    "getobj", "name", "defobj name followed by endobj";
-    "hermite", "FILE NU NV", "in defobj: bicubic Hermite patches (Firebaugh eq. 8.16-8.18), e.g. hermite wave.hpt 8 8";
-    "ident", "", "load the identity on the CTM";
-    "index", "n", "index of refraction (default 1)";
-    "init", "", "reset all parameters, objects and lights to their defaults";
-    "intersection", "A B", "in defobj: CSG A and B of two closed objects (consumed), e.g. intersection ball box";
-    "lathe", "N r1 z1 ... rk zk", "in defobj: a profile (r, z) spun N steps about z, e.g. lathe 24 0 0 1 0 1 2 0 2";
-    "light", "x y z r g b range [Point|Diffuse]", "add a light (Point casts shadows)";
-    "lookat", "vx vy vz px py pz twist", "view from v towards p (pre-multiplies the CTM)";
-    "nolight", "", "delete all lights";
-    "ortho", "left right bottom top near far", "load an orthographic projection";
-    "ortho2", "left right bottom top", "load a 2D orthographic projection";
-    "outmode", "c|r|g|b|y|a bits", "colour output mode (default c)";
-    "pcolors", "file", "polygon colours of the active object (file.pcl)";
-    "perspective", "fovy aspect near far", "load a perspective projection";
-    "polarview", "dist azim inc twist", "view in polar coordinates (pre-multiplies the CTM)";
-    "popmatrix", "", "pop the CTM from the matrix stack";
-    "pushmatrix", "", "push a copy of the CTM on the matrix stack";
-    "quit", "", "end the program";
-    "radial", "sphere|ellipsoid a b c|bumps amp freq|lobes amp k|rotate angle x|y|z", "a geodesic's radial function (in defobj); `rotate` turns it inside the fixed vertex directions (outside defobj: every geodesic's)";
-    "reflectance", "k", "reflection coefficient (default 0)";
-    "resolution", "hres vres", "image size; loads perspective 45 hres/vres 0.01 10000";
-    "rotate", "angle x|y|z", "rotation (pre-multiplies the CTM)";
-    "run", "[y]", "render the scene (y: with shadows)";
-    "scale", "sx sy sz", "scaling (pre-multiplies the CTM)";
-    "setmode", "mode [value]", "set a run-time mode: b d e h l n o p s v x or a digit, as the flags of the same letters (a bare on/off mode is on)";
-    "shininess", "n", "Phong exponent of highlights";
-    "sort", "[btf|ftb]", "polygon order: back to front (default) or front to back";
-    "specular", "k", "specular coefficient (default 0)";
-    "sphere", "NU NV", "in defobj: the unit sphere, NU steps of longitude, NV of latitude, e.g. sphere 24 12";
-    "superquadric", "E1 E2 NU NV [AX AY AZ]", "in defobj: a superquadric (Firebaugh eq. 8.22), e.g. superquadric 0.5 1 24 12 1 1 2";
-    "threshold", "k", "smallest coefficient worth tracing (default 0)";
-    "translate", "tx ty tz", "translation (pre-multiplies the CTM)";
-    "transmittance", "k", "transmission coefficient (default 0)";
-    "transparency", "t rolloff", "linear transparency and its roll-off (default 0 0)";
-    "type", "polygon [open curved concave hidden ltsrc]", "surface type attributes";
-    "union", "A B", "in defobj: CSG A or B of two closed objects (consumed), e.g. union head shaft";
-    "vcolors", "file", "vertex colours of the active object (file.vcl)";
-    "viewport", "left right bottom top", "image region in pixels";
-    "wait", "", "wait for a key in the display window, else for return (terminal only)";
-    "window", "left right bottom top near far", "load a perspective frustum";
+/// The one table: each line makes a [`CommandSpec`] of [`COMMANDS`] and
+/// the [`Verb`] variant that names it, so that a command cannot be in the
+/// table without a type or have a type without a table entry.
+macro_rules! commands {
+    ($( $verb:ident $name:literal $origin:ident, $usage:literal, $help:literal; )*) => {
+        /// Every command, in the manual's (alphabetical) order.
+        pub const COMMANDS: &[CommandSpec] = &[
+            $( CommandSpec {
+                verb: Verb::$verb,
+                name: $name,
+                manual: is_manual!($origin),
+                usage: $usage,
+                help: $help,
+            }, )*
+        ];
+
+        /// The word of a statement: one variant per entry of [`COMMANDS`],
+        /// in its order.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum Verb {
+            $( #[doc = concat!("`", $name, " ", $usage, "`: ", $help)] $verb, )*
+        }
+
+        impl Verb {
+            /// Every verb, in the order of [`COMMANDS`].
+            pub const ALL: &[Verb] = &[ $( Verb::$verb, )* ];
+        }
+    };
 }
 
-/// The commands of the manual page (004 appendix B), in its order.
-pub const MANUAL: &[&str] = &[
-    "ambient",
-    "background",
-    "call",
-    "callobj",
-    "clear",
-    "color",
-    "defobj",
-    "delobj",
-    "depth",
-    "det_dir",
-    "diffuse",
-    "disp",
-    "endobj",
-    "fname",
-    "get",
-    "getobj",
-    "ident",
-    "index",
-    "init",
-    "light",
-    "lookat",
-    "nolight",
-    "ortho",
-    "ortho2",
-    "outmode",
-    "pcolors",
-    "perspective",
-    "polarview",
-    "popmatrix",
-    "pushmatrix",
-    "quit",
-    "reflectance",
-    "resolution",
-    "rotate",
-    "run",
-    "scale",
-    "setmode",
-    "shininess",
-    "sort",
-    "specular",
-    "threshold",
-    "translate",
-    "transmittance",
-    "transparency",
-    "type",
-    "vcolors",
-    "viewport",
-    "wait",
-    "window",
-];
+impl Verb {
+    /// The verb's entry in [`COMMANDS`].
+    pub fn spec(self) -> &'static CommandSpec {
+        &COMMANDS[self as usize]
+    }
+
+    /// The command's full name.
+    pub fn name(self) -> &'static str {
+        self.spec().name
+    }
+}
+
+commands! {
+    Ambient "ambient" manual, "r g b", "ambient illumination colour (default 1 1 1)";
+    Background "background" manual, "r g b", "background colour (default 0 0 0)";
+    Bezier "bezier" added, "FILE NU NV", "in defobj: bicubic Bezier patches (Firebaugh eq. 8.6) from det_dir/FILE, e.g. bezier teapot.bpt 8 8";
+    Call "call" manual, "file", "read commands from a file without initializing";
+    Callobj "callobj" manual, "obj-number", "copy geometry and colours of an existing object";
+    Clear "clear" manual, "", "clear the frame buffer to the background colour";
+    Color "color" manual, "r g b", "global or active object colour (default 1 1 1)";
+    Cylinder "cylinder" added, "NU [capped|open]", "in defobj: radius 1 about z, z -1..1, NU steps, e.g. cylinder 32 open";
+    Defobj "defobj" manual, "name [number]", "begin an object read from name.det in the detail directory";
+    Delobj "delobj" manual, "number...", "delete objects";
+    Depth "depth" manual, "1-14", "maximum reflection/refraction recursion depth (default 1)";
+    DetDir "det_dir" manual, "path", "detail directory for .det/.pcl/.vcl files (default det/)";
+    Difference "difference" added, "A B", "in defobj: CSG A - B of two closed objects (consumed), e.g. difference plate hole";
+    Diffuse "diffuse" manual, "k", "diffuse coefficient (default 0.6)";
+    Disp "disp" manual, "[on|off]", "show the tree level by level in a window (build feature `display`); files are written either way";
+    Endobj "endobj" manual, "", "end the object: read its files and transform it by the CTM";
+    Extrude "extrude" added, "DEPTH x1 y1 ... xk yk", "in defobj: a simple outline swept z 0..DEPTH, capped, e.g. extrude 0.5 0 0 1 0 1 1";
+    Fname "fname" manual, "name", "output file name (name.png, name.out)";
+    Geodesic "geodesic" added, "n [equal|angle]", "in defobj: a geodesic icosahedron, n divisions per edge (Brown 1978)";
+    Get "get" manual, "file", "initialize, then read commands from a file";
+    Getobj "getobj" manual, "name", "defobj name followed by endobj";
+    Hermite "hermite" added, "FILE NU NV", "in defobj: bicubic Hermite patches (Firebaugh eq. 8.16-8.18), e.g. hermite wave.hpt 8 8";
+    Ident "ident" manual, "", "load the identity on the CTM";
+    Index "index" manual, "n", "index of refraction (default 1)";
+    Init "init" manual, "", "reset all parameters, objects and lights to their defaults";
+    Intersection "intersection" added, "A B", "in defobj: CSG A and B of two closed objects (consumed), e.g. intersection ball box";
+    Lathe "lathe" added, "N r1 z1 ... rk zk", "in defobj: a profile (r, z) spun N steps about z, e.g. lathe 24 0 0 1 0 1 2 0 2";
+    Light "light" manual, "x y z r g b range [Point|Diffuse]", "add a light (Point casts shadows)";
+    Lookat "lookat" manual, "vx vy vz px py pz twist", "view from v towards p (pre-multiplies the CTM)";
+    Nolight "nolight" manual, "", "delete all lights";
+    Ortho "ortho" manual, "left right bottom top near far", "load an orthographic projection";
+    Ortho2 "ortho2" manual, "left right bottom top", "load a 2D orthographic projection";
+    Outmode "outmode" manual, "c|r|g|b|y|a bits", "colour output mode (default c)";
+    Pcolors "pcolors" manual, "file", "polygon colours of the active object (file.pcl)";
+    Perspective "perspective" manual, "fovy aspect near far", "load a perspective projection";
+    Polarview "polarview" manual, "dist azim inc twist", "view in polar coordinates (pre-multiplies the CTM)";
+    Popmatrix "popmatrix" manual, "", "pop the CTM from the matrix stack";
+    Pushmatrix "pushmatrix" manual, "", "push a copy of the CTM on the matrix stack";
+    Quit "quit" manual, "", "end the program";
+    Radial "radial" added, "sphere|ellipsoid a b c|bumps amp freq|lobes amp k|rotate angle x|y|z", "a geodesic's radial function (in defobj); `rotate` turns it inside the fixed vertex directions (outside defobj: every geodesic's)";
+    Reflectance "reflectance" manual, "k", "reflection coefficient (default 0)";
+    Resolution "resolution" manual, "hres vres", "image size; loads perspective 45 hres/vres 0.01 10000";
+    Rotate "rotate" manual, "angle x|y|z", "rotation (pre-multiplies the CTM)";
+    Run "run" manual, "[y]", "render the scene (y: with shadows)";
+    Scale "scale" manual, "sx sy sz", "scaling (pre-multiplies the CTM)";
+    Setmode "setmode" manual, "mode [value]", "set a run-time mode: b d e h l n o p s v x or a digit, as the flags of the same letters (a bare on/off mode is on)";
+    Shininess "shininess" manual, "n", "Phong exponent of highlights";
+    Sort "sort" manual, "[btf|ftb]", "polygon order: back to front (default) or front to back";
+    Specular "specular" manual, "k", "specular coefficient (default 0)";
+    Sphere "sphere" added, "NU NV", "in defobj: the unit sphere, NU steps of longitude, NV of latitude, e.g. sphere 24 12";
+    Superquadric "superquadric" added, "E1 E2 NU NV [AX AY AZ]", "in defobj: a superquadric (Firebaugh eq. 8.22), e.g. superquadric 0.5 1 24 12 1 1 2";
+    Threshold "threshold" manual, "k", "smallest coefficient worth tracing (default 0)";
+    Translate "translate" manual, "tx ty tz", "translation (pre-multiplies the CTM)";
+    Transmittance "transmittance" manual, "k", "transmission coefficient (default 0)";
+    Transparency "transparency" manual, "t rolloff", "linear transparency and its roll-off (default 0 0)";
+    Type "type" manual, "polygon [open curved concave hidden ltsrc]", "surface type attributes";
+    Union "union" added, "A B", "in defobj: CSG A or B of two closed objects (consumed), e.g. union head shaft";
+    Vcolors "vcolors" manual, "file", "vertex colours of the active object (file.vcl)";
+    Viewport "viewport" manual, "left right bottom top", "image region in pixels";
+    Wait "wait" manual, "", "wait for a key in the display window, else for return (terminal only)";
+    Window "window" manual, "left right bottom top near far", "load a perspective frustum";
+}
+
+/// The commands of the manual page (004 appendix B), in its order: those
+/// marked `manual` in the table.
+pub const MANUAL: &[&str] = &names::<{ count(true) }>(true);
 
 /// The commands added to the manual's (modeling): every other name of
 /// [`COMMANDS`].
-pub const ADDED: &[&str] = &[
-    "bezier",
-    "cylinder",
-    "difference",
-    "extrude",
-    "geodesic",
-    "hermite",
-    "intersection",
-    "lathe",
-    "radial",
-    "sphere",
-    "superquadric",
-    "union",
-];
+pub const ADDED: &[&str] = &names::<{ count(false) }>(false);
+
+/// How many commands of the table are (or are not) the manual's.
+const fn count(manual: bool) -> usize {
+    let (mut n, mut i) = (0, 0);
+    while i < COMMANDS.len() {
+        if COMMANDS[i].manual == manual {
+            n += 1;
+        }
+        i += 1;
+    }
+    n
+}
+
+/// The names of the `N` commands that are (or are not) the manual's.
+const fn names<const N: usize>(manual: bool) -> [&'static str; N] {
+    let mut out = [""; N];
+    let (mut i, mut k) = (0, 0);
+    while i < COMMANDS.len() {
+        if COMMANDS[i].manual == manual {
+            out[k] = COMMANDS[i].name;
+            k += 1;
+        }
+        i += 1;
+    }
+    out
+}
 
 /// Whether `name` is one of the manual's commands.
 pub fn is_manual(name: &str) -> bool {
-    MANUAL.contains(&name)
+    COMMANDS.iter().any(|c| c.manual && c.name == name)
 }
 
 /// The result of looking a word up in the table.
@@ -203,7 +221,7 @@ pub fn lookup(word: &str) -> Lookup {
     let starting = |manual: bool| -> Vec<&'static CommandSpec> {
         COMMANDS
             .iter()
-            .filter(|c| is_manual(c.name) == manual && c.name.starts_with(&w))
+            .filter(|c| c.manual == manual && c.name.starts_with(&w))
             .collect()
     };
     let mut matches = starting(true);
@@ -312,13 +330,76 @@ mod tests {
         }
     }
 
-    /// The manual's and the added commands together are the table.
+    /// The commands marked `manual` are those of the manual page (004
+    /// appendix B), every one of them; the others are [`ADDED`].
     #[test]
-    fn manual_and_added_commands_partition_the_table() {
+    fn the_manual_commands_are_the_manual_pages() {
+        const MANUAL_PAGE: &[&str] = &[
+            "ambient",
+            "background",
+            "call",
+            "callobj",
+            "clear",
+            "color",
+            "defobj",
+            "delobj",
+            "depth",
+            "det_dir",
+            "diffuse",
+            "disp",
+            "endobj",
+            "fname",
+            "get",
+            "getobj",
+            "ident",
+            "index",
+            "init",
+            "light",
+            "lookat",
+            "nolight",
+            "ortho",
+            "ortho2",
+            "outmode",
+            "pcolors",
+            "perspective",
+            "polarview",
+            "popmatrix",
+            "pushmatrix",
+            "quit",
+            "reflectance",
+            "resolution",
+            "rotate",
+            "run",
+            "scale",
+            "setmode",
+            "shininess",
+            "sort",
+            "specular",
+            "threshold",
+            "translate",
+            "transmittance",
+            "transparency",
+            "type",
+            "vcolors",
+            "viewport",
+            "wait",
+            "window",
+        ];
+        assert_eq!(MANUAL, MANUAL_PAGE);
         let mut both: Vec<&str> = MANUAL.iter().chain(ADDED).copied().collect();
         both.sort_unstable();
         let table: Vec<&str> = COMMANDS.iter().map(|c| c.name).collect();
         assert_eq!(both, table);
+    }
+
+    /// Each verb is the one of its table entry.
+    #[test]
+    fn verbs_follow_the_table() {
+        assert_eq!(Verb::ALL.len(), COMMANDS.len());
+        for (verb, spec) in Verb::ALL.iter().zip(COMMANDS) {
+            assert_eq!(*verb, spec.verb);
+            assert_eq!(verb.spec(), spec);
+        }
     }
 
     #[test]

@@ -1,15 +1,19 @@
 //! Scene description (Garcia 1986, 004 section 4.3 and appendix): the
 //! scene descriptor language, object files and the scene model it builds.
 
+mod arguments;
+pub mod build;
+mod command;
 pub mod commands;
 pub mod interpreter;
 pub mod lexer;
 pub mod mesh_import;
-pub use crate::model;
-pub mod object_file;
 
+pub mod object_file;
+mod parse;
+
+pub use crate::model::Scene;
 pub use interpreter::{Flow, Host, Interpreter, NoHost};
-pub use model::Scene;
 
 use std::path::Path;
 

@@ -193,7 +193,7 @@ impl CasterIndex {
 }
 
 fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
-    polygon::bounds(points.iter().copied())
+    crate::math::bounds(points.iter().copied())
 }
 
 /// Splits `items[start..end]` at the median of the box centres along the
@@ -457,7 +457,7 @@ fn world_corners(target: &Target, identity: bool) -> Option<(DVec3, DVec3)> {
         return None;
     }
     let inverse = target.t.inverse()?;
-    let b = polygon::bounds(target.points.iter().map(|p| inverse.transform_point(*p)));
+    let b = crate::math::bounds(target.points.iter().map(|p| inverse.transform_point(*p)));
     (b.0.is_finite() && b.1.is_finite()).then_some(b)
 }
 

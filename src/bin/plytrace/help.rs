@@ -128,12 +128,21 @@ mod tests {
         assert!(text.contains("translate tx ty tz"), "{text}");
     }
 
-    /// One table: every command the interpreter knows has help text, and
-    /// `--help` and the prompt's `help` list each of them.
+    /// One table: every command the interpreter knows has help text,
+    /// `--help` and the prompt's `help` list each of them, completion
+    /// offers it, and the interpreter recognizes every name they list.
     #[test]
     fn every_command_has_help_in_every_place() {
         let all = after_help();
+        let interp = plytrace::scene::Interpreter::new();
         for c in COMMANDS {
+            if let Err(e) = interp.check_source(c.name, std::path::Path::new("help")) {
+                let e = e.to_string();
+                assert!(
+                    !e.contains("unknown command") && !e.contains("ambiguous"),
+                    "{e}"
+                );
+            }
             assert!(!c.help.trim().is_empty(), "`{}` has no help", c.name);
             assert!(
                 all.contains(&format!("    {} ", c.name))

@@ -3,193 +3,29 @@
 //! `hermite`, `lathe`, `extrude`, and the CSG commands `union`,
 //! `intersection`, `difference` (see [`crate::modeling`]).
 //!
-//! A child of the interpreter: it parses the commands with the
-//! interpreter's argument readers and builds the object at `endobj`.
+//! The commands are parsed by [`crate::scene::parse`]; here they are
+//! recorded in the active object and, at `endobj`, built.
 
 use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
 
-use super::*;
-use crate::modeling::parametric::Superquadric;
+use super::active::{ActiveObject, Pending};
+use crate::budget::Budgets;
+use crate::error::{
+    Diagnostic, Error, Location, MAX_SHOWN_PATH, MAX_SHOWN_TOKEN, Result, printable,
+};
+use crate::math::Matrix4;
+use crate::model::{ColorEntry, Mesh};
+use crate::model::{Object, Surface, SurfaceType};
 use crate::modeling::patch::{self, Form};
 use crate::modeling::sweep::{self, Profile};
 use crate::modeling::{Generated, Primitive, csg, solid};
-
-/// The generator commands, by name.
-pub(super) const GENERATORS: &[&str] = &[
-    "sphere",
-    "cylinder",
-    "superquadric",
-    "bezier",
-    "hermite",
-    "lathe",
-    "extrude",
-    "union",
-    "intersection",
-    "difference",
-];
-
-/// The commands that set surface attributes: an error in a CSG block.
-pub(super) const SURFACE_COMMANDS: &[&str] = &[
-    "color",
-    "diffuse",
-    "specular",
-    "shininess",
-    "reflectance",
-    "transmittance",
-    "index",
-    "transparency",
-    "type",
-    "pcolors",
-    "vcolors",
-];
-
-/// A generator command read inside `defobj`, built at `endobj`.
-#[derive(Debug, Clone)]
-pub(super) enum Pending {
-    /// A primitive with its parameters checked.
-    Primitive(Primitive),
-    /// `bezier|hermite FILE NU NV`.
-    Patches {
-        form: Form,
-        file: String,
-        nu: usize,
-        nv: usize,
-    },
-    /// `union|intersection|difference A B`, the names case-folded.
-    Csg {
-        op: csg::Op,
-        a: (String, Location),
-        b: (String, Location),
-    },
-}
-
-/// The largest step count accepted before the polygon budget is asked.
-const MAX_STEPS: i64 = u32::MAX as i64;
-
-/// Parses a generator command (its name is `a.spec.name`).
-///
-/// This is the pre-pass over a whole file: an outline too long to check
-/// simple within the default pair budget is left to [`parse_within`].
-pub(super) fn parse(a: &Args) -> Result<Pending> {
-    parse_within(a, None)
-}
-
-/// [`parse`] checking outlines simple within `pair_tests` edge pairs
-/// (`None`: the pre-pass).
-pub(super) fn parse_within(a: &Args, pair_tests: Option<u64>) -> Result<Pending> {
-    let name = a.spec.name;
-    let steps = |i: usize, min: i64| a.integer(i, min, MAX_STEPS).map(|v| v as usize);
-    let positive = |i: usize, what: &str| -> Result<f64> {
-        let v = a.number(i)?;
-        if v <= 0.0 {
-            return Err(a.ctx.error(
-                &a.args[i],
-                format!("`{name}`: {what} must be positive, found {v}"),
-            ));
-        }
-        Ok(v)
-    };
-    let pairs = |from: usize| -> Result<Vec<DVec2>> {
-        if !(a.args.len() - from).is_multiple_of(2) {
-            return Err(a.ctx.error(
-                &a.args[a.args.len() - 1],
-                format!(
-                    "`{name}` expects coordinate pairs ({}); this one has no partner",
-                    a.spec.usage
-                ),
-            ));
-        }
-        (from..a.args.len())
-            .step_by(2)
-            .map(|i| Ok(DVec2::new(a.number(i)?, a.number(i + 1)?)))
-            .collect()
-    };
-    let primitive = match name {
-        "sphere" => {
-            a.count(2, 2)?;
-            Primitive::Sphere {
-                nu: steps(0, 3)?,
-                nv: steps(1, 2)?,
-            }
-        }
-        "cylinder" => {
-            a.count(1, 2)?;
-            let nu = steps(0, 3)?;
-            let capped = match a.args.get(1).map(|t| t.text.to_ascii_lowercase()) {
-                None => true,
-                Some(w) if w == "capped" => true,
-                Some(w) if w == "open" => false,
-                Some(_) => return Err(a.ctx.error(&a.args[1], "expected `capped` or `open`")),
-            };
-            Primitive::Cylinder { nu, capped }
-        }
-        "superquadric" => {
-            a.count(4, 7)?;
-            if a.args.len() != 4 && a.args.len() != 7 {
-                return Err(a.ctx.error(
-                    &a.args[4],
-                    "`superquadric` takes all three scale factors AX AY AZ or none",
-                ));
-            }
-            let (e1, e2) = (positive(0, "E1")?, positive(1, "E2")?);
-            let (nu, nv) = (steps(2, 3)?, steps(3, 2)?);
-            let s = if a.args.len() == 7 {
-                DVec3::new(positive(4, "AX")?, positive(5, "AY")?, positive(6, "AZ")?)
-            } else {
-                DVec3::ONE
-            };
-            Primitive::Superquadric {
-                q: Superquadric { e1, e2, a: s },
-                nu,
-                nv,
-            }
-        }
-        "bezier" | "hermite" => {
-            a.count(3, 3)?;
-            return Ok(Pending::Patches {
-                form: if name == "bezier" {
-                    Form::Bezier
-                } else {
-                    Form::Hermite
-                },
-                file: a.args[0].text.clone(),
-                nu: steps(1, 3)?,
-                nv: steps(2, 2)?,
-            });
-        }
-        "lathe" => {
-            a.count(5, usize::MAX)?;
-            let n = steps(0, 3)?;
-            let profile =
-                Profile::new_within(pairs(1)?, pair_tests).map_err(|e| a.ctx.error(a.cmd, e))?;
-            Primitive::Lathe { profile, n }
-        }
-        "extrude" => {
-            a.count(7, usize::MAX)?;
-            let depth = positive(0, "DEPTH")?;
-            let outline = sweep::extrude_outline_within(pairs(1)?, pair_tests)
-                .map_err(|e| a.ctx.error(a.cmd, e))?;
-            Primitive::Extrude { outline, depth }
-        }
-        _ => {
-            a.count(2, 2)?;
-            let op = match name {
-                "union" => csg::Op::Union,
-                "intersection" => csg::Op::Intersection,
-                _ => csg::Op::Difference,
-            };
-            let operand = |i: usize| (a.args[i].text.to_lowercase(), a.ctx.location(&a.args[i]));
-            return Ok(Pending::Csg {
-                op,
-                a: operand(0),
-                b: operand(1),
-            });
-        }
-    };
-    Ok(Pending::Primitive(primitive))
-}
+use crate::scene::arguments::Context;
+use crate::scene::build::{ObjectParts, build_object, warning_kind};
+use crate::scene::commands::Verb;
+use crate::scene::interpreter::Interpreter;
+use crate::scene::lexer::Token;
 
 /// The normals of an object transformed by `m` (row vectors: the inverse
 /// transpose of its linear part); `None` if `m` is singular.
@@ -204,7 +40,7 @@ fn transform_normals(normals: &[DVec3], m: &Matrix4) -> Option<Vec<DVec3>> {
 }
 
 /// What `endobj` of a generated object needs besides the block.
-pub(super) struct Ending<'a> {
+pub(in crate::scene) struct Ending<'a> {
     pub ctx: &'a Context<'a>,
     pub cmd: &'a Token,
     /// The CTM at `endobj`.
@@ -214,25 +50,60 @@ pub(super) struct Ending<'a> {
 }
 
 impl Interpreter {
-    /// Records a generator command in the active object.
-    pub(super) fn add_generator(&mut self, a: &Args) -> Result<()> {
-        let pending = parse_within(a, Some(self.budgets.pair_tests))?;
-        let loc = a.ctx.location(a.cmd);
+    /// `lathe N r1 z1 ...`: the profile checked simple within the pair
+    /// budget, then recorded.
+    pub(in crate::scene) fn lathe(
+        &mut self,
+        ctx: &Context,
+        cmd: &Token,
+        n: usize,
+        points: &[DVec2],
+    ) -> Result<()> {
+        let profile = Profile::new_within(points.to_vec(), Some(self.budgets.pair_tests))
+            .map_err(|e| ctx.error(cmd, e))?;
+        let pending = Pending::Primitive(Primitive::Lathe { profile, n });
+        self.add_generator(ctx, cmd, Verb::Lathe, pending)
+    }
+
+    /// `extrude DEPTH x1 y1 ...`: the outline checked simple within the
+    /// pair budget, then recorded.
+    pub(in crate::scene) fn extrude(
+        &mut self,
+        ctx: &Context,
+        cmd: &Token,
+        depth: f64,
+        points: &[DVec2],
+    ) -> Result<()> {
+        let outline = sweep::extrude_outline_within(points.to_vec(), Some(self.budgets.pair_tests))
+            .map_err(|e| ctx.error(cmd, e))?;
+        let pending = Pending::Primitive(Primitive::Extrude { outline, depth });
+        self.add_generator(ctx, cmd, Verb::Extrude, pending)
+    }
+
+    /// Records the generator command `verb` in the active object.
+    pub(in crate::scene) fn add_generator(
+        &mut self,
+        ctx: &Context,
+        cmd: &Token,
+        verb: Verb,
+        pending: Pending,
+    ) -> Result<()> {
+        let loc = ctx.location(cmd);
         let Some(active) = &mut self.active else {
-            return Err(a.ctx.error(
-                a.cmd,
-                format!("`{}` outside an object definition", a.spec.name),
+            return Err(ctx.error(
+                cmd,
+                format!("`{}` outside an object definition", verb.name()),
             ));
         };
         if let Some((_, first)) = &active.generator {
-            return Err(a.ctx.error(
-                a.cmd,
+            return Err(ctx.error(
+                cmd,
                 format!("an object has one generator; this one already has one at {first}"),
             ));
         }
         if active.geodesic.is_some() {
-            return Err(a.ctx.error(
-                a.cmd,
+            return Err(ctx.error(
+                cmd,
                 "an object has one generator; this one has a `geodesic`",
             ));
         }
@@ -246,7 +117,7 @@ impl Interpreter {
     }
 
     /// `endobj` of an object with a generator.
-    pub(super) fn end_generated(
+    pub(in crate::scene) fn end_generated(
         &mut self,
         active: ActiveObject,
         pending: Pending,
@@ -474,19 +345,57 @@ impl Interpreter {
         if ia == ib {
             return Err(Error::at(bloc, "the two CSG operands are the same object"));
         }
+        let names = (a.as_str(), b.as_str());
+        let combined = self.combine(op, (ia, ib), names, &loc)?;
+        // The operands are consumed.
+        let (na, nb) = combined.numbers;
+        self.scene
+            .objects
+            .retain(|o| o.number != na && o.number != nb);
+        self.polygons = self.scene.polygon_count();
+        let faces = combined.mesh.polygons.len();
+        self.check_polygons(faces, &loc, &format!("the CSG result ({faces} faces)"))?;
+        let end = Ending {
+            transform: block_transform(&end, loc)?,
+            ..end
+        };
+        let surface_type = SurfaceType {
+            open: false,
+            curved: combined.with_normals,
+            concave: true,
+            ..active.surface_type
+        };
+        let number = active.number.unwrap_or_else(|| self.next_free_number());
+        self.push_object(
+            &active,
+            end,
+            number,
+            combined.mesh,
+            combined.normals,
+            combined.surface,
+            surface_type,
+            Some(Arc::new(combined.colors)),
+        )
+    }
+
+    /// The operands `ia` and `ib` (objects of the scene, named `names`)
+    /// combined by `op` within the pair budget; the figures are a note,
+    /// or a warning when the result is not closed.
+    fn combine(
+        &mut self,
+        op: csg::Op,
+        (ia, ib): (usize, usize),
+        (a, b): (&str, &str),
+        loc: &Location,
+    ) -> Result<Combined> {
         let mut entries = Vec::new();
         let fa = operand_faces(&self.scene.objects[ia], &mut entries);
         let fb = operand_faces(&self.scene.objects[ib], &mut entries);
         let (oa, ob) = (&self.scene.objects[ia], &self.scene.objects[ib]);
         let with_normals = oa.vertex_normals.is_some() || ob.vertex_normals.is_some();
         let surface = oa.surface;
-        let differs = |x: &Surface, y: &Surface| {
-            x.specular != y.specular
-                || x.shininess != y.shininess
-                || x.index != y.index
-                || x.transparency != y.transparency
-        };
-        if differs(&oa.surface, &ob.surface) {
+        let numbers = (oa.number, ob.number);
+        if surfaces_differ(&oa.surface, &ob.surface) {
             self.warn(
                 "csg",
                 Diagnostic::new(
@@ -495,7 +404,6 @@ impl Interpreter {
                 ),
             );
         }
-        let (na, nb) = (self.scene.objects[ia].number, self.scene.objects[ib].number);
         let result =
             csg::combine_within(fa, fb, op, self.budgets.pair_tests).map_err(
                 |stop| match stop {
@@ -511,7 +419,27 @@ impl Interpreter {
                 },
             )?;
         let (mesh, normals, attrs) = csg::to_mesh(&result.faces, with_normals);
-        let s = result.stats;
+        self.report_csg(op, (a, b), &result.stats, &mesh, loc);
+        Ok(Combined {
+            colors: attrs.iter().map(|&i| entries[i as usize]).collect(),
+            mesh,
+            normals,
+            surface,
+            with_normals,
+            numbers,
+        })
+    }
+
+    /// A CSG result's figures: a note when it is closed (a result as
+    /// asked is no warning), else a warning.
+    fn report_csg(
+        &mut self,
+        op: csg::Op,
+        (a, b): (&str, &str),
+        s: &csg::Stats,
+        mesh: &Mesh,
+        loc: &Location,
+    ) {
         let closed = solid::check_closed(&solid::weld_exact(&mesh.vertices), &mesh.polygons);
         let what = format!(
             "{} of `{a}` and `{b}`: {} input faces kept, {} split, {} removed; {} faces",
@@ -525,8 +453,6 @@ impl Interpreter {
             s.removed,
             mesh.polygons.len(),
         );
-        // A result as asked is no warning: its figures are a note; a
-        // result that is not closed is a real problem.
         match closed {
             Ok(()) => self.note(Diagnostic::new(loc.clone(), what)),
             Err(why) => self.warn(
@@ -537,52 +463,43 @@ impl Interpreter {
                 ),
             ),
         }
-        // The operands are consumed.
-        self.scene
-            .objects
-            .retain(|o| o.number != na && o.number != nb);
-        self.polygons = self.scene.polygon_count();
-        self.check_polygons(
-            mesh.polygons.len(),
-            &loc,
-            &format!("the CSG result ({} faces)", mesh.polygons.len()),
-        )?;
-        // Only the transforms written inside the block: undo the CTM of
-        // `defobj`, which placed the operands already.
-        let block = if end.transform == end.saved {
-            Matrix4::IDENTITY
-        } else {
-            let Some(inv) = end.saved.inverse() else {
-                return Err(Error::at(
-                    loc,
-                    "the transforms inside this CSG block cannot be applied: the CTM at `defobj` is singular",
-                ));
-            };
-            inv.mul(&end.transform)
-        };
-        let colors: Vec<ColorEntry> = attrs.iter().map(|&i| entries[i as usize]).collect();
-        let surface_type = SurfaceType {
-            open: false,
-            curved: with_normals,
-            concave: true,
-            ..active.surface_type
-        };
-        let number = active.number.unwrap_or_else(|| self.next_free_number());
-        let end = Ending {
-            transform: block,
-            ..end
-        };
-        self.push_object(
-            &active,
-            end,
-            number,
-            mesh,
-            normals,
-            surface,
-            surface_type,
-            Some(Arc::new(colors)),
-        )
     }
+}
+
+/// A CSG result, before it is placed.
+struct Combined {
+    mesh: Mesh,
+    normals: Option<Vec<DVec3>>,
+    /// The material of each face.
+    colors: Vec<ColorEntry>,
+    /// The first operand's surface.
+    surface: Surface,
+    with_normals: bool,
+    /// The operands' object numbers.
+    numbers: (u32, u32),
+}
+
+/// Whether the attributes a CSG result cannot keep per face differ.
+fn surfaces_differ(x: &Surface, y: &Surface) -> bool {
+    x.specular != y.specular
+        || x.shininess != y.shininess
+        || x.index != y.index
+        || x.transparency != y.transparency
+}
+
+/// Only the transforms written inside a CSG block: the CTM of `defobj`,
+/// which placed the operands already, undone.
+fn block_transform(end: &Ending, loc: Location) -> Result<Matrix4> {
+    if end.transform == end.saved {
+        return Ok(Matrix4::IDENTITY);
+    }
+    let Some(inv) = end.saved.inverse() else {
+        return Err(Error::at(
+            loc,
+            "the transforms inside this CSG block cannot be applied: the CTM at `defobj` is singular",
+        ));
+    };
+    Ok(inv.mul(&end.transform))
 }
 
 fn surface_in_csg(at: &Location) -> Error {
