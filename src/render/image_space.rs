@@ -1,0 +1,341 @@
+//! Brown's priority order and the image-space algorithms (z-buffer,
+//! scan-line, Warnock, ray casting: Firebaugh 001 chapter 9; Brown 1978,
+//! 003 sections 2-3): each paints level 1 itself, point sampled, into a
+//! frame buffer. The stages: the screen polygons (one list, or one per
+//! object for Brown), their painting order, one faceted shade per source
+//! polygon, then the painter of the algorithm.
+
+use std::time::Instant;
+
+use glam::{DVec2, DVec3};
+
+use crate::error::{Error, Result};
+use crate::geometry::view::{self, ScreenPolygon, View};
+use crate::model::{Color, Scene, SortOrder};
+use crate::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
+use crate::shading::{
+    facet_shade, phong_vertices, transparency_of, vertex_shades, vertex_transparency,
+};
+use crate::visibility::ray_cast::RayCaster;
+use crate::visibility::z_buffer::{self, DepthItem};
+use crate::visibility::{Algorithm, brown, depth_sort, scan_line, warnock};
+
+use super::{PAINTED_BYTES_PER_PIXEL, RenderOptions, RenderStats, Rendered};
+
+/// Paints `scene` by `algorithm` (not a list-priority one), refusing a
+/// scene that needs the virtual image tree.
+pub(super) fn paint(
+    scene: &Scene,
+    view: &View,
+    algorithm: Algorithm,
+    options: &RenderOptions,
+    orders: &brown::PriorityCache,
+    mut stats: RenderStats,
+) -> Result<Rendered> {
+    super::effects::refuse_tree_effects(scene, options, algorithm)?;
+    let (width, height) = (view.width as u32, view.height as u32);
+    options
+        .budgets
+        .check_frame(width, height, PAINTED_BYTES_PER_PIXEL)
+        .map_err(Error::Invalid)?;
+    let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
+    let polygons = if algorithm == Algorithm::RayCast {
+        ray_cast(scene, view, &mut frame, &mut stats)
+    } else {
+        let t = Instant::now();
+        let lists = screen_lists(scene, view, algorithm == Algorithm::Brown, &mut stats);
+        stats.geometry_time = t.elapsed();
+        let t = Instant::now();
+        let sorted = painting_list(scene, view, algorithm, lists, orders, &mut stats);
+        stats.sort_time = t.elapsed();
+        stats.polygons_listed = sorted.len();
+        let t = Instant::now();
+        let mut shades = ShadeCache::default();
+        let colors: Vec<[f32; 3]> = sorted
+            .iter()
+            .map(|(_, (o, p), back)| shades.get(scene, view, *o, *p, *back))
+            .collect();
+        stats.shading_time = t.elapsed();
+        let t = Instant::now();
+        stats.polygons_tiled = paint_list(scene, view, algorithm, &sorted, &colors, &mut frame);
+        stats.paint_time = t.elapsed();
+        sorted.iter().map(|(_, id, _)| *id).collect()
+    };
+    Ok(Rendered {
+        frame,
+        polygons,
+        shadows: Vec::new(),
+        tree: None,
+        profile: None,
+        stats,
+    })
+}
+
+/// The visible objects' screen polygons: one list, or one per object.
+fn screen_lists(
+    scene: &Scene,
+    view: &View,
+    per_object: bool,
+    stats: &mut RenderStats,
+) -> Vec<Vec<ScreenPolygon>> {
+    let visible = (0..scene.objects.len()).filter(|&i| !scene.objects[i].surface_type.hidden);
+    let mut lists: Vec<Vec<ScreenPolygon>> = Vec::new();
+    let mut all = Vec::new();
+    for i in visible {
+        let mut one = Vec::new();
+        let into = if per_object { &mut one } else { &mut all };
+        view::expand_object(scene, i, view, into, &mut stats.geometry);
+        if !one.is_empty() {
+            lists.push(one);
+        }
+    }
+    if !per_object {
+        lists.push(all);
+    }
+    lists
+}
+
+/// The painting list of `algorithm`: screen points and source polygon.
+fn painting_list(
+    scene: &Scene,
+    view: &View,
+    algorithm: Algorithm,
+    mut lists: Vec<Vec<ScreenPolygon>>,
+    orders: &brown::PriorityCache,
+    stats: &mut RenderStats,
+) -> Vec<Listed> {
+    match algorithm {
+        Algorithm::Brown => {
+            let mut counts = brown::BrownStats::default();
+            let lists = lists
+                .into_iter()
+                .map(|l| brown_sorted(scene, view, l, orders, &mut counts))
+                .collect();
+            stats.brown = Some(counts);
+            simple_sorted_lists(lists, scene.sort_order)
+        }
+        // Warnock's classes assume convex polygons.
+        Algorithm::Warnock => lists
+            .pop()
+            .unwrap_or_default()
+            .into_iter()
+            .flat_map(|p| {
+                let id = (p.object, p.polygon);
+                let back = p.back_facing;
+                crate::geometry::polygon::triangulate_if_needed(&p.points)
+                    .into_iter()
+                    .map(move |t| (t, id, back))
+            })
+            .collect(),
+        _ => lists
+            .pop()
+            .unwrap_or_default()
+            .into_iter()
+            .map(listed)
+            .collect(),
+    }
+}
+
+/// Paints the list with its shades; returns the polygons painted.
+fn paint_list(
+    scene: &Scene,
+    view: &View,
+    algorithm: Algorithm,
+    sorted: &[Listed],
+    colors: &[[f32; 3]],
+    frame: &mut FrameBuffer,
+) -> usize {
+    if algorithm == Algorithm::Brown {
+        let items: Vec<PaintItem> = sorted
+            .iter()
+            .zip(colors)
+            .enumerate()
+            .map(|(k, (listed, color))| paint_item(scene, view, listed, *color, k as u32 + 1))
+            .collect();
+        let mode = match scene.sort_order {
+            SortOrder::BackToFront => PaintMode::Overwrite,
+            SortOrder::FrontToBack => PaintMode::FirstWins,
+        };
+        return frame.paint(&items, mode);
+    }
+    let items: Vec<DepthItem> = sorted
+        .iter()
+        .zip(colors)
+        .enumerate()
+        .map(|(k, ((points, _, _), color))| DepthItem {
+            points: points.clone(),
+            color: *color,
+            id: k as u32 + 1,
+        })
+        .collect();
+    match algorithm {
+        Algorithm::ZBuffer => z_buffer::paint(frame, &items),
+        Algorithm::ScanLine => scan_line::paint(frame, &items),
+        _ => warnock::paint(frame, &items),
+    }
+}
+
+/// One polygon of Brown's order for the priority painter: its shade,
+/// transparency, and with `setmode v`/`s` its vertex shades or Phong data.
+fn paint_item(scene: &Scene, view: &View, listed: &Listed, color: [f32; 3], id: u32) -> PaintItem {
+    let (points, (o, p), back) = listed;
+    let (o, p, back) = (*o, *p, *back);
+    let world: Vec<DVec3> = points
+        .iter()
+        .map(|q| view.unproject(*q).unwrap_or(DVec3::ZERO))
+        .collect();
+    let vertex_shades_on = scene.modes.vertex_shades;
+    PaintItem {
+        points: points.iter().map(|q| DVec2::new(q.x, q.y)).collect(),
+        color,
+        id,
+        transparency: transparency_of(scene, view.eye, o, p, back) as f32,
+        phong: phong_vertices(scene, view.eye, o, p, back, &world, Color::ZERO, 1.0),
+        vertex_colors: vertex_shades_on.then(|| {
+            vertex_shades(scene, view.eye, o, p, back, &world)
+                .into_iter()
+                .map(|c| c.as_vec3().to_array())
+                .collect()
+        }),
+        vertex_transparency: if vertex_shades_on {
+            vertex_transparency(scene, view.eye, o, p, back, &world)
+        } else {
+            None
+        },
+    }
+}
+
+type Listed = (Vec<DVec3>, (u32, u32), bool);
+
+/// One object's polygons in Brown's priority order (back to front), for
+/// the object's centre (its origin) and the axis towards the eye; the
+/// order of the previous frame when it still holds.
+fn brown_sorted(
+    scene: &Scene,
+    view: &View,
+    list: Vec<ScreenPolygon>,
+    orders: &brown::PriorityCache,
+    counts: &mut brown::BrownStats,
+) -> Vec<ScreenPolygon> {
+    let Some(first) = list.first() else {
+        return list;
+    };
+    let object = &scene.objects[first.object as usize];
+    let centre = object.transform.transform_point(DVec3::ZERO);
+    let axis = crate::geometry::view::towards_eye(view.eye, centre);
+    let faces: Vec<Vec<u32>> = object.polygons.iter().map(|p| p.indices.clone()).collect();
+    let (order, reused) = orders.order(
+        object.number,
+        &object.vertices,
+        &faces,
+        centre,
+        axis,
+        object.surface_type.open,
+    );
+    if reused {
+        counts.reused += 1;
+    } else {
+        counts.sorted += 1;
+    }
+    let mut rank = vec![0usize; faces.len()];
+    for (r, &f) in order.iter().enumerate() {
+        rank[f] = r;
+    }
+    let mut list = list;
+    list.sort_by_key(|p| rank[p.polygon as usize]);
+    list
+}
+
+/// The order of whole lists (objects) by the simple sort of their depth
+/// ranges (004 section 4.4, `setmode x off`).
+fn list_order(lists: &[Vec<ScreenPolygon>], order: SortOrder) -> Vec<usize> {
+    let keys: Vec<f64> = lists
+        .iter()
+        .map(|l| {
+            let range = l
+                .iter()
+                .map(ScreenPolygon::z_range)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (c, d)| {
+                    (a.min(c), b.max(d))
+                });
+            depth_sort::sort_key(range, order)
+        })
+        .collect();
+    depth_sort::sorted_order(&keys)
+}
+
+fn listed(p: ScreenPolygon) -> Listed {
+    (p.points, (p.object, p.polygon), p.back_facing)
+}
+
+/// Lists already in back-to-front order, ordered among themselves by the
+/// simple sort (front to back reverses each list).
+fn simple_sorted_lists(mut lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> Vec<Listed> {
+    let mut out = Vec::new();
+    for li in list_order(&lists, order) {
+        let mut list = std::mem::take(&mut lists[li]);
+        if order == SortOrder::FrontToBack {
+            list.reverse();
+        }
+        out.extend(list.into_iter().map(listed));
+    }
+    out
+}
+
+/// Casts a ray per pixel and paints the faceted shade of what it hits.
+fn ray_cast(
+    scene: &Scene,
+    view: &View,
+    frame: &mut FrameBuffer,
+    stats: &mut RenderStats,
+) -> Vec<(u32, u32)> {
+    let t = Instant::now();
+    let caster = RayCaster::new(scene);
+    stats.sort_time = t.elapsed();
+    let t = Instant::now();
+    let hits = caster.id_image(frame.width, frame.height);
+    stats.paint_time = t.elapsed();
+    let mut ids = std::collections::HashMap::new();
+    let mut polygons = Vec::new();
+    let mut shades = ShadeCache::default();
+    for (px, hit) in hits.iter().enumerate() {
+        let Some(h) = hit else { continue };
+        let key = (h.object, h.polygon);
+        let id = *ids.entry(key).or_insert_with(|| {
+            polygons.push(key);
+            polygons.len() as u32
+        });
+        let plane = scene.objects[h.object as usize].polygons[h.polygon as usize].plane;
+        frame.ids[px] = id;
+        frame.color[px] = shades.get(scene, view, h.object, h.polygon, !view.faces_eye(plane));
+    }
+    stats.polygons_listed = polygons.len();
+    stats.polygons_tiled = polygons.len();
+    polygons
+}
+
+/// Faceted shades, computed once per source polygon and side.
+#[derive(Default)]
+struct ShadeCache {
+    shades: std::collections::HashMap<(u32, u32, bool), [f32; 3]>,
+}
+
+impl ShadeCache {
+    fn get(
+        &mut self,
+        scene: &Scene,
+        view: &View,
+        object: u32,
+        polygon: u32,
+        back: bool,
+    ) -> [f32; 3] {
+        *self
+            .shades
+            .entry((object, polygon, back))
+            .or_insert_with(|| {
+                facet_shade(scene, view, object, polygon, back)
+                    .as_vec3()
+                    .to_array()
+            })
+    }
+}

@@ -1,0 +1,235 @@
+//! The list-priority path (Garcia 1986, 004 figure 3.2): the virtual
+//! image tree is built ([`crate::image_tree`]), then emitted as one stream
+//! of records ([`crate::emit`]) for the scan converter, and, with `setmode
+//! o`, as the tree file; exact refraction adds its ray-traced layer.
+
+use std::time::Instant;
+
+use crate::emit::{self, Emit, Source};
+use crate::geometry::view::View;
+use crate::image_tree::{Refraction, TreeOptions, VirtualImageTree};
+use crate::model::{Scene, SortOrder};
+use crate::raster::scan::{self, Method, ScanOptions};
+use crate::raytrace::exact::ExactLayer;
+use crate::shading::ShadingModel;
+use crate::tree::RecordStream;
+use crate::visibility::Algorithm;
+
+use super::{RenderOptions, RenderStats, best_method};
+
+/// Whether `method` wants pre-blended shades (methods 1-3: no levels).
+fn wants_pre_blending(method: Method) -> bool {
+    matches!(method, Method::Area | Method::Mask | Method::Hybrid)
+}
+
+/// A tree ready for scan conversion: the picture's record stream (front to
+/// back) and, with `setmode o on`, the file's (the scene's order and
+/// blending).
+pub struct Prepared {
+    /// The records the picture is made from.
+    pub picture: RecordStream,
+    /// Each picture record's source polygon.
+    pub sources: Vec<Source>,
+    /// The tree as `setmode o` writes it.
+    pub file: Option<RecordStream>,
+    /// How to scan convert the picture.
+    pub scan: ScanOptions,
+    /// The profile, with `--profile`.
+    pub profile: Option<crate::profile::Profile>,
+    /// Figures so far.
+    pub stats: RenderStats,
+    /// With exact refraction: the ray-traced refracted branches, added to
+    /// the picture's rows.
+    pub exact: Option<crate::raytrace::exact::ExactLayer>,
+}
+
+/// Builds the virtual image tree and emits it as records.
+pub fn prepare(
+    scene: &Scene,
+    view: &View,
+    algorithm: Algorithm,
+    options: &RenderOptions,
+    mut stats: RenderStats,
+) -> Prepared {
+    let t = Instant::now();
+    let profile = crate::profile::Profile::new(options.profile);
+    // `--threads N` bounds the tree's parallel work too (shadows); the
+    // tree does not depend on it.
+    let pool = (options.threads > 0)
+        .then(|| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(options.threads)
+                .build()
+                .ok()
+        })
+        .flatten();
+    let (refraction, said) = refraction_model(scene, view, options.refraction);
+    stats.refraction = said;
+    let tree_options = TreeOptions {
+        max_level: scene.modes.max_level,
+        threshold: scene.threshold,
+        nns: algorithm == Algorithm::Nns,
+        shadows: options.shadows,
+        refraction,
+        explicit_shadow_shades: scene.modes.shadow_shades,
+        shading: options.shading,
+        budgets: options.budgets,
+    };
+    let tree = within(&pool, || {
+        crate::image_tree::build_profiled(scene, view, tree_options, &profile)
+    });
+    stats.sort_time = t.elapsed();
+    stats.geometry = tree.geometry;
+    stats.max_depth = tree.max_depth;
+    stats.nns = tree.nns;
+    stats.pruned = tree.pruned;
+    stats.warnings = tree.warnings.clone();
+    let t = Instant::now();
+    let method = best_method(options);
+    let keep = refraction == Refraction::Exact;
+    let (picture, sources, file, tree) = records(scene, view, tree, options, method, keep, &pool);
+    stats.shading_time = t.elapsed();
+    profile.add(crate::profile::Category::Shading, t.elapsed());
+    stats.polygons_listed = picture.records.len();
+    stats.method = Some(method);
+    let scan = scan_options(view, options, method);
+    let exact = tree.and_then(|tree| exact_layer(scene, view, &tree, &scan, options, &mut stats));
+    stats.raytrace = exact.as_ref().map(|l| l.stats);
+    Prepared {
+        picture,
+        sources,
+        file,
+        scan,
+        exact,
+        profile: options.profile.then_some(profile),
+        stats,
+    }
+}
+
+/// The picture's records and their sources, the tree file's records
+/// (`setmode o`), and the tree itself when `keep` (exact refraction).
+fn records(
+    scene: &Scene,
+    view: &View,
+    tree: VirtualImageTree,
+    options: &RenderOptions,
+    method: Method,
+    keep: bool,
+    pool: &Option<rayon::ThreadPool>,
+) -> (
+    RecordStream,
+    Vec<Source>,
+    Option<RecordStream>,
+    Option<VirtualImageTree>,
+) {
+    let emit = |order, blended| Emit {
+        order,
+        blended,
+        width: view.width as u32,
+        height: view.height as u32,
+    };
+    // Donovan's transparency rule (000 section 6, rule (3)) blends a
+    // surface with the colour behind it, so his picture is painted back to
+    // front, pre-blended (the overwriting principle of 004 section 4.10),
+    // by every method (see [`crate::raster::scan`]).
+    let picture_how = match options.shading {
+        ShadingModel::Donovan => emit(SortOrder::BackToFront, true),
+        ShadingModel::Garcia => emit(SortOrder::FrontToBack, wants_pre_blending(method)),
+    };
+    let file = scene.modes.output_tree.then(|| {
+        let how = emit(scene.sort_order, scene.modes.blend);
+        within(pool, || emit::records(scene, &tree, how, view).0)
+    });
+    // The tree is kept past its records only for exact refraction.
+    if keep {
+        let (p, s) = within(pool, || emit::records(scene, &tree, picture_how, view));
+        (p, s, file, Some(tree))
+    } else {
+        let (p, s) = within(pool, || {
+            emit::records_freeing(scene, tree, picture_how, view)
+        });
+        (p, s, file, None)
+    }
+}
+
+/// How the picture is scan converted.
+fn scan_options(view: &View, options: &RenderOptions, method: Method) -> ScanOptions {
+    ScanOptions {
+        width: view.width as u32,
+        height: view.height as u32,
+        method,
+        act_lines: 16,
+        paint_background: true,
+        transparency: match options.shading {
+            ShadingModel::Garcia => scan::TransparencyRule::Garcia,
+            ShadingModel::Donovan => scan::TransparencyRule::Donovan,
+        },
+        threads: options.threads,
+        ids: true,
+        max_overdraw: options.budgets.overdraw,
+    }
+}
+
+/// Exact refraction: the refracted branches ray traced before the
+/// picture's scan conversion (a failure leaves them out, with a warning).
+fn exact_layer(
+    scene: &Scene,
+    view: &View,
+    tree: &VirtualImageTree,
+    scan: &ScanOptions,
+    options: &RenderOptions,
+    stats: &mut RenderStats,
+) -> Option<ExactLayer> {
+    let made =
+        crate::raytrace::exact::layer(scene, view, tree, scan, options.shadows, options.shading);
+    made.unwrap_or_else(|e| {
+        stats
+            .warnings
+            .push(format!("exact refraction left out: {e}"));
+        None
+    })
+}
+
+/// Runs `f` in `pool` (`--threads N`), or in rayon's global pool.
+fn within<R: Send>(pool: &Option<rayon::ThreadPool>, f: impl FnOnce() -> R + Send) -> R {
+    match pool {
+        Some(pool) => pool.install(f),
+        None => f(),
+    }
+}
+
+/// The refraction model for `scene` (resolving `auto`: exact when the
+/// linearized matrix is off by more than a pixel through a transmitting
+/// polygon, [`crate::raytrace::exact::linear_error`]) and, when
+/// the scene refracts, the model in words for the statistics.
+pub fn refraction_model(
+    scene: &Scene,
+    view: &View,
+    asked: crate::image_tree::Refraction,
+) -> (crate::image_tree::Refraction, Option<String>) {
+    use crate::image_tree::Refraction;
+    let refracts = scene.modes.max_level > 1
+        && scene.objects.iter().any(|o| {
+            !o.surface_type.hidden
+                && (0..o.polygons.len()).any(|p| o.material(p).transmittance > 0.0)
+        });
+    if !refracts {
+        return (asked, None);
+    }
+    let name = |r: Refraction| format!("{r:?}").to_lowercase();
+    if asked != Refraction::Auto {
+        return (asked, Some(format!("{} (--refraction)", name(asked))));
+    }
+    let error = crate::raytrace::exact::linear_error(scene, view);
+    let chosen = if error > 1.0 {
+        Refraction::Exact
+    } else {
+        Refraction::Linearized
+    };
+    let said = format!(
+        "{} (the linearized matrix is off by up to {error:.1} pixels through the transmitting \
+         polygons; exact above 1)",
+        name(chosen)
+    );
+    (chosen, Some(said))
+}
