@@ -1041,6 +1041,28 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
     }
     let inputs = getrgb_inputs(args);
     check_names(&inputs, &getrgb_outputs(args), &log_path("getrgb"))?;
+    let (bytes, side) = read_getrgb_inputs(args, &inputs[1])?;
+    let n = bytes.len() / crate::output::PIXEL_STRUCT_BYTES;
+    let side = side.as_ref().map(|b| (b.as_slice(), inputs[1].as_path()));
+    let file_resolution = match side {
+        Some((b, p)) => Some(crate::output::side_header(b, p)?),
+        None => None,
+    };
+    let resolution = getrgb_resolution(args, n, bytes.len(), file_resolution)?;
+    let (w, h) = getrgb_size(args, n, resolution)?;
+    let complex = write_separations(args, &bytes, side, w, h)?;
+    Ok(GetrgbSummary {
+        pixels: n,
+        complex,
+        resolution,
+    })
+}
+
+/// The pixel-struct file and its `.frag` side file (`side_path`, if it
+/// exists), both within the frame memory budget, and at most the pixel
+/// budget of structs.
+fn read_getrgb_inputs(args: &GetrgbArgs, side_path: &Path) -> Result<(Vec<u8>, Option<Vec<u8>>)> {
+    let budgets = &args.budgets;
     let memory = |len: u64| {
         Budgets::exceeded(
             &format!("{len} bytes of pixel-structs and fragment lists in memory"),
@@ -1061,7 +1083,6 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
             )
         )));
     }
-    let side_path = &inputs[1];
     let side = match std::fs::symlink_metadata(side_path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
         _ => {
@@ -1070,36 +1091,45 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
             Some(read_input(side_path, left, |side| memory(len + side))?)
         }
     };
-    let side = side.as_ref().map(|b| (b.as_slice(), side_path.as_path()));
-    let file_resolution = match side {
-        Some((b, p)) => Some(crate::output::side_header(b, p)?),
-        None => None,
-    };
-    let resolution = match (args.resolution, file_resolution) {
+    Ok((bytes, side))
+}
+
+/// The resolution given or read from the side file (they must agree, and
+/// hold the `n` pixel-structs of `len` bytes).
+fn getrgb_resolution(
+    args: &GetrgbArgs,
+    n: usize,
+    len: usize,
+    file_resolution: Option<(u32, u32)>,
+) -> Result<Option<(u32, u32)>> {
+    match (args.resolution, file_resolution) {
         (Some((w, h)), _) if u64::from(w) * u64::from(h) != n as u64 => {
-            return Err(Error::Invalid(format!(
+            Err(Error::Invalid(format!(
                 "{}: {} bytes hold {n} pixel-structs, but {w} x {h} takes {}: is the \
                  resolution right?",
                 args.name.display(),
-                bytes.len(),
+                len,
                 u64::from(w) * u64::from(h)
-            )));
+            )))
         }
-        (Some(given), Some(side)) if given != side => {
-            return Err(Error::Invalid(format!(
-                "{}: the resolution given, {} x {}, is not the {} x {} of {}.{}: is the \
-                 resolution right?",
-                args.name.display(),
-                given.0,
-                given.1,
-                side.0,
-                side.1,
-                args.name.display(),
-                crate::output::FRAGMENT_SUFFIX
-            )));
-        }
-        (given, side) => given.or(side),
-    };
+        (Some(given), Some(side)) if given != side => Err(Error::Invalid(format!(
+            "{}: the resolution given, {} x {}, is not the {} x {} of {}.{}: is the \
+             resolution right?",
+            args.name.display(),
+            given.0,
+            given.1,
+            side.0,
+            side.1,
+            args.name.display(),
+            crate::output::FRAGMENT_SUFFIX
+        ))),
+        (given, side) => Ok(given.or(side)),
+    }
+}
+
+/// The image's width and height: the resolution, or without one (and
+/// without `--png`) the linear list as one row.
+fn getrgb_size(args: &GetrgbArgs, n: usize, resolution: Option<(u32, u32)>) -> Result<(u32, u32)> {
     let (w, h) = match resolution {
         Some(r) => r,
         None if args.png.is_some() => {
@@ -1111,7 +1141,7 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
                 crate::output::FRAGMENT_SUFFIX
             )));
         }
-        // The linear list as one row: the separations do not depend on it.
+        // The separations do not depend on the width.
         None => (
             u32::try_from(n).map_err(|_| {
                 Error::Invalid(format!(
@@ -1129,6 +1159,18 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
             shown(&args.name)
         )));
     }
+    Ok((w, h))
+}
+
+/// Visits the pixel-structs row by row into the separations (and the
+/// PNG), then commits them together; returns the complex pixels' count.
+fn write_separations(
+    args: &GetrgbArgs,
+    bytes: &[u8],
+    side: Option<(&[u8], &Path)>,
+    w: u32,
+    h: u32,
+) -> Result<usize> {
     let mut seps = SeparationSink::create(&args.name, w, h, Planes::default())?;
     let mut png = match &args.png {
         Some(p) => Some(PngSink::create(p, w, h, DisplayMode::Color)?),
@@ -1144,7 +1186,7 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
     })?;
     let mut complex = 0usize;
     let mut y = 0u32;
-    crate::output::visit_pixel_structs(&bytes, &args.name, side, |p| {
+    crate::output::visit_pixel_structs(bytes, &args.name, side, |p| {
         if !p.fragments.is_empty() {
             complex += 1;
         }
@@ -1175,11 +1217,7 @@ pub fn run_getrgb(args: &GetrgbArgs) -> Result<GetrgbSummary> {
     }
     crate::cancel::check()?;
     commit_all(staged)?;
-    Ok(GetrgbSummary {
-        pixels: n,
-        complex,
-        resolution,
-    })
+    Ok(complex)
 }
 
 /// The whole of getrgb's `main`.
