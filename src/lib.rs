@@ -6,7 +6,7 @@
 //! [`scene`] (language, object files) -> [`geometry`] (transform, cull,
 //! clip, project) -> [`visibility`] (sorting) -> [`shading`] ->
 //! [`raster`] (scan conversion) -> [`output`]; [`render`] runs them in
-//! order. [`math`] and [`precision`] depend on nothing.
+//! order. [`math`] and the precision policy depend on nothing.
 #![warn(missing_docs)]
 
 pub mod api;
@@ -18,20 +18,20 @@ pub mod emit;
 pub mod error;
 pub mod geometry;
 pub mod image_tree;
-pub mod input_guard;
+pub(crate) mod input_guard;
 pub mod math;
 pub mod model;
 pub mod modeling;
 pub mod output;
-pub mod precision;
-pub mod profile;
+pub(crate) mod precision;
+pub(crate) mod profile;
 pub mod raster;
 pub mod raytrace;
 pub mod render;
 pub mod rftb;
 pub mod scene;
 pub mod shading;
-pub mod shadow;
+pub(crate) mod shadow;
 pub mod tree;
 pub mod vector;
 pub mod visibility;

@@ -26,19 +26,3 @@ pub const DEGENERATE_AREA: f64 = 1e-12;
 /// Two vertices of one polygon closer than this fraction of the polygon's
 /// diameter are the same vertex.
 pub const COINCIDENT_VERTEX: f64 = 1e-12;
-
-/// Whether `value` is negligible against `scale` with relative tolerance `rel`.
-pub fn negligible(value: f64, scale: f64, rel: f64) -> bool {
-    value.abs() <= rel * scale.abs()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn negligible_is_relative() {
-        assert!(negligible(1e-5, 1e6, 1e-10));
-        assert!(!negligible(1e-5, 1.0, 1e-10));
-    }
-}

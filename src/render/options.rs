@@ -23,7 +23,7 @@ pub struct RenderOptions {
     /// The refraction matrix (`--refraction`).
     pub refraction: crate::image_tree::Refraction,
     /// The scan conversion method (`--aa`, `--supersample`); `None` is the
-    /// best for the scene ([`best_method`]).
+    /// best for the scene ([`super::best_method`]).
     pub aa: Option<Method>,
     /// Worker threads for scan conversion (0: all cores).
     pub threads: usize,

@@ -8,7 +8,7 @@
 //! opacity. A vector painter must be exact, so visibility always comes
 //! from NNS with splitting (004 section 4.4), whatever `setmode n` says.
 //!
-//! - [`prepare`]: the tree (NNS forced) as a back-to-front stream, with
+//! - [`crate::render::vector::prepare`]: the tree (NNS forced) as a back-to-front stream, with
 //!   each record's source and which of its edges lie on the edges of the
 //!   original polygon (for hidden lines);
 //! - [`picture`]: records to paint items (filled paths, Gouraud runs,

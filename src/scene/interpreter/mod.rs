@@ -16,12 +16,12 @@
 //! the file, line and column and what was expected.
 //!
 //! The handlers of the commands, grouped by concern, are its submodules:
-//! - [`view`]: viewing, projections, transforms and the matrix stack;
-//! - [`objects`]: `defobj` ... `endobj`, `callobj`, `delobj`, geodesics;
-//! - [`generators`]: the modeling commands (Firebaugh's primitives, CSG);
-//! - [`surface`]: surface attributes of the active object or the globals;
-//! - [`lighting`]: lights, `setmode` and the scene-wide settings;
-//! - [`files`]: `call`, `get`, `det_dir`, `init`, `run`, the display.
+//! - `view`: viewing, projections, transforms and the matrix stack;
+//! - `objects`: `defobj` ... `endobj`, `callobj`, `delobj`, geodesics;
+//! - `generators`: the modeling commands (Firebaugh's primitives, CSG);
+//! - `surface`: surface attributes of the active object or the globals;
+//! - `lighting`: lights, `setmode` and the scene-wide settings;
+//! - `files`: `call`, `get`, `det_dir`, `init`, `run`, the display.
 
 mod active;
 mod files;
