@@ -32,6 +32,7 @@ pub mod rftb;
 pub mod scene;
 pub mod shading;
 pub(crate) mod shadow;
+pub mod signals;
 pub mod tree;
 pub mod vector;
 pub mod visibility;

@@ -806,75 +806,28 @@ pub fn log_path(name: &str) -> PathBuf {
     PathBuf::from(format!("{name}.log"))
 }
 
-/// Signals: SIGINT, SIGTERM and SIGHUP cancel the run, which then removes
-/// its temporary files and ends with status 128 + the signal; a run that
-/// has not stopped within [`signals::GRACE`] (a stage that does not look
-/// at the request), or a second signal, ends the program at once, the
-/// temporary files removed first. SIGXFSZ is caught so that a write past
-/// the file size limit fails (and the run cleans up) rather than killing
-/// the program.
-pub mod signals {
-    use std::sync::Arc;
-    use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
-    use std::time::Duration;
-
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGXFSZ};
-
-    /// How long a cancelled run may take to stop.
-    pub const GRACE: Duration = Duration::from_millis(600);
-
-    static SIGNAL: AtomicI32 = AtomicI32::new(0);
-
-    /// Installs the handlers (a thread of their own).
-    pub fn install() -> std::io::Result<()> {
-        signal_hook::flag::register(SIGXFSZ, Arc::new(AtomicBool::new(false)))?;
-        let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])?;
-        std::thread::spawn(move || {
-            for signal in signals.forever() {
-                if SIGNAL
-                    .compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst)
-                    .is_ok()
-                {
-                    crate::cancel::request();
-                    std::thread::spawn(move || {
-                        std::thread::sleep(GRACE);
-                        end(signal);
-                    });
-                } else {
-                    end(signal);
-                }
-            }
-        });
-        Ok(())
-    }
-
-    /// Removes the temporaries and ends the program as `signal` asks.
-    pub fn end(signal: i32) -> ! {
-        crate::output::remove_temporaries();
-        std::process::exit(128 + signal);
-    }
-
-    /// The signal received, if any.
-    pub fn received() -> Option<i32> {
-        match SIGNAL.load(Ordering::SeqCst) {
-            0 => None,
-            s => Some(s),
-        }
-    }
-}
-
-/// Installs the signal handlers for program `name`, warning if it cannot.
+/// Installs the signal handlers for program `name` ([`crate::signals`]:
+/// every signal ends a batch program, after its run has stopped and
+/// removed its temporaries, or after 600 ms), warning if it cannot.
 fn install_signals(name: &str) {
-    if let Err(e) = signals::install() {
+    let policy = crate::signals::Policy {
+        grace: std::time::Duration::from_millis(600),
+        sigint_ends: true,
+        sigint_message: "",
+        cleanup: || {},
+    };
+    if let Err(e) = crate::signals::install(policy) {
         eprintln!("{name}: warning: cannot handle signals: {e}");
     }
+    crate::signals::rendering(true);
 }
 
 /// After a run: a signal received ends the program as it asks (the run
 /// stopped, or finished, and either way its temporaries are gone).
 fn honour_signal() {
-    if let Some(s) = signals::received() {
-        signals::end(s);
+    if let Some(code) = crate::signals::ending() {
+        crate::output::remove_temporaries();
+        std::process::exit(i32::from(code));
     }
 }
 

@@ -58,6 +58,7 @@ const STAGES: &[(&str, u8)] = &[
     ("rftb", 11),
     ("convert", 11),
     ("display", 11),
+    ("signals", 11),
 ];
 
 fn stage(module: &str) -> u8 {

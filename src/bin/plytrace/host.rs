@@ -679,9 +679,9 @@ impl Host for CliHost {
             return self.check_run(scene);
         }
         plytrace::cancel::reset();
-        crate::signals::rendering(true);
+        plytrace::signals::rendering(true);
         let result = self.render(scene, shadows);
-        crate::signals::rendering(false);
+        plytrace::signals::rendering(false);
         plytrace::cancel::reset();
         result
     }

@@ -11,7 +11,6 @@ mod help;
 mod host;
 mod repl;
 mod session;
-mod signals;
 mod stats;
 mod stdout_image;
 mod term;
@@ -78,7 +77,13 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     }
-    if let Err(e) = signals::install() {
+    let policy = plytrace::signals::Policy {
+        grace: std::time::Duration::from_secs(2),
+        sigint_ends: false,
+        sigint_message: "^C: cancelling the render (press Ctrl-C again to quit)",
+        cleanup: stdout_image::cleanup,
+    };
+    if let Err(e) = plytrace::signals::install(policy) {
         err(&format!("warning: signals cannot cancel a render: {e}"));
     }
     let output = match &settings.image {

@@ -41,7 +41,7 @@ fn report_written(host: &CliHost) {
 fn failed(e: &Error, host: &CliHost) -> ExitCode {
     report(e);
     report_written(host);
-    match (e, crate::signals::ending()) {
+    match (e, plytrace::signals::ending()) {
         (Error::Cancelled, Some(code)) => ExitCode::from(code),
         (Error::Cancelled, None) => ExitCode::from(130),
         _ => ExitCode::FAILURE,
@@ -137,7 +137,7 @@ pub fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
                     line_no += 1;
                     let _ = editor.add_history_entry(line.as_str());
                     if execute(interp, host, &line, line_no) == Flow::Quit
-                        || crate::signals::ending().is_some()
+                        || plytrace::signals::ending().is_some()
                     {
                         break;
                     }
@@ -171,13 +171,13 @@ pub fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
             };
             line_no += 1;
             if execute(interp, host, &line, line_no) == Flow::Quit
-                || crate::signals::ending().is_some()
+                || plytrace::signals::ending().is_some()
             {
                 break;
             }
         }
     }
-    if let Some(code) = crate::signals::ending() {
+    if let Some(code) = plytrace::signals::ending() {
         ExitCode::from(code)
     } else if failed && !on_terminal {
         ExitCode::FAILURE
