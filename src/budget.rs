@@ -2,8 +2,6 @@
 //! the machine. Each is checked before the work or the allocation it
 //! bounds, and each error names the flag that raises it.
 
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
-
 /// The limits of one session; the defaults fit a 2-core, 24 GiB machine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Budgets {
@@ -50,34 +48,6 @@ pub struct Budgets {
 /// rays a second), and twice what the biggest of them (`gallery.des`)
 /// casts at 512 x 512 with 4 x 4 rays a pixel (22 million).
 pub const DEFAULT_RAYS: u64 = 50_000_000;
-
-static RAY_LIMIT: AtomicU64 = AtomicU64::new(DEFAULT_RAYS);
-static POLYGON_LIMIT: AtomicUsize = AtomicUsize::new(4_000_000);
-
-/// Makes `budgets` the process-wide limits of the readers and renderers
-/// that are not handed a [`Budgets`]: the ray tracer's [`ray_limit`] and
-/// the mesh importer's [`polygon_limit`] (the command line sets them with
-/// its budgets).
-pub fn set_process_budgets(budgets: &Budgets) {
-    RAY_LIMIT.store(budgets.rays, Ordering::Relaxed);
-    POLYGON_LIMIT.store(budgets.polygons, Ordering::Relaxed);
-}
-
-/// Sets the ray budget of the ray-traced renders of this process.
-pub fn set_ray_limit(rays: u64) {
-    RAY_LIMIT.store(rays, Ordering::Relaxed);
-}
-
-/// The polygon budget in force for mesh files ([`set_process_budgets`],
-/// else the default `--max-polygons`).
-pub fn polygon_limit() -> usize {
-    POLYGON_LIMIT.load(Ordering::Relaxed)
-}
-
-/// The ray budget in force ([`set_ray_limit`], else [`DEFAULT_RAYS`]).
-pub fn ray_limit() -> u64 {
-    RAY_LIMIT.load(Ordering::Relaxed)
-}
 
 impl Default for Budgets {
     fn default() -> Self {

@@ -93,3 +93,31 @@ fn an_ascii_stl_stops_being_read_once_its_facets_pass_the_budget() {
     let path = sparse(dir.path(), "big.stl", text.as_bytes(), 40 << 30);
     refused(&path, 10_000);
 }
+
+/// The command line's `--max-polygons` reaches a mesh file read by a
+/// scene (the budget is handed down, not a setting of the process): a PLY
+/// announcing a million faces, under the default budget but over the one
+/// given, is refused from its header.
+#[test]
+fn the_command_line_budget_reaches_a_mesh_in_a_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("det")).unwrap();
+    let head = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\n\
+        property float x\nproperty float y\nproperty float z\n\
+        element face 1000000\nproperty list uchar int vertex_indices\nend_header\n";
+    sparse(&dir.path().join("det"), "big.ply", head, 20 << 20);
+    let scene = "resolution 32 32\nperspective 45 1 0.1 100\npushmatrix\nident\n\
+                 translate 0 0 -20\ndefobj big\nendobj\npopmatrix\n";
+    std::fs::write(dir.path().join("s.des"), scene).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_plytrace"))
+        .args(["-q", "--max-polygons", "1000", "s.des"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("--max-polygons") && err.contains("1000000 faces"),
+        "{err}"
+    );
+}

@@ -76,6 +76,7 @@ pub fn layer(
     picture: &ScanOptions,
     shadows: bool,
     shading: crate::shading::ShadingModel,
+    max_rays: u64,
 ) -> Result<Option<ExactLayer>> {
     let sites: Vec<bool> = (0..tree.nodes.len())
         .map(|n| is_site(scene, tree, n))
@@ -136,7 +137,7 @@ pub fn layer(
         }
         Some(n)
     };
-    let tracer = RayTracer::new(scene, *view, shadows, shading);
+    let tracer = RayTracer::new(scene, *view, shadows, shading).with_ray_limit(max_rays);
     let start = std::time::Instant::now();
     let rows: Vec<(Vec<[f32; 3]>, Counter)> = (0..h)
         .into_par_iter()

@@ -65,6 +65,8 @@ pub struct RayTraceOptions {
     pub shading: ShadingModel,
     /// Worker threads (0: all cores); the image does not depend on it.
     pub threads: usize,
+    /// The ray budget (`--max-rays`), shadow rays included.
+    pub max_rays: u64,
 }
 
 impl Default for RayTraceOptions {
@@ -76,6 +78,7 @@ impl Default for RayTraceOptions {
             shadows: false,
             shading: ShadingModel::Garcia,
             threads: 0,
+            max_rays: crate::budget::DEFAULT_RAYS,
         }
     }
 }
@@ -158,7 +161,7 @@ pub struct RayTracer<'a> {
     per_point: bool,
     /// Rays cast by all workers, counted in blocks of [`RAY_BLOCK`].
     spent: AtomicU64,
-    /// The ray budget ([`crate::budget::ray_limit`]).
+    /// The ray budget ([`RayTracer::with_ray_limit`]).
     limit: u64,
     /// Set past the budget or on a stop request: every ray then returns
     /// at once, and the render ends with [`RayTracer::stopped`]'s error.
@@ -183,9 +186,16 @@ impl<'a> RayTracer<'a> {
             threshold: scene.threshold,
             per_point: scene.modes.vertex_shades || scene.modes.phong,
             spent: AtomicU64::new(0),
-            limit: crate::budget::ray_limit(),
+            limit: crate::budget::DEFAULT_RAYS,
             stop: AtomicBool::new(false),
         }
+    }
+
+    /// This tracer, stopping past `rays` rays (`--max-rays`; the default
+    /// is [`crate::budget::DEFAULT_RAYS`]).
+    pub fn with_ray_limit(mut self, rays: u64) -> Self {
+        self.limit = rays;
+        self
     }
 
     /// Counts one ray; every [`RAY_BLOCK`] rays, adds them to the shared
@@ -555,7 +565,8 @@ pub fn render(scene: &Scene, options: &RayTraceOptions) -> Result<(FrameBuffer, 
     let (width, height) = (view.width as u32, view.height as u32);
     let mut stats = RayStats::default();
     let t = Instant::now();
-    let tracer = RayTracer::new(scene, view, options.shadows, options.shading);
+    let tracer = RayTracer::new(scene, view, options.shadows, options.shading)
+        .with_ray_limit(options.max_rays);
     stats.build_time = t.elapsed();
     let t = Instant::now();
     let n = options.samples.max(1);

@@ -180,8 +180,15 @@ fn exact_layer(
     options: &RenderOptions,
     stats: &mut RenderStats,
 ) -> Option<ExactLayer> {
-    let made =
-        crate::raytrace::exact::layer(scene, view, tree, scan, options.shadows, options.shading);
+    let made = crate::raytrace::exact::layer(
+        scene,
+        view,
+        tree,
+        scan,
+        options.shadows,
+        options.shading,
+        options.budgets.rays,
+    );
     made.unwrap_or_else(|e| {
         stats
             .warnings

@@ -29,11 +29,11 @@ pub const MESH_EXTENSIONS: &[&str] = &["obj", "ply", "stl"];
 /// groups are merged into one mesh. Polygons come out clockwise seen from
 /// outside, with 0-based indices.
 ///
-/// At most [`crate::budget::polygon_limit`] polygons and
+/// At most the default `--max-polygons` polygons and
 /// [`VERTICES_PER_POLYGON`] times as many vertices: see
-/// [`read_mesh_within`].
+/// [`read_mesh_within`], which takes the budget.
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
-    read_mesh_within(path, crate::budget::polygon_limit())
+    read_mesh_within(path, crate::budget::Budgets::default().polygons)
 }
 
 /// Vertices a mesh may have per polygon of the budget (a closed triangle

@@ -614,8 +614,6 @@ impl Cli {
         if let Some(n) = self.max_rays {
             b.rays = n;
         }
-        // The ray tracer and the mesh importer read theirs process-wide.
-        plytrace::budget::set_process_budgets(&b);
         b
     }
 }

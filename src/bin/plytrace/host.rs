@@ -238,6 +238,7 @@ impl CliHost {
             shadows,
             shading: self.shading,
             threads: self.threads,
+            max_rays: self.budgets.rays,
         };
         let (frame, rays) = plytrace::raytrace::render(scene, &options)?;
         Ok(render::Rendered {

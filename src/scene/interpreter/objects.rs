@@ -320,7 +320,7 @@ impl Interpreter {
         {
             object_file::read_det_within(&path, self.budgets.polygons.saturating_sub(self.polygons))
         } else {
-            mesh_import::read_mesh(&path)
+            mesh_import::read_mesh_within(&path, self.budgets.polygons)
         };
         // A problem in the file names the statement that read it.
         let mesh = mesh.map_err(|e| match e {
