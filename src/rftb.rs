@@ -410,8 +410,7 @@ pub fn band_bytes_per_pixel(program: Program) -> u64 {
 /// quarter of the time of the `rftb_args` fuzz target's checks.
 fn scan_threads() -> u64 {
     static THREADS: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
-    *THREADS
-        .get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get() as u64))
+    *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get() as u64))
 }
 
 /// Refuses a `hres x vres` image beyond the pixel budget.

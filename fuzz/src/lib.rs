@@ -671,7 +671,10 @@ pub fn patch_files(data: &[u8]) {
     for t in &mesh.polygons {
         assert_eq!(t.len(), 3, "a tessellation polygon of {} corners", t.len());
         assert!(t.iter().all(|&i| (i as usize) < n), "an index out of range");
-        assert!(t[0] != t[1] && t[1] != t[2] && t[0] != t[2], "a repeated corner");
+        assert!(
+            t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
+            "a repeated corner"
+        );
     }
     let normals = generated.normals.as_ref().expect("patches carry normals");
     assert_eq!(normals.len(), n, "one normal per vertex");
@@ -885,7 +888,10 @@ pub fn modeling(data: &[u8]) {
     for o in &scene.objects {
         let n = o.vertices.len();
         for p in &o.polygons {
-            assert!(p.indices.iter().all(|&i| (i as usize) < n), "an index out of range");
+            assert!(
+                p.indices.iter().all(|&i| (i as usize) < n),
+                "an index out of range"
+            );
         }
         if let Some(normals) = &o.vertex_normals {
             assert_eq!(normals.len(), n, "one normal per vertex");

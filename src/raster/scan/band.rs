@@ -164,13 +164,7 @@ impl<I: Integrator> Worker<I> {
     /// requested ([`crate::cancel`]): it is looked at before every record
     /// and every row of one, so that a band of many records, or of one
     /// record over many rows, stops within a second.
-    fn run(
-        &mut self,
-        plan: &Plan<'_>,
-        band: usize,
-        bucket: &[u32],
-        done: &mut Finished,
-    ) -> bool {
+    fn run(&mut self, plan: &Plan<'_>, band: usize, bucket: &[u32], done: &mut Finished) -> bool {
         let rows = plan.rows(band);
         let w = plan.width as usize;
         let pixels = rows.len() * w;
