@@ -6,7 +6,7 @@ set -u
 cd "$(dirname "$0")"
 secs=${1:-600}
 [ $# -gt 0 ] && shift
-targets=${*:-"scene_language object_files meshes tree_files pipeline pixel_structs rftb_args"}
+targets=${*:-"scene_language object_files meshes tree_files pipeline pixel_structs rftb_args patch_files modeling"}
 logdir=${LOGDIR:-/tmp}
 for t in $targets; do
     mkdir -p "corpus/$t" "artifacts/$t"

@@ -3,8 +3,9 @@
 //! The request is one process-wide flag, as the signal that sets it is
 //! process-wide. The long stages look at it where stopping is cheap and
 //! safe: the tree builder stops expanding branches and casting shadows,
-//! [`crate::render::plan`] then returns [`Error::Cancelled`], and a row
-//! sink may return it between rows. Nothing half-built is written: outputs
+//! [`crate::render::plan`] then returns [`Error::Cancelled`], the scan
+//! converter stops between the records and rows of a band (and between
+//! bands) and returns it, and a row sink may return it between rows. Nothing half-built is written: outputs
 //! are staged and only committed by a run that finishes.
 
 use std::sync::atomic::{AtomicBool, Ordering};

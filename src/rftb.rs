@@ -406,8 +406,11 @@ pub fn band_bytes_per_pixel(program: Program) -> u64 {
 }
 
 /// Scan threads of a run: the cores, as the scan converter takes them.
+/// Looked up once: on Linux it reads the cgroup files, which took a
+/// quarter of the time of the `rftb_args` fuzz target's checks.
 fn scan_threads() -> u64 {
-    std::thread::available_parallelism().map_or(1, |n| n.get() as u64)
+    static THREADS: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
+    *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get() as u64))
 }
 
 /// Refuses a `hres x vres` image beyond the pixel budget.

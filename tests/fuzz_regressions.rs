@@ -121,6 +121,16 @@ fn rftb_args_inputs() {
     replay("rftb_args");
 }
 
+#[test]
+fn patch_files_inputs() {
+    replay("patch_files");
+}
+
+#[test]
+fn modeling_inputs() {
+    replay("modeling");
+}
+
 /// Every folder is a target, every target has a folder and a cargo-fuzz
 /// source file, so that no input is silently left unreplayed.
 #[test]

@@ -26,7 +26,7 @@ use plytrace::tree::RecordStream;
 
 /// The names the fuzz targets are known by, which are also the folders of
 /// `tests/data/fuzz-regressions/`.
-pub const TARGETS: [&str; 7] = [
+pub const TARGETS: [&str; 9] = [
     "scene_language",
     "object_files",
     "meshes",
@@ -34,6 +34,8 @@ pub const TARGETS: [&str; 7] = [
     "pipeline",
     "pixel_structs",
     "rftb_args",
+    "patch_files",
+    "modeling",
 ];
 
 /// Runs the target called `name` on `data`.
@@ -46,6 +48,8 @@ pub fn run_target(name: &str, data: &[u8]) {
         "pipeline" => pipeline(data),
         "pixel_structs" => pixel_structs(data),
         "rftb_args" => rftb_args(data),
+        "patch_files" => patch_files(data),
+        "modeling" => modeling(data),
         other => panic!("no fuzz target called `{other}`"),
     }
 }
@@ -56,9 +60,12 @@ const SQUARE_PCL: &str = "square\ndata 1\n.9 .8 .2 .0 .0 .0\n";
 const SQUARE_VCL: &str =
     "square\ndata 4\n.9 .8 .2 0 0 0\n.8 .9 .2 0 0 0\n.2 .8 .9 0 0 0\n.9 .2 .8 0 0 0\n";
 const SUB_DES: &str = "translate 0 0 -1\ngetobj cube\n";
+const WAVE_BPT: &str = include_str!("../../examples/det/wave.bpt");
+const RIPPLE_HPT: &str = include_str!("../../examples/det/ripple.hpt");
 
-/// The private directory: `det/` with a cube and a square (with polygon
-/// and vertex colours), and `sub.des` for `call`. Made once per process.
+/// The private directory: `det/` with a cube, a square (with polygon and
+/// vertex colours) and two patch files (`wave.bpt`, `ripple.hpt`), and
+/// `sub.des` for `call`. Made once per process.
 struct Sandbox {
     dir: PathBuf,
     /// Serializes the users of the files in `dir`.
@@ -78,6 +85,8 @@ fn sandbox() -> &'static Sandbox {
             ("square.det", SQUARE_DET),
             ("square.pcl", SQUARE_PCL),
             ("square.vcl", SQUARE_VCL),
+            ("wave.bpt", WAVE_BPT),
+            ("ripple.hpt", RIPPLE_HPT),
         ] {
             std::fs::write(det.join(name), text).expect("fixture");
         }
@@ -600,5 +609,319 @@ pub fn rftb_args(data: &[u8]) {
         }
         Ok(Command::Help) => {}
         Err(rftb::UsageError(msg)) => assert!(!msg.is_empty()),
+    }
+}
+
+/// The budget of the `patch_files` target: triangles of one tessellation.
+const PATCH_TRIANGLES: usize = 4_000;
+/// Edge pairs the continuity check of `patch_files` may compare.
+const PATCH_PAIRS: u64 = 10_000;
+
+/// `patch_files`: the bytes after the first as a patch file
+/// (`modeling::patch::parse`); the first byte chooses the form (bit 0:
+/// Bezier, else Hermite) and the steps `NU` (3-6) and `NV` (2-5), the
+/// smallest the scene language accepts upwards. What reads within a budget
+/// of [`PATCH_TRIANGLES`] is tessellated, and its continuity checked within
+/// [`PATCH_PAIRS`] edge pairs: every triangle names three distinct
+/// vertices, there is a unit normal per vertex, and every join names two
+/// patches of the file.
+pub fn patch_files(data: &[u8]) {
+    use plytrace::modeling::patch::{self, Form};
+    let Some((&first, rest)) = data.split_first() else {
+        return;
+    };
+    let form = if first & 1 == 0 {
+        Form::Bezier
+    } else {
+        Form::Hermite
+    };
+    let nu = 3 + usize::from((first >> 1) & 3);
+    let nv = 2 + usize::from((first >> 3) & 3);
+    let text = String::from_utf8_lossy(rest);
+    let path = Path::new("fuzz.bpt");
+    let refused = std::cell::Cell::new(false);
+    let read = patch::parse(&text, path, form, |count| {
+        match patch::face_count(count, nu, nv) {
+            Some(n) if n <= PATCH_TRIANGLES => Ok(()),
+            _ => {
+                refused.set(true);
+                Err(plytrace::Error::at(
+                    plytrace::error::Location::file(path),
+                    "over the fuzz budget",
+                ))
+            }
+        }
+    });
+    let set = match read {
+        Ok(set) => set,
+        Err(e) => {
+            check_error(&e);
+            return;
+        }
+    };
+    assert!(!refused.get(), "a refused patch count still read");
+    assert!(!set.patches.is_empty(), "a patch file of no patches");
+    let generated = patch::tessellate(&set, nu, nv);
+    let mesh = &generated.mesh;
+    let n = mesh.vertices.len();
+    assert!(
+        mesh.polygons.len() <= patch::face_count(set.patches.len(), nu, nv).unwrap(),
+        "more triangles than the count the budget was asked for"
+    );
+    for t in &mesh.polygons {
+        assert_eq!(t.len(), 3, "a tessellation polygon of {} corners", t.len());
+        assert!(t.iter().all(|&i| (i as usize) < n), "an index out of range");
+        assert!(
+            t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
+            "a repeated corner"
+        );
+    }
+    let normals = generated.normals.as_ref().expect("patches carry normals");
+    assert_eq!(normals.len(), n, "one normal per vertex");
+    for v in normals {
+        assert!(
+            !v.is_finite() || (v.length() - 1.0).abs() < 1e-6,
+            "a finite normal not of unit length: {v}"
+        );
+    }
+    match patch::continuity_within(&set, PATCH_PAIRS) {
+        Ok(report) => {
+            for j in &report.joins {
+                assert!(j.patches.0 < j.patches.1 && j.patches.1 < set.patches.len());
+            }
+        }
+        Err(patch::ContinuityStop::Pairs(p)) => assert!(p > PATCH_PAIRS),
+        Err(patch::ContinuityStop::Cancelled) => panic!("cancelled with no request"),
+    }
+}
+
+/// The fixed scene of the `modeling` target: a light and a camera; the
+/// objects are all the fuzzer's.
+const MODELING_SCENE: &str = "\
+perspective 45 1 0.1 100
+polarview 8 30 60 0
+light -4 -2 6 0.8 0.8 0.8 100 Point
+";
+
+/// The object names of the `modeling` target: generated objects, CSG
+/// operands, and `cube`/`square` (read from `det/` when no generator is
+/// given).
+const MODEL_NAMES: [&str; 6] = ["a", "b", "c", "d", "cube", "square"];
+
+/// The budgets of the `modeling` target: statements, polygons (the scene's
+/// budget, checked before anything is built), CSG pair tests, image size.
+const MODEL_STATEMENTS: usize = 24;
+const MODEL_POLYGONS: usize = 3_000;
+const MODEL_PAIR_TESTS: u64 = 100_000;
+const MODEL_SIZE: u32 = 16;
+
+impl Bytes<'_> {
+    /// A whole number in `lo..=hi`.
+    fn int(&mut self, lo: u32, hi: u32) -> u32 {
+        lo + u32::from(self.byte()) % (hi - lo + 1)
+    }
+
+    /// `k` coordinate pairs, `k` in `lo..=hi`.
+    fn pairs(&mut self, lo: u32, hi: u32) -> String {
+        let k = self.int(lo, hi) as usize;
+        self.numbers(2 * k)
+    }
+}
+
+/// The statements one `modeling` input makes: objects built by the
+/// generator commands (and `geodesic`), patches from `det/` or from a
+/// patch file of the fuzzer's numbers, CSG of earlier objects, transforms
+/// and surface commands in and between them. Returns the statements and
+/// the patch file text, if one is used.
+fn modeling_statements(bytes: &mut Bytes) -> (Vec<String>, Option<String>) {
+    let mut out = Vec::new();
+    let mut patch_file = None;
+    let mut in_object = false;
+    while !bytes.0.is_empty() && out.len() < MODEL_STATEMENTS {
+        let s = match bytes.byte() % 20 {
+            0 => format!("translate {}", bytes.numbers(3)),
+            1 => format!("rotate {} {}", bytes.number(), bytes.pick(&["x", "y", "z"])),
+            2 => format!("scale {}", bytes.numbers(3)),
+            3 => bytes
+                .pick(&["pushmatrix", "popmatrix", "ident"])
+                .to_string(),
+            4 => format!("color {}", bytes.numbers(3)),
+            5 if !in_object => {
+                in_object = true;
+                format!("defobj {}", bytes.pick(&MODEL_NAMES))
+            }
+            6 if in_object => {
+                in_object = false;
+                "endobj".to_string()
+            }
+            7 if in_object => format!("sphere {} {}", bytes.int(3, 8), bytes.int(2, 5)),
+            8 if in_object => format!(
+                "cylinder {} {}",
+                bytes.int(3, 12),
+                bytes.pick(&["", "capped", "open"])
+            ),
+            9 if in_object => {
+                let scale = if bytes.byte() & 1 == 0 {
+                    String::new()
+                } else {
+                    bytes.numbers(3)
+                };
+                format!(
+                    "superquadric {} {} {} {scale}",
+                    bytes.numbers(2),
+                    bytes.int(3, 8),
+                    bytes.int(2, 5)
+                )
+            }
+            10 if in_object => format!("lathe {} {}", bytes.int(3, 8), bytes.pairs(2, 6)),
+            11 if in_object => format!("extrude {} {}", bytes.number(), bytes.pairs(3, 8)),
+            12 if in_object => format!(
+                "geodesic {} {}",
+                bytes.int(1, 2),
+                bytes.pick(&["equal", "angle"])
+            ),
+            13 if in_object => format!(
+                "radial {}",
+                bytes.pick(&[
+                    "sphere",
+                    "ellipsoid 1 2 3",
+                    "bumps 0.2 3",
+                    "lobes 0.3 2",
+                    "rotate 30 x"
+                ])
+            ),
+            14 if in_object => format!(
+                "{} {} {}",
+                bytes.pick(&["bezier wave.bpt", "hermite ripple.hpt"]),
+                bytes.int(3, 4),
+                bytes.int(2, 3)
+            ),
+            15 if in_object => {
+                // One patch of the fuzzer's control points (Bezier) or
+                // geometry matrix (Hermite).
+                let bezier = bytes.byte() & 1 == 0;
+                let points = bytes.numbers(48);
+                patch_file = Some(if bezier {
+                    format!("1\n3 3\n{points}\n")
+                } else {
+                    format!("1\n{points}\n")
+                });
+                let (form, file) = if bezier {
+                    ("bezier", "fuzz.bpt")
+                } else {
+                    ("hermite", "fuzz.hpt")
+                };
+                // Both names hold the same text: whichever is asked for.
+                format!("{form} {file} {} {}", bytes.int(3, 4), bytes.int(2, 3))
+            }
+            16 | 17 if in_object => format!(
+                "{} {} {}",
+                bytes.pick(&["union", "intersection", "difference"]),
+                bytes.pick(&MODEL_NAMES),
+                bytes.pick(&MODEL_NAMES)
+            ),
+            18 => format!(
+                "type polygon {}",
+                bytes.pick(&["", "open", "curved", "concave", "open curved"])
+            ),
+            19 => format!(
+                "{} {}",
+                bytes.pick(&["reflectance", "transmittance", "specular"]),
+                bytes.number()
+            ),
+            _ => continue,
+        };
+        out.push(s);
+    }
+    if in_object {
+        out.push("endobj".to_string());
+    }
+    (out, patch_file)
+}
+
+/// `modeling`: the fixed scene plus the modeling statements the bytes
+/// choose (the first byte: whether to render, when it is 1 modulo 4),
+/// built within small budgets
+/// ([`MODEL_POLYGONS`] polygons, [`MODEL_PAIR_TESTS`] CSG pair tests),
+/// then, when asked, rendered at 16x16. Every object has its polygons'
+/// vertices and one normal per vertex when it has normals; the scene is
+/// within the polygon budget; the image has the size asked.
+pub fn modeling(data: &[u8]) {
+    let mut bytes = Bytes(data);
+    // One input in four is rendered: the building is this target's aim
+    // (`pipeline` renders), and a render costs as much as the rest.
+    let render_it = bytes.byte() & 3 == 1;
+    let (statements, patch_text) = modeling_statements(&mut bytes);
+    let budgets = plytrace::budget::Budgets {
+        polygons: MODEL_POLYGONS,
+        call_depth: 8,
+        tree_nodes: 20_000,
+        splits: 2_000,
+        pixels: 1 << 16,
+        frame_memory: 1 << 24,
+        overdraw: 64,
+        pair_tests: MODEL_PAIR_TESTS,
+        model_memory: 1 << 24,
+        rays: 100_000,
+    };
+    let sandbox = sandbox();
+    let _guard = lock(sandbox);
+    if let Some(text) = patch_text {
+        // Written when it changes: most inputs reuse the last one's.
+        static WRITTEN: Mutex<String> = Mutex::new(String::new());
+        let mut written = WRITTEN.lock().unwrap_or_else(|e| e.into_inner());
+        if *written != text {
+            for name in ["fuzz.bpt", "fuzz.hpt"] {
+                std::fs::write(sandbox.dir.join("det").join(name), &text).expect("write the patch");
+            }
+            *written = text;
+        }
+    }
+    let mut interp = Interpreter::new();
+    interp.set_budgets(budgets);
+    let file = sandbox.dir.join("modeling.des");
+    interp
+        .execute_source(MODELING_SCENE, &file, &sandbox.dir, &mut NoHost)
+        .expect("the fixed scene loads");
+    for s in &statements {
+        if let Err(e) = interp.execute_source(s, &file, &sandbox.dir, &mut NoHost) {
+            check_error(&e);
+        }
+    }
+    let mut scene = interp.scene();
+    assert!(
+        scene.polygon_count() <= MODEL_POLYGONS,
+        "{} polygons, over the budget of {MODEL_POLYGONS}",
+        scene.polygon_count()
+    );
+    for o in &scene.objects {
+        let n = o.vertices.len();
+        for p in &o.polygons {
+            assert!(
+                p.indices.iter().all(|&i| (i as usize) < n),
+                "an index out of range"
+            );
+        }
+        if let Some(normals) = &o.vertex_normals {
+            assert_eq!(normals.len(), n, "one normal per vertex");
+        }
+    }
+    if !render_it {
+        return;
+    }
+    scene.viewport = plytrace::scene::model::Viewport::of_size(MODEL_SIZE, MODEL_SIZE);
+    let options = RenderOptions {
+        size: Some((MODEL_SIZE, MODEL_SIZE)),
+        threads: 1,
+        budgets,
+        ..RenderOptions::default()
+    };
+    match render(&scene, &options) {
+        Ok(r) => assert_eq!(
+            (r.frame.width, r.frame.height),
+            (MODEL_SIZE, MODEL_SIZE),
+            "image size"
+        ),
+        Err(e) => check_error(&e),
     }
 }

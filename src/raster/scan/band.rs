@@ -160,7 +160,11 @@ impl<I: Integrator> Worker<I> {
     }
 
     /// Scan converts band `band` (its records `bucket`) into `done`.
-    fn run(&mut self, plan: &Plan<'_>, band: usize, bucket: &[u32], done: &mut Finished) {
+    /// Returns `false`, leaving the band unfinished, when a stop was
+    /// requested ([`crate::cancel`]): it is looked at before every record
+    /// and every row of one, so that a band of many records, or of one
+    /// record over many rows, stops within a second.
+    fn run(&mut self, plan: &Plan<'_>, band: usize, bucket: &[u32], done: &mut Finished) -> bool {
         let rows = plan.rows(band);
         let w = plan.width as usize;
         let pixels = rows.len() * w;
@@ -172,9 +176,15 @@ impl<I: Integrator> Worker<I> {
         done.covered.clear();
         done.written = 0;
         for &r in bucket {
+            if crate::cancel::requested() {
+                return false;
+            }
             if self.record(plan, r as usize, rows.clone(), done) {
                 done.covered.push(r);
             }
+        }
+        if crate::cancel::requested() {
+            return false;
         }
         if let Some(bg) = plan.background {
             for px in 0..pixels {
@@ -183,6 +193,7 @@ impl<I: Integrator> Worker<I> {
         }
         self.integ.output(&mut done.out);
         done.fragments = self.integ.fragments();
+        true
     }
 
     /// Tiles record `r` into the band; returns whether it covered a pixel.
@@ -205,6 +216,10 @@ impl<I: Integrator> Worker<I> {
         let (ids, written) = (&mut done.out.ids, &mut done.written);
         let mut any = false;
         tiler.tile(poly, rows, |row| {
+            // Stopping: the rows left are walked, not painted.
+            if crate::cancel::requested() {
+                return;
+            }
             shader.setup(poly, row.j, row.edges);
             let base = (hi - 1 - row.j) as usize * w;
             let mut put = |i: u32, frag: &Fragment| {
@@ -273,7 +288,8 @@ struct Schedule {
     done: std::collections::BTreeMap<usize, Finished>,
     /// Buffers of delivered bands, for reuse.
     spare: Vec<Finished>,
-    /// Set when delivery failed or a worker panicked: everyone stops.
+    /// Set when delivery failed, a worker panicked or a stop was
+    /// requested ([`crate::cancel`]): everyone stops.
     stop: bool,
 }
 
@@ -332,8 +348,14 @@ fn work<I: Integrator>(
         g.next += 1;
         let mut done = g.spare.pop().unwrap_or_default();
         drop(g);
-        worker.run(plan, band, &buckets[band], &mut done);
+        let finished = worker.run(plan, band, &buckets[band], &mut done);
         g = shared.lock();
+        if !finished {
+            // Cancelled: the delivering thread reports it.
+            g.stop = true;
+            shared.changed.notify_all();
+            return;
+        }
         g.done.insert(band, done);
         shared.changed.notify_all();
     }
@@ -394,6 +416,7 @@ fn deliver_all(
     hit: &mut [bool],
 ) -> Result<()> {
     for band in 0..nb {
+        crate::cancel::check()?;
         let done = {
             let mut g = shared.lock();
             loop {
@@ -401,6 +424,7 @@ fn deliver_all(
                     break d;
                 }
                 if g.stop {
+                    crate::cancel::check()?;
                     return Err(Error::Invalid("a scan thread failed".into()));
                 }
                 g = shared.wait(g);

@@ -221,6 +221,7 @@ pub fn scan_convert(
             Err(_) => prepare(),
         },
     }?;
+    crate::cancel::check()?;
     check_overdraw(&records, w, h, options.max_overdraw)?;
     if let Logic::Multi(_) = logic
         && let Some((k, r)) = records
