@@ -975,11 +975,23 @@ impl Projected {
             }
             hidden.sort_by(|x, y| x.0.total_cmp(&y.0));
             let mut t = 0.0;
+            // The ends themselves at 0 and 1, so that the pieces of a
+            // polyline meet exactly.
+            let at = |t: f64| {
+                self.to_2d(match t {
+                    0.0 => a,
+                    1.0 => b,
+                    _ => a + (b - a) * t,
+                })
+            };
+            // Pieces shorter than rounding are left out (a stroke's cap
+            // would show them as dots).
+            let shortest = 1e-9 / (b - a).truncate().length().max(1e-300);
             let mut push = |t0: f64, t1: f64| {
-                if t1 - t0 > 1e-12 {
+                if t1 - t0 > shortest {
                     out.push(SegmentPiece {
                         segment: i,
-                        points: [self.to_2d(a + (b - a) * t0), self.to_2d(a + (b - a) * t1)],
+                        points: [at(t0), at(t1)],
                     });
                 }
             };
@@ -1232,7 +1244,8 @@ impl Occluders {
                     }
                     stamp[k] = epoch;
                     let (pts, [pa, pb, pc]) = &self.faces[k];
-                    // Inside the outline (by more than rounding).
+                    // Inside the outline, or on it to rounding (so that
+                    // adjacent faces leave no gap between them).
                     let (mut t0, mut t1) = (0.0f64, 1.0f64);
                     let m = pts.len();
                     let mut empty = false;
@@ -1240,8 +1253,8 @@ impl Occluders {
                         let (e0, e1) = (pts[i], pts[(i + 1) % m]);
                         let e = e1 - e0;
                         let tol = 1e-9 * e.length();
-                        let f0 = e.perp_dot(a.truncate() - e0) - tol;
-                        let f1 = e.perp_dot(b.truncate() - e0) - tol;
+                        let f0 = e.perp_dot(a.truncate() - e0) + tol;
+                        let f1 = e.perp_dot(b.truncate() - e0) + tol;
                         if !clip_interval(f0, f1, &mut t0, &mut t1) {
                             empty = true;
                             break;

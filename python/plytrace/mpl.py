@@ -1,0 +1,432 @@
+"""Correct hidden surfaces in matplotlib's 3-D plots.
+
+matplotlib's ``mplot3d`` paints each polygon of a 3-D collection as a
+whole, ordered by one depth per polygon (and each collection as a whole
+among the others), so interpenetrating surfaces, ``bar3d`` cities and
+surfaces crossing lines come out wrong. With this module, at draw time
+the 3-D polygon collections of an axes (``plot_surface``,
+``plot_trisurf``, ``bar3d``, ``voxels``, ``add_collection3d`` of a
+``Poly3DCollection``) are replaced by 2-D polygons that plytrace splits
+and orders with the Newell-Newell-Sancha sort in the axes' own projection
+(``ax.get_proj()``), and 3-D lines (``plot``, ``plot_wireframe``,
+``Line3DCollection``) are cut where a surface hides them. Every backend
+(SVG, PDF, PGF, PNG) then draws the correct picture; the axes, ticks,
+labels, colorbars and the colours matplotlib computed (colormaps,
+shading) are unchanged::
+
+    import plytrace.mpl
+    plytrace.mpl.fix(ax)                     # this axes, from now on
+    plytrace.mpl.savefig(fig, "plot.svg")    # or for one save
+    with plytrace.mpl.fixed(fig):            # or within a block
+        fig.savefig("plot.pdf")
+
+A polygon that is not planar (the quads of ``plot_surface``) is taken as
+the fan of triangles from its first vertex. Polygons with a vertex that is
+not finite (or not valid on a log axis) are left out, as are lines'
+points that are not. Scatter markers and 3-D patches keep matplotlib's
+order.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import types
+import warnings
+from typing import Iterator, List, Optional, Union
+
+import numpy as np
+from matplotlib import collections as mcoll
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.path import Path
+from mpl_toolkits.mplot3d import art3d, proj3d
+from mpl_toolkits.mplot3d.axes3d import Axes3D
+
+from ._native import Projection
+
+__all__ = ["fix", "unfix", "is_fixed", "fixed", "savefig"]
+
+_TRANSPARENT = np.zeros(4)
+
+
+def _axes(target) -> List[Axes3D]:
+    if isinstance(target, Axes3D):
+        return [target]
+    if isinstance(target, Figure):
+        return [ax for ax in target.get_axes() if isinstance(ax, Axes3D)]
+    raise TypeError(
+        f"expected a matplotlib Figure or 3-D Axes, not {type(target).__name__}"
+    )
+
+
+#: Default width, in points, of the seam-closing stroke (see :func:`fix`).
+SEAM_WIDTH = 0.3
+
+
+def fix(target: Union[Axes3D, Figure], *, seam_width: float = SEAM_WIDTH) -> None:
+    """Draws ``target`` (a 3-D axes, or every 3-D axes of a figure) with
+    plytrace's hidden-surface removal from now on.
+
+    ``seam_width``: each opaque polygon without an edge of its own is
+    stroked in its own colour this wide (in points), which closes the
+    hairline seams that anti-aliasing leaves between adjacent polygons
+    (and between the pieces of a split one); 0 leaves them.
+    """
+    seam_width = float(seam_width)
+    if not seam_width >= 0:
+        raise ValueError(f"seam_width must be 0 or more, not {seam_width}")
+    for ax in _axes(target):
+        ax.draw = types.MethodType(_draw, ax)
+        ax._plytrace_seam_width = seam_width
+
+
+def unfix(target: Union[Axes3D, Figure]) -> None:
+    """Undoes :func:`fix`."""
+    for ax in _axes(target):
+        if is_fixed(ax):
+            del ax.draw
+            ax.__dict__.pop("_plytrace_seam_width", None)
+
+
+def is_fixed(ax: Axes3D) -> bool:
+    """Whether :func:`fix` is in force for ``ax``."""
+    d = ax.__dict__.get("draw")
+    return isinstance(d, types.MethodType) and d.__func__ is _draw
+
+
+@contextlib.contextmanager
+def fixed(target: Union[Axes3D, Figure], *, seam_width: float = SEAM_WIDTH) -> Iterator[None]:
+    """A context in which ``target`` (a 3-D axes or a figure) is drawn
+    with plytrace's hidden-surface removal (``seam_width`` as for
+    :func:`fix`)."""
+    axes = [ax for ax in _axes(target) if not is_fixed(ax)]
+    for ax in axes:
+        fix(ax, seam_width=seam_width)
+    try:
+        yield
+    finally:
+        for ax in axes:
+            unfix(ax)
+
+
+def savefig(fig: Figure, fname, *, seam_width: float = SEAM_WIDTH, **kwargs) -> None:
+    """``fig.savefig(fname, **kwargs)`` with every 3-D axes of ``fig``
+    drawn with plytrace's hidden-surface removal (``seam_width`` as for
+    :func:`fix`)."""
+    with fixed(fig, seam_width=seam_width):
+        fig.savefig(fname, **kwargs)
+
+
+def _draw(ax: Axes3D, renderer) -> None:
+    """The axes' draw, with its 3-D polygons and lines replaced for the
+    time of the draw."""
+    drawing = _Drawing(ax)
+    drawing.install()
+    try:
+        type(ax).draw(ax, renderer)
+    finally:
+        drawing.uninstall()
+
+
+def _scaled(ax: Axes3D, xyz: np.ndarray) -> np.ndarray:
+    """Data coordinates through the axes' scales (log, symlog...), which
+    matplotlib applies before its projection."""
+    apply = getattr(proj3d, "_apply_scale_transforms", None)
+    if apply is None or len(xyz) == 0:
+        return xyz
+    with np.errstate(all="ignore"):
+        xs, ys, zs = apply(xyz[:, 0], xyz[:, 1], xyz[:, 2], ax)
+    return np.column_stack([np.ma.getdata(xs), np.ma.getdata(ys), np.ma.getdata(zs)])
+
+
+def _invalid(ax: Axes3D, xs, ys, zs, clip: bool):
+    """Points matplotlib leaves out: invalid on the axis scale, outside
+    the view limits when the artist clips to them, or not finite."""
+    bad = ~(np.isfinite(xs) & np.isfinite(ys) & np.isfinite(zs))
+    with np.errstate(all="ignore"):
+        scale = getattr(art3d, "_scale_invalid_mask", None)
+        if scale is not None:
+            bad |= scale(xs, ys, zs, ax)
+        if clip:
+            bad |= art3d._viewlim_mask(xs, ys, zs, ax)
+    return bad
+
+
+def _polygons(ax: Axes3D, col):
+    """The collection's polygons as points and sizes, and the indices of
+    the polygons drawn."""
+    faces = getattr(col, "_faces", None)
+    if faces is not None:
+        faces = np.asarray(faces, dtype=float)
+        n, m = faces.shape[:2]
+        padding = np.broadcast_to(np.asarray(col._invalid_vertices, dtype=bool), (n, m))
+    else:  # matplotlib before 3.9: one array of points and slices
+        vec = np.asarray(col._vec)
+        slices = col._segslices
+        n = len(slices)
+        m = max((s.stop - s.start for s in slices), default=0)
+        faces = np.zeros((n, m, 3))
+        padding = np.ones((n, m), dtype=bool)
+        for i, s in enumerate(slices):
+            k = s.stop - s.start
+            faces[i, :k] = vec[:3, s].T
+            padding[i, :k] = False
+    if n == 0:
+        return np.zeros((0, 3)), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    valid = ~padding
+    bad = _invalid(
+        ax, faces[..., 0], faces[..., 1], faces[..., 2], getattr(col, "_axlim_clip", False)
+    )
+    keep = ~(bad & valid).any(axis=1) & (valid.sum(axis=1) >= 3)
+    kept = np.flatnonzero(keep)
+    points = faces[kept][valid[kept]]
+    sizes = valid[kept].sum(axis=1).astype(np.int64)
+    return _scaled(ax, points), sizes, kept
+
+
+def _per_face(colors, n: int) -> np.ndarray:
+    """RGBA per face from a collection's colour array (one, one per face,
+    or none: transparent)."""
+    c = np.asarray(colors, dtype=float).reshape(-1, 4) if len(colors) else np.zeros((0, 4))
+    if len(c) == n:
+        return c
+    if len(c) == 0:
+        return np.zeros((n, 4))
+    return np.repeat(c[:1], n, axis=0) if len(c) == 1 else np.resize(c, (n, 4))
+
+
+def _cycle(values, n: int) -> list:
+    values = list(values) if len(values) else [None]
+    return [values[i % len(values)] for i in range(n)]
+
+
+class _Drawing:
+    """One draw of a fixed axes: the instance-level overrides that replace
+    its 3-D collections' projection and drawing, and what they compute."""
+
+    def __init__(self, ax: Axes3D):
+        self.ax = ax
+        children = ax.get_children()
+        self.polys = [
+            c for c in children
+            if isinstance(c, art3d.Poly3DCollection) and c.get_visible()
+        ]
+        self.lines = [
+            c for c in children
+            if isinstance(c, (art3d.Line3D, art3d.Line3DCollection)) and c.get_visible()
+        ]
+        self.overridden = []
+        self.depths = {}
+        self.projection: Optional[Projection] = None
+        self.combined: Optional[mcoll.PathCollection] = None
+        self.drawn = False
+
+    def install(self) -> None:
+        if not self.polys:
+            return  # nothing can hide anything
+        for c in self.polys:
+            self._override(c, "do_3d_projection", self._project_polygons)
+            self._override(c, "draw", self._draw_polygons)
+        for c in self.lines:
+            if isinstance(c, art3d.Line3DCollection):
+                self._override(c, "do_3d_projection", self._project_line_collection)
+            self._override(c, "draw", lambda artist, renderer: None)
+
+    def _override(self, artist, name: str, method) -> None:
+        setattr(artist, name, types.MethodType(lambda a, *args: method(a, *args), artist))
+        self.overridden.append((artist, name))
+
+    def uninstall(self) -> None:
+        for artist, name in self.overridden:
+            artist.__dict__.pop(name, None)
+        self.overridden.clear()
+
+    # Polygons
+
+    def _project_polygons(self, col):
+        if self.projection is None:
+            self._compute()
+        return self.depths.get(id(col), np.nan)
+
+    def _compute(self) -> None:
+        ax = self.ax
+        points, sizes = [], []
+        fill, edge, widths, styles, antialiased = [], [], [], [], []
+        for c in self.polys:
+            # matplotlib's own projection: colour mapping and the depth
+            # it sorts collections by.
+            self.depths[id(c)] = type(c).do_3d_projection(c)
+            p, s, kept = _polygons(ax, c)
+            n = len(c._faces) if hasattr(c, "_faces") else len(c._segslices)
+            points.append(p)
+            sizes.append(s)
+            fill.append(_per_face(c._facecolor3d, n)[kept])
+            edge.append(_per_face(c._edgecolor3d, n)[kept])
+            widths.append(np.asarray(_cycle(c.get_linewidth(), n), dtype=float)[kept])
+            ls = _cycle(c.get_linestyle(), n)
+            styles.extend(ls[i] for i in kept)
+            antialiased.append(np.asarray(_cycle(c.get_antialiased(), n), dtype=bool)[kept])
+        points = np.concatenate(points) if points else np.zeros((0, 3))
+        sizes = np.concatenate(sizes)
+        fill = np.concatenate(fill)
+        edge = np.concatenate(edge)
+        widths = np.concatenate(widths)
+        antialiased = np.concatenate(antialiased)
+        self.projection = Projection(
+            np.ascontiguousarray(points, dtype=float),
+            np.ascontiguousarray(sizes, dtype=np.int64),
+            np.ascontiguousarray(ax.M, dtype=float),
+        )
+        sources, whole, fills, edges, _splits, warning = self.projection.paint_order()
+        if warning:
+            warnings.warn(f"plytrace.mpl: {warning}", RuntimeWarning, stacklevel=2)
+        self.combined = self._collection(
+            sources, whole, fills, edges, fill, edge, widths, styles, antialiased
+        )
+
+    def _collection(self, sources, whole, fills, edges, fill, edge, widths, styles, aa):
+        fv, fcodes, fstarts = fills
+        ev, ecodes, estarts = edges
+        stroked = (edge[:, 3] > 0) & (widths > 0)
+        # Opaque faces without edges of their own: stroked in their colour.
+        seam = getattr(self.ax, "_plytrace_seam_width", SEAM_WIDTH)
+        sealed = ~stroked & (fill[:, 3] >= 1.0) & (seam > 0)
+        paths, face, edgec, lw, ls, anti = [], [], [], [], [], []
+        solid = (0, None)
+        for g, src in enumerate(sources.tolist()):
+            a, b = fstarts[g], fstarts[g + 1]
+            paths.append(Path(fv[a:b], fcodes[a:b]))
+            face.append(fill[src])
+            anti.append(aa[src])
+            if sealed[src]:
+                edgec.append(fill[src])
+                lw.append(seam)
+                ls.append(solid)
+                continue
+            lw.append(widths[src])
+            ls.append(styles[src])
+            if whole[g] or not stroked[src]:
+                edgec.append(edge[src])
+                continue
+            # A piece of a split polygon: its fill, then the edges that
+            # lie on the polygon's outline.
+            edgec.append(_TRANSPARENT)
+            a, b = estarts[g], estarts[g + 1]
+            if b > a:
+                paths.append(Path(ev[a:b], ecodes[a:b]))
+                face.append(_TRANSPARENT)
+                edgec.append(edge[src])
+                lw.append(widths[src])
+                ls.append(styles[src])
+                anti.append(aa[src])
+        return mcoll.PathCollection(
+            paths,
+            facecolors=np.array(face).reshape(-1, 4),
+            edgecolors=np.array(edgec).reshape(-1, 4),
+            linewidths=lw or [0.0],
+            linestyles=ls or ["solid"],
+            antialiaseds=anti or [True],
+            joinstyle="round",
+        )
+
+    def _draw_polygons(self, col, renderer) -> None:
+        if self.drawn:
+            return
+        self.drawn = True
+        if self.projection is None:
+            self._compute()
+        combined = self.combined
+        combined.set_figure(self.ax.figure)
+        combined.axes = self.ax
+        combined.set_transform(self.ax.transData)
+        combined.set_clip_on(col.get_clip_on())
+        combined.set_clip_box(col.get_clip_box())
+        clip = col.get_clip_path()
+        if clip is not None:
+            combined.set_clip_path(clip)
+        combined.set_rasterized(col.get_rasterized())
+        combined.set_gid(col.get_gid())
+        combined.set_zorder(col.get_zorder())
+        combined.draw(renderer)
+        # The lines' visible pieces, over every polygon.
+        for line in sorted(self.lines, key=lambda a: a.get_zorder()):
+            if isinstance(line, art3d.Line3DCollection):
+                mcoll.LineCollection.draw(line, renderer)
+            else:
+                self._draw_line(line, renderer)
+
+    # Lines
+
+    def _visible(self, polylines):
+        """The visible parts of 3-D polylines (arrays of points, with
+        points that are not finite breaking them): per polyline, its 2-D
+        points with NaN rows between pieces, and per point whether it is
+        seen."""
+        pieces, owner, seen_at = [], [], []
+        for k, pts in enumerate(polylines):
+            pts = np.asarray(np.ma.filled(np.ma.asarray(pts, dtype=float), np.nan))
+            if pts.ndim != 2 or len(pts) == 0:
+                continue
+            bad = _invalid(self.ax, pts[:, 0], pts[:, 1], pts[:, 2], False)
+            runs = np.split(np.arange(len(pts)), np.flatnonzero(np.diff(bad.astype(int))) + 1)
+            for run in runs:
+                if not bad[run[0]]:
+                    pieces.append(_scaled(self.ax, pts[run]))
+                    owner.append(k)
+                    seen_at.append(run)
+        out = [np.zeros((0, 2)) for _ in polylines]
+        seen = [np.zeros(len(np.atleast_2d(p)), dtype=bool) for p in polylines]
+        if not pieces:
+            return out, seen
+        xy, starts, visible = self.projection.visible_polylines(
+            np.ascontiguousarray(np.concatenate(pieces), dtype=float),
+            np.array([len(p) for p in pieces], dtype=np.int64),
+        )
+        nan = np.full((1, 2), np.nan)
+        at = 0
+        for i, k in enumerate(owner):
+            part = xy[starts[i]:starts[i + 1]]
+            if len(part):
+                out[k] = np.concatenate([out[k], nan, part]) if len(out[k]) else part
+            seen[k][seen_at[i]] = visible[at:at + len(seen_at[i])]
+            at += len(seen_at[i])
+        return out, seen
+
+    def _draw_line(self, line: art3d.Line3D, renderer) -> None:
+        xs, ys, zs = (np.asarray(v, dtype=float).ravel() for v in line.get_data_3d())
+        n = len(xs)
+        xs, ys, zs = (np.broadcast_to(v, (n,)) for v in (xs, ys, zs))
+        (xy,), (seen,) = self._visible([np.column_stack([xs, ys, zs])])
+        marker = line.get_marker()
+        has_markers = marker not in (None, "None", "none", "", " ")
+        if not has_markers or line.get_markevery() is not None:
+            Line2D.set_data(line, xy[:, 0], xy[:, 1])
+            Line2D.draw(line, renderer)
+            return
+        # The line without markers, then the markers of the points seen.
+        linestyle = line.get_linestyle()
+        try:
+            line.set_marker("None")
+            Line2D.set_data(line, xy[:, 0], xy[:, 1])
+            Line2D.draw(line, renderer)
+            line.set_marker(marker)
+            line.set_linestyle("None")
+            pts = _scaled(self.ax, np.column_stack([xs, ys, zs])[seen])
+            if len(pts):
+                h = np.column_stack([pts, np.ones(len(pts))]) @ np.asarray(self.ax.M).T
+                Line2D.set_data(line, h[:, 0] / h[:, 3], h[:, 1] / h[:, 3])
+                Line2D.draw(line, renderer)
+        finally:
+            line.set_marker(marker)
+            line.set_linestyle(linestyle)
+            line.stale = False
+
+    def _project_line_collection(self, col):
+        depth = type(col).do_3d_projection(col)
+        if self.projection is None:
+            self._compute()
+        segments = col._segments3d
+        polylines = [np.asarray(np.ma.filled(np.ma.asarray(s, dtype=float), np.nan)) for s in segments]
+        visible, _ = self._visible(polylines)
+        mcoll.LineCollection.set_segments(col, visible)
+        return depth
