@@ -619,11 +619,11 @@ pub fn render_vector(scene: &Scene, options: &Options, format: VectorFormat) -> 
 /// let order = seen.paint_order()?;
 /// // The flat square is cut along the x axis: its half under the upper
 /// // half of the tilted one is painted first, its other half last.
-/// let sources: Vec<usize> = order.patches.iter().map(|p| p.source).collect();
+/// let sources: Vec<usize> = order.patches.iter().map(|p| p.source()).collect();
 /// assert_eq!(sources, [0, 1, 0]);
-/// assert!(order.patches[0].outlines[0].iter().all(|p| p[1] >= -1e-9));
-/// assert!(order.patches[2].outlines[0].iter().all(|p| p[1] <= 1e-9));
-/// assert!(order.patches[1].whole && !order.patches[0].whole);
+/// assert!(order.patches[0].rings[0].points.iter().all(|p| p[1] >= -1e-9));
+/// assert!(order.patches[2].rings[0].points.iter().all(|p| p[1] <= 1e-9));
+/// assert!(order.patches[1].rings[0].whole && !order.patches[0].rings[0].whole);
 /// // A segment along the y axis below the flat square shows only where it
 /// // leaves the square's outline (y beyond 1).
 /// let pieces = seen.visible_segments(&[[[0., -2., -0.5], [0., 2., -0.5]]])?;
@@ -677,21 +677,36 @@ pub struct PaintOrder {
     pub warning: Option<String>,
 }
 
-/// Pieces of one source polygon painted together: one fill of
-/// `outlines` (subpaths that abut but do not overlap).
+/// Pieces painted together, as one fill of their rings (which do not
+/// overlap): the pieces of one source polygon, or with
+/// [`Projected::paint_order_by`] of sources that share a key.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Patch {
+    /// The rings, each a closed outline in the projected 2-D coordinates.
+    pub rings: Vec<Ring>,
+}
+
+impl Patch {
+    /// The source polygon of the first ring.
+    pub fn source(&self) -> usize {
+        self.rings[0].source
+    }
+}
+
+/// A closed outline of a [`Patch`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ring {
     /// Index of the source polygon.
     pub source: usize,
-    /// The source polygon whole, unsplit and unclipped: `outlines` is
-    /// then its own outline, every vertex in the order given.
+    /// The source polygon whole, unsplit and unclipped: `points` is then
+    /// its own outline, every vertex in the order given.
     pub whole: bool,
-    /// Closed outlines in the projected 2-D coordinates.
-    pub outlines: Vec<Vec<[f64; 2]>>,
-    /// Per outline and edge (`k` joins points `k` and `k + 1`): whether
-    /// the edge lies on an edge of the source polygon (not made by
-    /// splitting, triangulating or clipping), for drawing its outline.
-    pub edges: Vec<Vec<bool>>,
+    /// The outline, in the projected 2-D coordinates.
+    pub points: Vec<[f64; 2]>,
+    /// Per edge (`k` joins points `k` and `k + 1`): whether it lies on an
+    /// edge of the source polygon (not made by splitting, triangulating
+    /// or clipping), for drawing the polygon's outline.
+    pub edges: Vec<bool>,
 }
 
 /// A visible piece of a segment given to [`Projected::visible_segments`].
@@ -826,7 +841,26 @@ impl Projected {
     /// are kept. Gives up with [`Error::Cancelled`] on a stop request
     /// ([`crate::cancel`]).
     pub fn paint_order(&self) -> Result<PaintOrder> {
+        self.paint_order_by(None)
+    }
+
+    /// [`Projected::paint_order`], with the pieces of every source of one
+    /// key (`keys[source]`) filled together where the order allows: for
+    /// polygons of one opaque colour, so that fewer paths are drawn and
+    /// no seam shows between them. Pieces of one key must not need to be
+    /// told apart where they overlap (overlapping pieces of a patch are
+    /// filled once).
+    pub fn paint_order_by(&self, keys: Option<&[u32]>) -> Result<PaintOrder> {
         use crate::visibility::nns;
+        if let Some(k) = keys
+            && k.len() != self.sources.len()
+        {
+            return Err(invalid(&format!(
+                "{} keys for {} polygons",
+                k.len(),
+                self.sources.len()
+            )));
+        }
         let view = crate::geometry::view::View {
             projection: Matrix4::IDENTITY,
             eye: DVec4::new(0.0, 0.0, -1.0, 0.0),
@@ -850,15 +884,19 @@ impl Projected {
         let (sorted, stats) = nns::sort_budgeted(faces, &view, self.eps, budget);
         crate::cancel::check()?;
         let warning = (stats.fallbacks > 0).then(|| nns::fallback_warning(stats.splits, 1));
-        let pieces: Vec<(u32, Vec<DVec3>, bool)> = sorted
+        let pieces: Vec<Piece> = sorted
             .into_iter()
             .map(|f| {
                 let face = &self.faces[f.polygon as usize];
-                let whole = f.world == face.points;
-                (face.source, f.world, whole)
+                Piece {
+                    source: face.source,
+                    whole: f.world == face.points,
+                    points: f.world,
+                }
             })
             .collect();
-        let groups = group_pieces(&pieces, self.sources.len());
+        let key = |source: u32| keys.map_or(source, |k| k[source as usize]);
+        let groups = group_pieces(&pieces, &key);
         let patches = groups
             .into_iter()
             .map(|members| self.patch(&pieces, &members))
@@ -870,45 +908,59 @@ impl Projected {
         })
     }
 
-    /// The patch of pieces `members` (one source).
-    fn patch(&self, pieces: &[(u32, Vec<DVec3>, bool)], members: &[usize]) -> Patch {
-        let source = pieces[members[0]].0 as usize;
-        let src = &self.sources[source];
-        let whole =
-            !src.clipped && members.len() == src.count && members.iter().all(|&k| pieces[k].2);
-        if whole {
-            return Patch {
-                source,
-                whole,
-                outlines: vec![src.outline.iter().map(|p| self.to_2d(*p)).collect()],
-                edges: vec![vec![true; src.outline.len()]],
-            };
-        }
-        let size = crate::geometry::polygon::extent(&src.outline).max(1e-300);
-        let tol = 1e-9 * size;
-        let n = src.outline.len();
-        let on_edge = |a: DVec3, b: DVec3| {
-            (0..n).any(|k| {
-                src.original[k] && {
-                    let (p, q) = (src.outline[k], src.outline[(k + 1) % n]);
-                    distance_to_segment(a, p, q) <= tol && distance_to_segment(b, p, q) <= tol
-                }
-            })
-        };
-        let mut outlines = Vec::with_capacity(members.len());
-        let mut edges = Vec::with_capacity(members.len());
+    /// The patch of pieces `members`: a source all of whose faces are
+    /// among them, each whole, is given as its own outline.
+    fn patch(&self, pieces: &[Piece], members: &[usize]) -> Patch {
+        let mut count: std::collections::HashMap<u32, (usize, bool)> =
+            std::collections::HashMap::new();
         for &k in members {
-            let pts = &pieces[k].1;
+            let e = count.entry(pieces[k].source).or_insert((0, true));
+            e.0 += 1;
+            e.1 &= pieces[k].whole;
+        }
+        let whole = |source: u32| {
+            let src = &self.sources[source as usize];
+            let (n, all_whole) = count[&source];
+            !src.clipped && n == src.count && all_whole
+        };
+        let mut rings = Vec::with_capacity(members.len());
+        let mut done = std::collections::HashSet::new();
+        for &k in members {
+            let piece = &pieces[k];
+            let source = piece.source as usize;
+            let src = &self.sources[source];
+            if whole(piece.source) {
+                if done.insert(piece.source) {
+                    rings.push(Ring {
+                        source,
+                        whole: true,
+                        points: src.outline.iter().map(|p| self.to_2d(*p)).collect(),
+                        edges: vec![true; src.outline.len()],
+                    });
+                }
+                continue;
+            }
+            let size = crate::geometry::polygon::extent(&src.outline).max(1e-300);
+            let tol = 1e-9 * size;
+            let n = src.outline.len();
+            let on_edge = |a: DVec3, b: DVec3| {
+                (0..n).any(|k| {
+                    src.original[k] && {
+                        let (p, q) = (src.outline[k], src.outline[(k + 1) % n]);
+                        distance_to_segment(a, p, q) <= tol && distance_to_segment(b, p, q) <= tol
+                    }
+                })
+            };
+            let pts = &piece.points;
             let m = pts.len();
-            outlines.push(pts.iter().map(|p| self.to_2d(*p)).collect());
-            edges.push((0..m).map(|i| on_edge(pts[i], pts[(i + 1) % m])).collect());
+            rings.push(Ring {
+                source,
+                whole: false,
+                points: pts.iter().map(|p| self.to_2d(*p)).collect(),
+                edges: (0..m).map(|i| on_edge(pts[i], pts[(i + 1) % m])).collect(),
+            });
         }
-        Patch {
-            source,
-            whole,
-            outlines,
-            edges,
-        }
+        Patch { rings }
     }
 
     /// The visible pieces of `segments` (3-D ends): where no polygon is
@@ -1067,31 +1119,37 @@ fn convex_pieces(outline: &[DVec3]) -> Vec<Vec<DVec3>> {
         .collect()
 }
 
-/// Groups the pieces (source, points, whole) of a back-to-front order
-/// into patches: a piece joins the last patch of its source when no piece
-/// painted after that patch overlaps it on the screen, so the picture is
-/// the same. Returns the members of each patch, in painting order.
-fn group_pieces(pieces: &[(u32, Vec<DVec3>, bool)], sources: usize) -> Vec<Vec<usize>> {
+/// A piece of a face from the NNS sort.
+struct Piece {
+    source: u32,
+    /// The face as given (not split).
+    whole: bool,
+    points: Vec<DVec3>,
+}
+
+/// Groups the pieces of a back-to-front order into patches: a piece
+/// joins the last patch of its key when no piece painted after that
+/// patch overlaps it on the screen, so the picture is the same. Returns
+/// the members of each patch, in painting order.
+fn group_pieces(pieces: &[Piece], key: &dyn Fn(u32) -> u32) -> Vec<Vec<usize>> {
     use glam::DVec2;
     /// Entries per cell searched before a piece is given its own patch.
     const MAX_SCAN: usize = 256;
     let n = ((pieces.len() as f64 / 2.0).sqrt() as usize).clamp(1, 512);
     let cell = |v: f64| (((v + 1.0) / 2.0 * n as f64).floor().max(0.0) as usize).min(n - 1);
+    let screens: Vec<Vec<DVec2>> = pieces
+        .iter()
+        .map(|p| p.points.iter().map(|q| q.truncate()).collect())
+        .collect();
+    let bounds: Vec<(DVec2, DVec2)> = screens.iter().map(|pts| bounds2(pts)).collect();
     let mut cells: Vec<Vec<(u32, u32)>> = vec![Vec::new(); n * n];
     let mut groups: Vec<Vec<usize>> = Vec::new();
-    let mut last: Vec<Option<usize>> = vec![None; sources];
-    let screen = |k: usize| -> Vec<DVec2> { pieces[k].1.iter().map(|p| p.truncate()).collect() };
-    let bounds = |pts: &[DVec2]| {
-        pts.iter()
-            .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(*p), hi.max(*p))
-            })
-    };
-    for (k, (source, _, _)) in pieces.iter().enumerate() {
-        let pts = screen(k);
-        let (lo, hi) = bounds(&pts);
+    let mut last: std::collections::HashMap<u32, usize> = std::collections::HashMap::new();
+    for (k, piece) in pieces.iter().enumerate() {
+        let (lo, hi) = bounds[k];
         let (x0, x1, y0, y1) = (cell(lo.x), cell(hi.x), cell(lo.y), cell(hi.y));
-        let joins = last[*source as usize].filter(|&g| {
+        let kk = key(piece.source);
+        let joins = last.get(&kk).copied().filter(|&g| {
             for y in y0..=y1 {
                 for x in x0..=x1 {
                     let entries = &cells[y * n + x];
@@ -1099,7 +1157,11 @@ fn group_pieces(pieces: &[(u32, Vec<DVec3>, bool)], sources: usize) -> Vec<Vec<u
                         return false;
                     }
                     for &(other, group) in entries {
-                        if group as usize > g && overlaps(&pts, &screen(other as usize)) {
+                        let other = other as usize;
+                        if group as usize > g
+                            && boxes_overlap(bounds[k], bounds[other])
+                            && overlaps(&screens[k], &screens[other])
+                        {
                             return false;
                         }
                     }
@@ -1112,7 +1174,7 @@ fn group_pieces(pieces: &[(u32, Vec<DVec3>, bool)], sources: usize) -> Vec<Vec<u
             groups.len() - 1
         });
         groups[g].push(k);
-        last[*source as usize] = Some(g);
+        last.insert(kk, g);
         for y in y0..=y1 {
             for x in x0..=x1 {
                 cells[y * n + x].push((k as u32, g as u32));
@@ -1120,6 +1182,18 @@ fn group_pieces(pieces: &[(u32, Vec<DVec3>, bool)], sources: usize) -> Vec<Vec<u
         }
     }
     groups
+}
+
+fn bounds2(pts: &[glam::DVec2]) -> (glam::DVec2, glam::DVec2) {
+    use glam::DVec2;
+    pts.iter()
+        .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        })
+}
+
+fn boxes_overlap(a: (glam::DVec2, glam::DVec2), b: (glam::DVec2, glam::DVec2)) -> bool {
+    a.1.x > b.0.x && b.1.x > a.0.x && a.1.y > b.0.y && b.1.y > a.0.y
 }
 
 /// Whether two convex screen polygons share more than a boundary.
@@ -1572,44 +1646,58 @@ mod tests {
             (u >= 0.0 && v >= 0.0 && u + v <= 1.0)
                 .then(|| a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2]))
         };
-        let (mut checked, mut wrong) = (0, 0);
-        for i in 0..150 {
-            for j in 0..150 {
-                let p = [
-                    -0.09 + 0.18 * i as f64 / 150.0,
-                    -0.07 + 0.14 * j as f64 / 150.0,
-                ];
-                let mut hits: Vec<(f64, usize)> = tris
-                    .iter()
-                    .filter_map(|(k, t)| depth(p, t).map(|z| (z, *k)))
-                    .collect();
-                hits.sort_by(|a, b| a.0.total_cmp(&b.0));
-                let Some(&(z, want)) = hits.first() else {
-                    continue;
-                };
-                // Not where two surfaces meet (within rounding of depth).
-                if hits
-                    .iter()
-                    .any(|h| h.1 / 144 != want / 144 && h.0 - z < 1e-6)
-                {
-                    continue;
-                }
-                let painted = order
-                    .patches
-                    .iter()
-                    .rev()
-                    .find(|patch| patch.outlines.iter().any(|o| inside(p, o)));
-                checked += 1;
-                if painted.map(|patch| patch.source / 144) != Some(want / 144) {
-                    wrong += 1;
+        // Pieces of one surface filled together where the order allows:
+        // the same picture in fewer patches.
+        let keys: Vec<u32> = (0..polys.len()).map(|k| (k / 144) as u32).collect();
+        let merged = Projected::new(&refs, MPL)
+            .unwrap()
+            .paint_order_by(Some(&keys))
+            .unwrap();
+        assert!(
+            merged.patches.len() * 4 < order.patches.len(),
+            "{} patches",
+            merged.patches.len()
+        );
+        for order in [order, merged] {
+            let (mut checked, mut wrong) = (0, 0);
+            for i in 0..150 {
+                for j in 0..150 {
+                    let p = [
+                        -0.09 + 0.18 * i as f64 / 150.0,
+                        -0.07 + 0.14 * j as f64 / 150.0,
+                    ];
+                    let mut hits: Vec<(f64, usize)> = tris
+                        .iter()
+                        .filter_map(|(k, t)| depth(p, t).map(|z| (z, *k)))
+                        .collect();
+                    hits.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    let Some(&(z, want)) = hits.first() else {
+                        continue;
+                    };
+                    // Not where two surfaces meet (within rounding of depth).
+                    if hits
+                        .iter()
+                        .any(|h| h.1 / 144 != want / 144 && h.0 - z < 1e-6)
+                    {
+                        continue;
+                    }
+                    let painted = order
+                        .patches
+                        .iter()
+                        .rev()
+                        .find_map(|patch| patch.rings.iter().find(|r| inside(p, &r.points)));
+                    checked += 1;
+                    if painted.map(|ring| ring.source / 144) != Some(want / 144) {
+                        wrong += 1;
+                    }
                 }
             }
+            assert!(checked > 5000, "{checked}");
+            assert!(
+                wrong * 1000 <= checked,
+                "{wrong} of {checked} samples show the far surface"
+            );
         }
-        assert!(checked > 5000, "{checked}");
-        assert!(
-            wrong * 1000 <= checked,
-            "{wrong} of {checked} samples show the far surface"
-        );
     }
 
     #[test]
@@ -1622,14 +1710,23 @@ mod tests {
             .unwrap();
         // One surface alone: every quad (two triangles each) whole, once.
         assert_eq!(order.patches.len(), 36);
-        let mut seen: Vec<usize> = order.patches.iter().map(|p| p.source).collect();
+        let mut seen: Vec<usize> = order.patches.iter().map(|p| p.source()).collect();
         seen.sort();
         assert_eq!(seen, (0..36).collect::<Vec<_>>());
         for p in &order.patches {
-            assert!(p.whole && p.outlines.len() == 1 && p.outlines[0].len() == 4);
-            let q = project(polys[p.source][0]);
-            assert!((p.outlines[0][0][0] - q[0]).abs() < 1e-12);
+            assert!(p.rings.len() == 1 && p.rings[0].whole && p.rings[0].points.len() == 4);
+            let q = project(polys[p.source()][0]);
+            assert!((p.rings[0].points[0][0] - q[0]).abs() < 1e-12);
         }
+        // One key for all: the surface does not fold over itself here,
+        // so one patch holds every quad, whole.
+        let one = Projected::new(&refs[..36], MPL)
+            .unwrap()
+            .paint_order_by(Some(&[0; 36]))
+            .unwrap();
+        assert_eq!(one.patches.len(), 1);
+        assert_eq!(one.patches[0].rings.len(), 36);
+        assert!(one.patches[0].rings.iter().all(|r| r.whole));
     }
 
     #[test]
@@ -1715,12 +1812,12 @@ mod tests {
             .paint_order()
             .unwrap();
         assert_eq!(order.patches.len(), 1);
-        assert!(!order.patches[0].whole);
+        assert!(!order.patches[0].rings[0].whole);
         assert!(
             order.patches[0]
-                .outlines
+                .rings
                 .iter()
-                .flatten()
+                .flat_map(|r| &r.points)
                 .all(|p| p.iter().all(|v| v.is_finite()))
         );
     }

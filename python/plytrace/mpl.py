@@ -59,7 +59,7 @@ def _axes(target) -> List[Axes3D]:
     )
 
 
-#: Default width, in points, of the seam-closing stroke (see :func:`fix`).
+#: Default width, in points, that closes seams (see :func:`fix`).
 SEAM_WIDTH = 0.3
 
 
@@ -68,7 +68,7 @@ def fix(target: Union[Axes3D, Figure], *, seam_width: float = SEAM_WIDTH) -> Non
     plytrace's hidden-surface removal from now on.
 
     ``seam_width``: each opaque polygon without an edge of its own is
-    stroked in its own colour this wide (in points), which closes the
+    grown by half this width (in points) on every side, which closes the
     hairline seams that anti-aliasing leaves between adjacent polygons
     (and between the pieces of a split one); 0 leaves them.
     """
@@ -184,6 +184,31 @@ def _polygons(ax: Axes3D, col):
     return _scaled(ax, points), sizes, kept
 
 
+def _colors_and_depth(ax: Axes3D, col, points: np.ndarray) -> float:
+    """What matplotlib's ``do_3d_projection`` does that the bridge keeps:
+    the colour mapping brought up to date, and the depth matplotlib sorts
+    collections by (returned). Falls back on ``do_3d_projection`` itself
+    where this matplotlib lacks what it reads."""
+    try:
+        if col._A is not None:
+            col.update_scalarmappable()
+            if col._face_is_mapped:
+                col._facecolor3d = col._facecolors
+            if col._edge_is_mapped:
+                col._edgecolor3d = col._edgecolors
+        zpos = col._sort_zpos
+    except AttributeError:
+        return type(col).do_3d_projection(col)
+    m = np.asarray(ax.M, dtype=float)
+    if zpos is not None:
+        h = m @ np.array([0.0, 0.0, zpos, 1.0])
+        return float(h[2] / h[3])
+    if len(points) == 0:
+        return np.nan
+    h = points @ m[:, :3].T + m[:, 3]
+    return float(np.min(h[:, 2] / h[:, 3]))
+
+
 def _per_face(colors, n: int) -> np.ndarray:
     """RGBA per face from a collection's colour array (one, one per face,
     or none: transparent)."""
@@ -218,7 +243,7 @@ class _Drawing:
         self.overridden = []
         self.depths = {}
         self.projection: Optional[Projection] = None
-        self.combined: Optional[mcoll.PathCollection] = None
+        self.styles = None
         self.drawn = False
 
     def install(self) -> None:
@@ -253,10 +278,8 @@ class _Drawing:
         points, sizes = [], []
         fill, edge, widths, styles, antialiased = [], [], [], [], []
         for c in self.polys:
-            # matplotlib's own projection: colour mapping and the depth
-            # it sorts collections by.
-            self.depths[id(c)] = type(c).do_3d_projection(c)
             p, s, kept = _polygons(ax, c)
+            self.depths[id(c)] = _colors_and_depth(ax, c, p)
             n = len(c._faces) if hasattr(c, "_faces") else len(c._segslices)
             points.append(p)
             sizes.append(s)
@@ -277,10 +300,35 @@ class _Drawing:
             np.ascontiguousarray(sizes, dtype=np.int64),
             np.ascontiguousarray(ax.M, dtype=float),
         )
-        sources, whole, fills, edges, _splits, warning = self.projection.paint_order()
+        self.styles = (fill, edge, widths, styles, antialiased)
+
+    def _paint(self, renderer) -> mcoll.PathCollection:
+        """The polygons' pieces in paint order, as one 2-D collection."""
+        fill, edge, widths, styles, antialiased = self.styles
+        stroked = (edge[:, 3] > 0) & (widths > 0)
+        # Opaque faces without edges of their own are grown by half the
+        # seam width, in display units, on every side.
+        seam = getattr(self.ax, "_plytrace_seam_width", SEAM_WIDTH)
+        grown = ~stroked & (fill[:, 3] >= 1.0)
+        grow = None
+        if seam > 0 and grown.any():
+            half = seam / 2 * renderer.points_to_pixels(1.0)
+            m = self.ax.transData.get_affine().get_matrix()
+            sx, sy = np.hypot(m[0, 0], m[1, 0]), np.hypot(m[0, 1], m[1, 1])
+            if sx > 0 and sy > 0:
+                grow = (half / sx, half / sy)
+        # Opaque faces without edges of one colour are filled together
+        # where the order allows: fewer paths, and no seams between them.
+        style = np.column_stack([fill, antialiased])
+        _, same = np.unique(style, axis=0, return_inverse=True)
+        same = same.reshape(-1)
+        keys = np.where(grown, same, same.max(initial=0) + 1 + np.arange(len(fill)))
+        sources, whole, fills, edges, _splits, warning = self.projection.paint_order(
+            grow, np.ascontiguousarray(grown), np.ascontiguousarray(keys, dtype=np.uint32)
+        )
         if warning:
             warnings.warn(f"plytrace.mpl: {warning}", RuntimeWarning, stacklevel=2)
-        self.combined = self._collection(
+        return self._collection(
             sources, whole, fills, edges, fill, edge, widths, styles, antialiased
         )
 
@@ -288,44 +336,49 @@ class _Drawing:
         fv, fcodes, fstarts = fills
         ev, ecodes, estarts = edges
         stroked = (edge[:, 3] > 0) & (widths > 0)
-        # Opaque faces without edges of their own: stroked in their colour.
-        seam = getattr(self.ax, "_plytrace_seam_width", SEAM_WIDTH)
-        sealed = ~stroked & (fill[:, 3] >= 1.0) & (seam > 0)
-        paths, face, edgec, lw, ls, anti = [], [], [], [], [], []
-        solid = (0, None)
-        for g, src in enumerate(sources.tolist()):
-            a, b = fstarts[g], fstarts[g + 1]
-            paths.append(Path(fv[a:b], fcodes[a:b]))
-            face.append(fill[src])
-            anti.append(aa[src])
-            if sealed[src]:
-                edgec.append(fill[src])
-                lw.append(seam)
-                ls.append(solid)
-                continue
-            lw.append(widths[src])
-            ls.append(styles[src])
-            if whole[g] or not stroked[src]:
-                edgec.append(edge[src])
-                continue
-            # A piece of a split polygon: its fill, then the edges that
-            # lie on the polygon's outline.
-            edgec.append(_TRANSPARENT)
-            a, b = estarts[g], estarts[g + 1]
-            if b > a:
-                paths.append(Path(ev[a:b], ecodes[a:b]))
-                face.append(_TRANSPARENT)
-                edgec.append(edge[src])
-                lw.append(widths[src])
-                ls.append(styles[src])
-                anti.append(aa[src])
+        # Per patch: one path. Pieces of a split polygon with edges of its
+        # own get no edge; a path of the edges on its outline follows.
+        sources = np.asarray(sources)
+        split = stroked[sources] & ~np.asarray(whole, dtype=bool)
+        paths = [Path(fv[a:b], fcodes[a:b]) for a, b in zip(fstarts[:-1], fstarts[1:])]
+        order = np.arange(len(sources))
+        face = fill[sources]
+        edgec = np.where(split[:, None], _TRANSPARENT, edge[sources])
+        src = sources
+        if split.any():
+            extra = [g for g in np.flatnonzero(split) if estarts[g + 1] > estarts[g]]
+            for g in extra:
+                paths.append(Path(ev[estarts[g]:estarts[g + 1]], ecodes[estarts[g]:estarts[g + 1]]))
+            extra = np.asarray(extra, dtype=int)
+            # Each edge path right after its patch.
+            keys = np.concatenate([order * 2.0, extra * 2.0 + 1])
+            order = np.argsort(keys, kind="stable")
+            paths = [paths[k] for k in order]
+            face = np.concatenate([face, np.zeros((len(extra), 4))])[order]
+            edgec = np.concatenate([edgec, edge[sources[extra]]])[order]
+            src = np.concatenate([sources, sources[extra]])[order]
+        lw = widths[src]
+        anti = aa[src]
+        ls = [styles[i] for i in src]
+        # One value for all where they agree: the backends then set it
+        # once, not per path.
+        if len(src) and (edgec[:, 3] == 0).all():
+            edgec, lw = "none", lw[:1]
+        elif len(src) and (edgec == edgec[0]).all():
+            edgec = edgec[:1]
+        if len(lw) and (lw == lw[0]).all():
+            lw = lw[:1]
+        if len(anti) and (anti == anti[0]).all():
+            anti = anti[:1]
+        if ls and all(v == ls[0] for v in ls):
+            ls = ls[:1]
         return mcoll.PathCollection(
             paths,
-            facecolors=np.array(face).reshape(-1, 4),
-            edgecolors=np.array(edgec).reshape(-1, 4),
-            linewidths=lw or [0.0],
+            facecolors=face.reshape(-1, 4),
+            edgecolors=edgec if isinstance(edgec, str) else edgec.reshape(-1, 4),
+            linewidths=lw if len(lw) else [0.0],
             linestyles=ls or ["solid"],
-            antialiaseds=anti or [True],
+            antialiaseds=anti if len(anti) else [True],
             joinstyle="round",
         )
 
@@ -335,7 +388,7 @@ class _Drawing:
         self.drawn = True
         if self.projection is None:
             self._compute()
-        combined = self.combined
+        combined = self._paint(renderer)
         combined.set_figure(self.ax.figure)
         combined.axes = self.ax
         combined.set_transform(self.ax.transData)

@@ -408,11 +408,73 @@ impl Paths {
         self.codes.push(code);
     }
 
+    /// `ring` as a closed subpath, counter-clockwise (so that rings of
+    /// one fill that overlap add up under the nonzero rule instead of
+    /// cancelling).
     fn ring(&mut self, ring: &[[f64; 2]]) {
-        for (k, p) in ring.iter().enumerate() {
-            self.push(*p, if k == 0 { MOVETO } else { LINETO });
+        let n = ring.len();
+        let reverse = signed_area(ring) < 0.0;
+        for k in 0..n {
+            let p = ring[if reverse { n - 1 - k } else { k }];
+            self.push(p, if k == 0 { MOVETO } else { LINETO });
         }
-        self.push(ring[0], CLOSEPOLY);
+        let first = self.verts.len() - 2 * n;
+        let p0 = [self.verts[first], self.verts[first + 1]];
+        self.push(p0, CLOSEPOLY);
+    }
+
+    /// `ring` grown by `grow` = (x, y) on every side: each edge moved
+    /// out by that much (in a space scaled so that it is the same both
+    /// ways), corners mitred but moved at most twice as far.
+    fn grown_ring(&mut self, ring: &[[f64; 2]], grow: (f64, f64)) {
+        let n = ring.len();
+        let mut q: Vec<[f64; 2]> = ring
+            .iter()
+            .map(|p| [p[0] / grow.0, p[1] / grow.1])
+            .collect();
+        if signed_area(&q) < 0.0 {
+            q.reverse();
+        }
+        // Counter-clockwise: the outward normal of (dx, dy) is (dy, -dx).
+        let side = 1.0;
+        // Outward unit normal of edge k (from point k to k + 1).
+        let normal = |k: usize| {
+            let (a, b) = (q[k], q[(k + 1) % n]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let len = dx.hypot(dy);
+            (len > 0.0).then(|| [side * dy / len, -side * dx / len])
+        };
+        let normals: Vec<Option<[f64; 2]>> = (0..n).map(normal).collect();
+        for k in 0..n {
+            let before = normals[(k + n - 1) % n].or(normals[k]);
+            let after = normals[k].or(before);
+            let p = match (before, after) {
+                (Some(a), Some(b)) => {
+                    let (sx, sy) = (a[0] + b[0], a[1] + b[1]);
+                    let d = 1.0 + a[0] * b[0] + a[1] * b[1];
+                    // Mitre: (a + b) / (1 + a.b), at most 2 long.
+                    let (mut mx, mut my) = if d > 1e-9 {
+                        (sx / d, sy / d)
+                    } else {
+                        (a[0], a[1])
+                    };
+                    let len = mx.hypot(my);
+                    if len > 2.0 {
+                        mx *= 2.0 / len;
+                        my *= 2.0 / len;
+                    }
+                    [q[k][0] + mx, q[k][1] + my]
+                }
+                _ => q[k],
+            };
+            self.push(
+                [p[0] * grow.0, p[1] * grow.1],
+                if k == 0 { MOVETO } else { LINETO },
+            );
+        }
+        let first = self.verts.len() - 2 * n;
+        let p0 = [self.verts[first], self.verts[first + 1]];
+        self.push(p0, CLOSEPOLY);
     }
 
     /// The edges of `ring` flagged in `edges`, as open runs (or the
@@ -458,6 +520,14 @@ impl Paths {
     }
 }
 
+/// Twice the signed area of a closed polygon (positive counter-clockwise).
+fn signed_area(p: &[[f64; 2]]) -> f64 {
+    let n = p.len();
+    (0..n)
+        .map(|i| p[i][0] * p[(i + 1) % n][1] - p[(i + 1) % n][0] * p[i][1])
+        .sum()
+}
+
 /// The paint order as arrays for Python.
 type PaintArrays<'py> = (
     Bound<'py, PyAny>,
@@ -498,25 +568,48 @@ impl Projection {
         Ok(Projection { inner })
     }
 
-    /// The visible pieces back to front: (sources, whole, fill paths,
-    /// edge paths, splits, warning). Each paths item is (vertices (v, 2),
-    /// codes (v,), starts (patches + 1,)); a whole patch's fill path is
-    /// its polygon, and edge paths are empty for it.
-    fn paint_order<'py>(&self, py: Python<'py>) -> PyResult<PaintArrays<'py>> {
+    /// The visible pieces back to front, in patches: (sources (of each
+    /// patch's first ring), whole (every ring a whole polygon), fill
+    /// paths, edge paths, splits, warning). Each paths item is (vertices
+    /// (v, 2), codes (v,), starts (patches + 1,)); the edge paths hold the
+    /// polygon edges of the rings that are not whole. With `grow` =
+    /// (x, y), the rings of the sources `grown` marks are grown by that
+    /// much on every side (to close the seams anti-aliasing leaves
+    /// between adjacent polygons). `keys`: per source; sources of one key
+    /// are filled together where the order allows.
+    #[pyo3(signature = (grow=None, grown=None, keys=None))]
+    fn paint_order<'py>(
+        &self,
+        py: Python<'py>,
+        grow: Option<(f64, f64)>,
+        grown: Option<PyReadonlyArray1<'_, bool>>,
+        keys: Option<PyReadonlyArray1<'_, u32>>,
+    ) -> PyResult<PaintArrays<'py>> {
+        let grow = grow.filter(|g| g.0 > 0.0 && g.1 > 0.0 && g.0.is_finite() && g.1.is_finite());
+        let grown: Option<Vec<bool>> = grown.map(|g| g.as_array().to_vec());
+        let keys: Option<Vec<u32>> = keys.map(|k| k.as_array().to_vec());
         let inner = &self.inner;
-        let order = cancellable(py, || inner.paint_order())?;
+        let order = cancellable(py, || inner.paint_order_by(keys.as_deref()))?;
         let (mut fills, mut edges) = (Paths::default(), Paths::default());
         let mut sources = Vec::with_capacity(order.patches.len());
         let mut whole = Vec::with_capacity(order.patches.len());
         for patch in &order.patches {
-            sources.push(patch.source as i64);
-            whole.push(patch.whole);
+            sources.push(patch.source() as i64);
+            whole.push(patch.rings.iter().all(|r| r.whole));
             fills.start();
             edges.start();
-            for (ring, flags) in patch.outlines.iter().zip(&patch.edges) {
-                fills.ring(ring);
-                if !patch.whole {
-                    edges.edges(ring, flags);
+            for ring in &patch.rings {
+                let grows = grow.filter(|_| {
+                    grown
+                        .as_ref()
+                        .is_none_or(|g| g.get(ring.source).copied().unwrap_or(false))
+                });
+                match grows {
+                    Some(g) => fills.grown_ring(&ring.points, g),
+                    None => fills.ring(&ring.points),
+                }
+                if !ring.whole {
+                    edges.edges(&ring.points, &ring.edges);
                 }
             }
         }
