@@ -77,9 +77,9 @@ class Camera:
         v = _vertices(vertices)
         lo, hi = v.min(axis=0), v.max(axis=0)
         centre = (lo + hi) / 2
-        radius = max(float(np.linalg.norm(hi - lo)) / 2, 1e-9)
+        radius = max(float(_norm(hi - lo)) / 2, 1e-9)
         d = np.asarray(direction, dtype=float)
-        d = d / np.linalg.norm(d)
+        d = d / _norm(d)
         distance = radius / math.sin(math.radians(fovy) / 2) * 1.05
         return cls(
             eye=tuple(centre + d * distance),
@@ -124,6 +124,12 @@ class Material:
     transparency: float = 0.0
     two_sided: bool = False
     smooth: bool = False
+
+
+def _norm(v) -> float:
+    """Euclidean length, without numpy's BLAS (whose threads would spin
+    beside the renderer's)."""
+    return math.sqrt(sum(float(x) * float(x) for x in np.asarray(v).reshape(-1)))
 
 
 def _vertices(vertices) -> np.ndarray:
@@ -289,9 +295,9 @@ def _mesh_scene(
         up = np.array(_vec3(cam.up, "camera.up"))
         back = eye - target
         side = np.cross(up, back)
-        n = np.linalg.norm(side)
-        side = side / n * np.linalg.norm(back) * 0.5 if n > 0 else side
-        lights = [Light(tuple(eye - side + up * np.linalg.norm(back) * 0.5))]
+        n = _norm(side)
+        side = side / n * _norm(back) * 0.5 if n > 0 else side
+        lights = [Light(tuple(eye - side + up * _norm(back) * 0.5), shadows=False)]
     for light in lights:
         if not isinstance(light, Light):
             raise ValueError(f"lights must be plytrace.Light objects, not {type(light).__name__}")
@@ -352,7 +358,8 @@ def render(
     ``vertex_colors`` say which when the counts are equal. ``material``: a
     :class:`Material`. ``camera``: a :class:`Camera`; by default one that
     frames the mesh. ``lights``: :class:`Light` objects; by default one
-    above and to the left of the camera. ``background``: a colour.
+    above and to the left of the camera that casts no shadow.
+    ``background``: a colour.
     ``antialias``: Garcia's multi-level pixel masks; ``False`` samples
     each pixel once. ``shadows``: lights that cast shadows do.
 
