@@ -209,7 +209,8 @@ def _rgb(value, what: str) -> Tuple[float, float, float]:
     c = _colors(value, what)
     if len(c) != 1:
         raise ValueError(f"{what} must be one colour (r, g, b)")
-    return tuple(float(x) for x in c[0])
+    r, g, b = (float(x) for x in c[0])
+    return r, g, b
 
 
 def _size(size) -> Tuple[int, int]:
@@ -227,7 +228,8 @@ def _vec3(v, what: str) -> Tuple[float, float, float]:
     a = np.asarray(v, dtype=float).reshape(-1)
     if a.shape != (3,) or not np.isfinite(a).all():
         raise ValueError(f"{what} must be three finite numbers, not {v!r}")
-    return tuple(float(x) for x in a)
+    x, y, z = (float(c) for c in a)
+    return x, y, z
 
 
 def _mesh_scene(
@@ -381,7 +383,7 @@ def _write_or_return(data: bytes, path) -> Optional[bytes]:
     return None
 
 
-def _format(format: str, path) -> str:
+def _format(format: Optional[str], path) -> str:
     if format is None and path is not None:
         format = os.path.splitext(os.fspath(path))[1].lstrip(".").lower()
     if format not in _FORMATS:
@@ -493,7 +495,9 @@ class Scene:
         return self._native.render_png(self._repr_size(), True, True)
 
     def _repr_svg_(self) -> str:
-        return self.render_vector("svg", size=self._repr_size()).decode()
+        svg = self.render_vector("svg", size=self._repr_size())
+        assert svg is not None
+        return svg.decode()
 
     def __repr__(self) -> str:
         w, h = self.size

@@ -32,7 +32,7 @@ from __future__ import annotations
 import contextlib
 import types
 import warnings
-from typing import Iterator, List, Optional, Union
+from typing import Dict, Iterator, List, Optional, Tuple, Union
 
 import numpy as np
 from matplotlib import collections as mcoll
@@ -47,6 +47,10 @@ from ._native import Projection
 __all__ = ["fix", "unfix", "is_fixed", "fixed", "savefig"]
 
 _TRANSPARENT = np.zeros(4)
+
+#: Per source polygon: fill and edge colours, line widths, line styles,
+#: anti-aliasing.
+_Styles = Tuple[np.ndarray, np.ndarray, np.ndarray, List[object], np.ndarray]
 
 
 def _axes(target) -> List[Axes3D]:
@@ -240,10 +244,10 @@ class _Drawing:
             c for c in children
             if isinstance(c, (art3d.Line3D, art3d.Line3DCollection)) and c.get_visible()
         ]
-        self.overridden = []
-        self.depths = {}
+        self.overridden: List[Tuple[object, str]] = []
+        self.depths: Dict[int, float] = {}
         self.projection: Optional[Projection] = None
-        self.styles = None
+        self.styles: Optional[_Styles] = None
         self.drawn = False
 
     def install(self) -> None:
@@ -275,8 +279,13 @@ class _Drawing:
 
     def _compute(self) -> None:
         ax = self.ax
-        points, sizes = [], []
-        fill, edge, widths, styles, antialiased = [], [], [], [], []
+        points: List[np.ndarray] = []
+        sizes: List[np.ndarray] = []
+        fill: List[np.ndarray] = []
+        edge: List[np.ndarray] = []
+        widths: List[np.ndarray] = []
+        styles: List[object] = []
+        antialiased: List[np.ndarray] = []
         for c in self.polys:
             p, s, kept = _polygons(ax, c)
             self.depths[id(c)] = _colors_and_depth(ax, c, p)
@@ -289,21 +298,22 @@ class _Drawing:
             ls = _cycle(c.get_linestyle(), n)
             styles.extend(ls[i] for i in kept)
             antialiased.append(np.asarray(_cycle(c.get_antialiased(), n), dtype=bool)[kept])
-        points = np.concatenate(points) if points else np.zeros((0, 3))
-        sizes = np.concatenate(sizes)
-        fill = np.concatenate(fill)
-        edge = np.concatenate(edge)
-        widths = np.concatenate(widths)
-        antialiased = np.concatenate(antialiased)
         self.projection = Projection(
-            np.ascontiguousarray(points, dtype=float),
-            np.ascontiguousarray(sizes, dtype=np.int64),
+            np.ascontiguousarray(np.concatenate(points), dtype=float),
+            np.ascontiguousarray(np.concatenate(sizes), dtype=np.int64),
             np.ascontiguousarray(ax.M, dtype=float),
         )
-        self.styles = (fill, edge, widths, styles, antialiased)
+        self.styles = (
+            np.concatenate(fill),
+            np.concatenate(edge),
+            np.concatenate(widths),
+            styles,
+            np.concatenate(antialiased),
+        )
 
     def _paint(self, renderer) -> mcoll.PathCollection:
         """The polygons' pieces in paint order, as one 2-D collection."""
+        assert self.projection is not None and self.styles is not None
         fill, edge, widths, styles, antialiased = self.styles
         stroked = (edge[:, 3] > 0) & (widths > 0)
         # Opaque faces without edges of their own are grown by half the
