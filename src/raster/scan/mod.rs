@@ -199,6 +199,26 @@ pub fn scan_convert(
     options: &ScanOptions,
     sink: &mut dyn RowSink,
 ) -> Result<ScanStats> {
+    scan_convert_rows(stream, options, 0..options.height, sink)
+}
+
+/// Scan converts the part of `stream`'s image made of `rows` (from the
+/// top) and hands those rows, top first, to `sink`: each row is exactly
+/// the row [`scan_convert`] gives, since the bands the rows lie in are
+/// converted as they would be for the whole image, and the other bands
+/// are not converted at all. The statistics count the part's bands.
+pub fn scan_convert_rows(
+    stream: &RecordStream,
+    options: &ScanOptions,
+    rows: std::ops::Range<u32>,
+    sink: &mut dyn RowSink,
+) -> Result<ScanStats> {
+    if rows.end > options.height || rows.start > rows.end {
+        return Err(Error::Invalid(format!(
+            "rows {}..{} are not rows of a {}-row image",
+            rows.start, rows.end, options.height
+        )));
+    }
     let logic = choose(stream, options)?;
     let (w, h) = (options.width, options.height);
     // In parallel, in order (in a pool of `options.threads` when given).
@@ -257,6 +277,7 @@ pub fn scan_convert(
         coverage: logic != Logic::Painter && matches!(m, Method::Area | Method::Hybrid),
         mask: logic != Logic::Painter && matches!(m, Method::Mask | Method::Hybrid),
         pixels: logic != Logic::Painter && m == Method::Multilevel,
+        part: rows,
     };
     let t = options.threads;
     match logic {
