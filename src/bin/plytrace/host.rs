@@ -752,6 +752,8 @@ impl Host for CliHost {
             let frame = self.frame;
             self.frame += 1;
             if !(a..=b).contains(&frame) {
+                // A run all the same: immediate mode renders no more.
+                self.runs += 1;
                 self.say(&format!("Frame {frame} skipped (--frames)"));
                 return Ok(());
             }
