@@ -485,7 +485,7 @@ pub struct Merged {
 
 /// Where the rows go.
 enum Target {
-    Png(PngSink),
+    Png(Box<PngSink>),
     Ppm(std::io::BufWriter<std::fs::File>, AtomicFile),
     Separations(Vec<AtomicFile>, Vec<u8>),
 }
@@ -511,7 +511,7 @@ pub fn merge(paths: &[PathBuf], out: Option<&Path>, format: Option<MergeFormat>)
             } else {
                 DisplayMode::Color
             };
-            Target::Png(PngSink::create(&out, w, h, mode)?)
+            Target::Png(Box::new(PngSink::create(&out, w, h, mode)?))
         }
         MergeFormat::Ppm => {
             let file = AtomicFile::create(&out)?;
@@ -676,9 +676,10 @@ pub fn missing(paths: &[PathBuf], count: Option<u32>) -> Result<(Vec<u32>, Vec<S
 
 /// Reads the rest of a part, to know it is whole.
 fn complete(path: &Path, info: PartInfo, mut reader: Reader) -> Result<PartInfo> {
-    while let Some(_) = reader
+    while reader
         .next_row()
         .map_err(|e| bad(path, format!("truncated or damaged ({e})")))?
+        .is_some()
     {}
     reader
         .finish()

@@ -236,7 +236,7 @@ pub fn scan_convert_rows(
         }
         let (ymin, ymax) = shade::y_range(r, h);
         let (hf, first, end) = (h as f64, ymin.floor().max(0.0), ymax.ceil().min(h as f64));
-        if !(first < end) {
+        if first >= end {
             return false;
         }
         let top_row = |j: f64| (hf - 1.0 - j) as u32 / act_lines;
