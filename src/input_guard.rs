@@ -50,6 +50,35 @@ pub fn note(path: &Path, meta: &std::fs::Metadata) {
     }
 }
 
+/// FNV-1a 64-bit hashes of the contents of the inputs read, in order.
+static CONTENTS: Mutex<Vec<u64>> = Mutex::new(Vec::new());
+
+/// The FNV-1a 64-bit hash of `bytes`, continuing from `h` (start with
+/// [`FNV_OFFSET`]).
+pub fn fnv1a(mut h: u64, bytes: &[u8]) -> u64 {
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// FNV-1a's starting value.
+pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// Notes the contents of an input read (a scene, a called file, an
+/// object file, a tree file, standard input), for the fingerprint of
+/// the outputs.
+pub fn note_contents(bytes: &[u8]) {
+    let h = fnv1a(FNV_OFFSET, bytes);
+    CONTENTS.lock().unwrap_or_else(|e| e.into_inner()).push(h);
+}
+
+/// The hashes of the contents read so far, in the order read.
+pub fn contents() -> Vec<u64> {
+    CONTENTS.lock().unwrap_or_else(|e| e.into_inner()).clone()
+}
+
 /// Refuses `target` when it is a file this process has read.
 pub fn check(target: &Path) -> Result<()> {
     let Ok(meta) = std::fs::metadata(target) else {

@@ -23,6 +23,7 @@ pub mod math;
 pub mod model;
 pub mod modeling;
 pub mod output;
+pub mod part;
 pub(crate) mod precision;
 pub(crate) mod profile;
 pub mod raster;

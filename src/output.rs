@@ -595,6 +595,19 @@ fn dithered_rgb_row(rgb: &[[f32; 3]], y: u32, levels: [u32; 3], out: &mut Vec<u8
     }
 }
 
+/// One row of 8-bit bytes in `mode`, as [`PngSink`] writes it (row `y`
+/// of the image for the dither): three bytes a pixel, or one for the
+/// grey modes. Not for the adaptive mode, whose palette needs the whole
+/// image.
+pub fn display_row(mode: DisplayMode, rgb: &[[f32; 3]], y: u32, out: &mut Vec<u8>) {
+    mode_row(mode, rgb, y, out);
+}
+
+/// Whether `mode` writes one grey byte a pixel (else three, or an index).
+pub fn is_grey(mode: DisplayMode) -> bool {
+    matches!(mode, DisplayMode::Channel(_) | DisplayMode::Luminance)
+}
+
 /// One row of 8-bit bytes in `mode` (not the adaptive mode).
 fn mode_row(mode: DisplayMode, rgb: &[[f32; 3]], y: u32, out: &mut Vec<u8>) {
     match mode {
@@ -804,6 +817,33 @@ fn adaptive_table(image: &[[f32; 3]], width: u32, bits: u8) -> (u8, Vec<[u8; 3]>
             return (b, palette, indices);
         }
         b -= 1;
+    }
+}
+
+impl PngSink {
+    /// Takes row `y` already in the bytes of the sink's mode (as
+    /// [`display_row`] makes them): the PNG is the one [`RowSink::row`]
+    /// writes from the same colours.
+    pub fn row_bytes(&mut self, y: u32, bytes: &[u8]) -> Result<()> {
+        let per_pixel = if is_grey(self.mode) { 1 } else { 3 };
+        let path = self.file.path();
+        if y != self.next || bytes.len() != self.width as usize * per_pixel {
+            return Err(Error::Invalid(format!(
+                "{}: got row {y} of {} bytes, expected row {} of {}",
+                path.display(),
+                bytes.len(),
+                self.next,
+                self.width as usize * per_pixel
+            )));
+        }
+        let Some(stream) = self.stream.as_mut() else {
+            return Err(Error::Invalid(format!(
+                "{}: the adaptive look-up table is not written from bytes",
+                path.display()
+            )));
+        };
+        self.next += 1;
+        stream.write_all(bytes).map_err(|e| Error::io(path, e))
     }
 }
 

@@ -129,7 +129,7 @@ impl Program {
     pub fn usage(self) -> String {
         format!(
             "usage: {} <input> [output] [hres] [vres] [act-lines] [-0..-9] [-B] \
-             [-a BITS | -r | -g | -b | -y | -c] [-Y] {BUDGET_FLAGS}",
+             [-a BITS | -r | -g | -b | -y | -c] [-Y] [--part I/N -o PART.png] {BUDGET_FLAGS}",
             self.name()
         )
     }
@@ -158,6 +158,11 @@ pub struct Args {
     pub screen: bool,
     /// `--max-pixels`, `--max-frame-memory`; the rest are unused.
     pub budgets: Budgets,
+    /// `--part I/N`: only this part of the image, into the part file
+    /// [`Args::part_file`] (see [`crate::part`]), and nothing else.
+    pub part: Option<crate::part::PartSpec>,
+    /// `-o FILE`: the part file of `--part`.
+    pub part_file: Option<PathBuf>,
 }
 
 /// What the command line asks for.
@@ -295,6 +300,8 @@ pub fn parse_args(
         display: None,
         screen: false,
         budgets: Budgets::default(),
+        part: None,
+        part_file: None,
     };
     let mut positional: Vec<OsString> = Vec::new();
     let mut it = argv.into_iter();
@@ -304,6 +311,26 @@ pub fn parse_args(
             return Ok(Command::Help);
         }
         if budget_flag(&s, &mut it, &mut args.budgets)? {
+            continue;
+        }
+        if s == "--part" || s.starts_with("--part=") || s == "-o" {
+            let value = match s.split_once('=') {
+                Some((_, v)) => v.to_string(),
+                None => it
+                    .next()
+                    .ok_or_else(|| UsageError(format!("{s} needs a value")))?
+                    .to_string_lossy()
+                    .into_owned(),
+            };
+            if s == "-o" {
+                args.part_file = Some(PathBuf::from(value));
+            } else {
+                args.part = Some(
+                    value
+                        .parse()
+                        .map_err(|e| UsageError(format!("--part: {e}")))?,
+                );
+            }
             continue;
         }
         if s.starts_with("--") {
@@ -342,6 +369,22 @@ pub fn parse_args(
     }
     if let Some(a) = output.get(3) {
         args.act_lines = number(a, "act-lines", 1)?;
+    }
+    match (&args.part, &args.part_file) {
+        (Some(p), None) => {
+            return usage_err(format!(
+                "--part {p} writes a part file: name it with -o, such as -o parts/{}.png",
+                p.index
+            ));
+        }
+        (None, Some(_)) => return usage_err("-o names the part file of --part I/N"),
+        (Some(_), Some(f)) if !f.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) => {
+            return usage_err(format!(
+                "-o {}: a part file is a PNG; name it .png",
+                f.display()
+            ));
+        }
+        _ => {}
     }
     Ok(Command::Run(args))
 }
@@ -687,6 +730,9 @@ pub struct Summary {
 
 /// Renders `args` with `program`.
 pub fn run(program: Program, args: &Args) -> Result<Summary> {
+    if let (Some(spec), Some(file)) = (args.part, &args.part_file) {
+        return run_part(program, args, spec, file);
+    }
     let start = Instant::now();
     check_budgets(program, args)?;
     check_names(
@@ -743,6 +789,87 @@ pub fn run(program: Program, args: &Args) -> Result<Summary> {
         stats,
         seconds: start.elapsed().as_secs_f64(),
         notes,
+    })
+}
+
+/// Reads and checks the tree file of `args` for `program`, within the
+/// memory budget.
+fn read_tree(program: Program, args: &Args) -> Result<RecordStream> {
+    let (bands, _) = band_memory(program, args);
+    let limit = args.budgets.frame_memory.saturating_sub(bands) / TREE_MEMORY_PER_BYTE;
+    let bytes = read_input(&args.input, limit, |len| {
+        Budgets::exceeded(
+            &format!(
+                "a tree file of {len} bytes (about {TREE_MEMORY_PER_BYTE} bytes of memory \
+                 each, with the bands of act-lines rows)"
+            ),
+            format!("{} MiB", args.budgets.frame_memory >> 20),
+            "--max-frame-memory",
+        )
+    })?;
+    let mut stream = RecordStream::from_bytes(&bytes, &args.input)?;
+    check_tree(program, &stream, &args.input)?;
+    stream.blended = program.wants_preblended();
+    if args.background && stream.background.is_none() {
+        return Err(Error::Invalid(format!(
+            "{}: -B paints the background record, and this file has none",
+            args.input.display()
+        )));
+    }
+    Ok(stream)
+}
+
+/// `--part I/N -o FILE`: the part's rows of the colour image (in the
+/// display mode, if one is given) into the part file alone.
+fn run_part(
+    program: Program,
+    args: &Args,
+    spec: crate::part::PartSpec,
+    file: &Path,
+) -> Result<Summary> {
+    let start = Instant::now();
+    check_budgets(program, args)?;
+    check_names(
+        std::slice::from_ref(&args.input),
+        std::slice::from_ref(&file.to_path_buf()),
+        &log_path(program.name()),
+    )?;
+    let stream = read_tree(program, args)?;
+    let rows = spec.rows(args.vres);
+    let flags = format!(
+        "{}x{} act-lines {} -B {} display {:?}",
+        args.hres, args.vres, args.act_lines, args.background, args.display
+    );
+    let info = crate::part::PartInfo {
+        part: spec,
+        image: (args.hres, args.vres),
+        first: rows.start,
+        rows: rows.len() as u32,
+        output: with_suffix(&args.output, "png").display().to_string(),
+        fingerprint: crate::part::fingerprint(program.name(), &flags),
+    };
+    let mode = args.display.unwrap_or(DisplayMode::Color);
+    let mut sink = crate::part::PartSink::create(file, info, mode)?;
+    crate::cancel::check()?;
+    let options = ScanOptions {
+        width: args.hres,
+        height: args.vres,
+        method: program.method(),
+        act_lines: args.act_lines,
+        paint_background: args.background,
+        transparency: program.transparency(),
+        threads: 0,
+        ids: false,
+        max_overdraw: crate::budget::Budgets::default().overdraw,
+    };
+    let stats = crate::raster::scan::scan_convert_rows(&stream, &options, rows, &mut sink)?;
+    crate::cancel::check()?;
+    commit_all(vec![sink.finish()?])?;
+    Ok(Summary {
+        records: stream.records.len(),
+        stats,
+        seconds: start.elapsed().as_secs_f64(),
+        notes: Vec::new(),
     })
 }
 

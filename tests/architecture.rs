@@ -51,6 +51,7 @@ const STAGES: &[(&str, u8)] = &[
     ("raytrace", 8),
     // Files.
     ("output", 9),
+    ("part", 9),
     // The pipeline run in order.
     ("render", 10),
     // The front: the library API, the manual's programs, the display.

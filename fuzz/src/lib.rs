@@ -909,7 +909,7 @@ pub fn modeling(data: &[u8]) {
     if !render_it {
         return;
     }
-    scene.viewport = plytrace::scene::model::Viewport::of_size(MODEL_SIZE, MODEL_SIZE);
+    scene.viewport = plytrace::model::Viewport::of_size(MODEL_SIZE, MODEL_SIZE);
     let options = RenderOptions {
         size: Some((MODEL_SIZE, MODEL_SIZE)),
         threads: 1,

@@ -170,17 +170,40 @@ pub fn best_method(options: &RenderOptions) -> Method {
     options.aa.unwrap_or(Method::Multilevel)
 }
 
+/// Scan converts the rows `rows` (from the top) of a prepared tree into
+/// `sink`, each row exactly as the whole image has it, and leaves the
+/// tree for more: the parts of an image from one tree.
+pub fn scan_rows(
+    prepared: &Prepared,
+    rows: std::ops::Range<u32>,
+    sink: &mut dyn RowSink,
+) -> Result<scan::ScanStats> {
+    let (picture, options) = (&prepared.picture, &prepared.scan);
+    match &prepared.exact {
+        Some(layer) => {
+            let mut layered = crate::raytrace::exact::LayeredSink::new(sink, layer);
+            scan::scan_convert_rows(picture, options, rows, &mut layered)
+        }
+        None => scan::scan_convert_rows(picture, options, rows, sink),
+    }
+}
+
 /// Scan converts a prepared tree into `sink`. The result's frame buffer is
 /// empty: the rows went to the sink.
 pub fn scan_into(prepared: Prepared, sink: &mut dyn RowSink) -> Result<Rendered> {
+    let rows = 0..prepared.scan.height;
+    scan_rows_into(prepared, rows, sink)
+}
+
+/// [`scan_into`] for the rows `rows` (from the top) of the image alone:
+/// a part of the image, each row exactly as the whole image has it.
+pub fn scan_rows_into(
+    prepared: Prepared,
+    rows: std::ops::Range<u32>,
+    sink: &mut dyn RowSink,
+) -> Result<Rendered> {
     let t = Instant::now();
-    let scanned = match &prepared.exact {
-        Some(layer) => {
-            let mut layered = crate::raytrace::exact::LayeredSink::new(sink, layer);
-            scan::scan_convert(&prepared.picture, &prepared.scan, &mut layered)?
-        }
-        None => scan::scan_convert(&prepared.picture, &prepared.scan, sink)?,
-    };
+    let scanned = scan_rows(&prepared, rows, sink)?;
     let mut stats = prepared.stats;
     stats.paint_time = t.elapsed();
     stats.polygons_tiled = scanned.polygons_tiled;

@@ -873,6 +873,7 @@ pub fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>> {
             format!("`{shown}` grew past the {limit} bytes an input file may have"),
         ));
     }
+    crate::input_guard::note_contents(&bytes);
     Ok(bytes)
 }
 

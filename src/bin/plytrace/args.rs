@@ -149,6 +149,14 @@ pub struct Cli {
     /// Read and check the scene and its outputs; render nothing.
     #[arg(long, help_heading = OUTPUT)]
     pub check: bool,
+    /// Render only part I of N horizontal bands (I from 0) into the part
+    /// file that -o names; `plytrace merge` joins the parts.
+    #[arg(long, value_name = "I/N", value_parser = parse_part, help_heading = OUTPUT)]
+    pub part: Option<plytrace::part::PartSpec>,
+    /// Render only the frames (`run`s) A to B, counted from 0 over the
+    /// whole scene: A..B, A.. or a single A.
+    #[arg(long, value_name = "A..B", value_parser = parse_frames, help_heading = OUTPUT)]
+    pub frames: Option<(u32, u32)>,
 
     /// Visible-surface algorithm (default depth-sort).
     #[arg(long, value_name = "ALG", value_parser = parse_visibility, help_heading = RENDERING)]
@@ -271,6 +279,28 @@ pub enum Tool {
     },
     /// Print the manual page (roff; `plytrace man | man -l -`).
     Man,
+    /// Merge the part files of `--part I/N` into the image, or list the
+    /// parts still missing.
+    Merge {
+        /// The part files (any order).
+        #[arg(value_name = "PART")]
+        parts: Vec<PathBuf>,
+        /// The image: .png, .ppm, or the seed of the separations
+        /// (default: the name the parts give).
+        #[arg(short = 'o', long = "output", value_name = "FILE")]
+        output: Option<PathBuf>,
+        /// Write the colour separations OUTPUT.r, .g, .b instead.
+        #[arg(long)]
+        separations: bool,
+        /// Print the indices of the parts not given (comma-separated, for
+        /// a job array) instead of merging.
+        #[arg(long, conflicts_with_all = ["output", "separations"])]
+        missing: bool,
+        /// With --missing: the part count, when no part is there yet.
+        #[arg(long, value_name = "N", requires = "missing",
+              value_parser = clap::value_parser!(u32).range(1..=65536))]
+        count: Option<u32>,
+    },
 }
 
 /// `--format` of `-o -`.
@@ -365,6 +395,8 @@ pub struct Settings {
     pub shadows: bool,
     pub check: bool,
     pub stats: Option<StatsTarget>,
+    pub part: Option<plytrace::part::PartSpec>,
+    pub frames: Option<(u32, u32)>,
 }
 
 /// What the command line asks for.
@@ -529,6 +561,9 @@ impl Cli {
         if let Some(id) = &self.id_image {
             check_id_image(id, &image, self.hidden_line)?;
         }
+        if let Some(spec) = self.part {
+            check_part(spec, &image, &self)?;
+        }
         let aa = match (self.aa, self.supersample) {
             (_, Some(n)) => Some(Method::Supersample(n)),
             (aa, None) => aa,
@@ -556,6 +591,8 @@ impl Cli {
             raytrace: self.raytrace,
             shadows: !self.no_shadows,
             check: self.check,
+            part: self.part,
+            frames: self.frames,
             stats: self.stats.map(|p| {
                 if p.as_os_str().eq_ignore_ascii_case("json") {
                     StatsTarget::Stderr
@@ -705,6 +742,55 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
         ));
     }
     Ok((w, h))
+}
+
+/// `--part`: what a part needs, checked with the other flags.
+fn check_part(spec: plytrace::part::PartSpec, image: &Image, cli: &Cli) -> Result<(), String> {
+    let named = match image {
+        Image::File(p) => p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")),
+        _ => false,
+    };
+    if !named {
+        return Err(format!(
+            "--part {spec} writes a part file (PNG): name it with -o, such as \
+             -o parts/{}.png",
+            spec.index
+        ));
+    }
+    let refused = [
+        (cli.id_image.is_some(), "--id-image"),
+        (cli.hidden_line, "--hidden-line"),
+        (cli.raytrace, "--raytrace"),
+    ];
+    if let Some((_, flag)) = refused.iter().find(|(on, _)| *on) {
+        return Err(format!(
+            "--part splits the scan conversion of the virtual image tree; it does not go \
+             with {flag}"
+        ));
+    }
+    Ok(())
+}
+
+/// `--part I/N`.
+fn parse_part(v: &str) -> Result<plytrace::part::PartSpec, String> {
+    v.parse()
+}
+
+/// `--frames A..B`, `A..` or `A`: the first and last frame, from 0.
+fn parse_frames(v: &str) -> Result<(u32, u32), String> {
+    let form = || format!("expected A..B, A.. or A (frames from 0), such as 10..19, found `{v}`");
+    let number = |s: &str| s.trim().parse::<u32>().map_err(|_| form());
+    let (a, b) = match v.split_once("..") {
+        Some((a, "")) => (number(a)?, u32::MAX),
+        Some((a, b)) => (number(a)?, number(b.trim_start_matches('='))?),
+        None => (number(v)?, number(v)?),
+    };
+    if b < a {
+        return Err(format!(
+            "--frames {v}: the last frame comes before the first"
+        ));
+    }
+    Ok((a, b))
 }
 
 fn parse_aa(v: &str) -> Result<Method, String> {

@@ -67,6 +67,15 @@ pub struct CliHost {
     pub raytrace: bool,
     /// The live display (`disp on`).
     pub live: plytrace::display::LiveDisplay,
+    /// `--part I/N`: the run writes this part of its image.
+    pub part: Option<plytrace::part::PartSpec>,
+    /// `--frames A..B`: the runs (from 0) rendered; the others are skipped.
+    pub frames: Option<(u32, u32)>,
+    /// Frames (`run`s) met so far, rendered or skipped.
+    pub frame: u32,
+    /// The command line's flags that decide the pixels, for the
+    /// fingerprint of a part.
+    pub pixel_flags: String,
 }
 
 /// The name and place of a scene-chosen output, `fname`, checked: no `..`
@@ -506,6 +515,70 @@ impl CliHost {
         Ok(())
     }
 
+    /// One `run` with `--part I/N`: only the part's rows of the image
+    /// are scan converted, into the part file that `-o` names.
+    fn render_part(
+        &mut self,
+        scene: &Scene,
+        shadows: bool,
+        spec: plytrace::part::PartSpec,
+    ) -> Result<()> {
+        self.runs += 1;
+        let start = Instant::now();
+        let path = self.output.clone().expect("--part is checked to have -o");
+        if self.runs > 1 {
+            return Err(Error::Invalid(format!(
+                "--part {spec}: this scene has more than one `run`, and every run would write \
+                 {}; render one frame at a time with --frames",
+                path.display()
+            )));
+        }
+        let (w, h) = self.run_size(scene)?;
+        let rows = spec.rows(h);
+        let whole = PathBuf::from(format!("{}.png", self.stem(scene)?));
+        let flags = format!("{} shadows {shadows}", self.pixel_flags);
+        let info = plytrace::part::PartInfo {
+            part: spec,
+            image: (w, h),
+            first: rows.start,
+            rows: rows.len() as u32,
+            output: whole.display().to_string(),
+            fingerprint: plytrace::part::fingerprint("plytrace", &flags),
+        };
+        let mut sink = plytrace::part::PartSink::create(&path, info, scene.outmode.into())?;
+        self.warn_aspect(scene);
+        self.say("Building image.");
+        let plan = render::plan_with(scene, &self.render_options(shadows), &self.orders)?;
+        let render::Plan::Tree(prepared) = plan else {
+            return Err(Error::Invalid(format!(
+                "--part {spec}: the {} algorithm paints the image itself; parts are scan \
+                 conversions of the virtual image tree (--visibility depth-sort or nns)",
+                render::chosen_algorithm(scene, &self.render_options(shadows))
+            )));
+        };
+        let mut prepared = *prepared;
+        prepared.scan.ids = false;
+        let mut progress = ProgressSink::new(&mut sink, rows.len() as u32, self.progress);
+        let rendered = render::scan_rows_into(prepared, rows.clone(), &mut progress);
+        progress.finish();
+        let rendered = rendered?;
+        let staged = sink.finish()?;
+        output::commit_all(vec![staged])?;
+        self.written.push(path.clone());
+        self.say(&format!(
+            "Wrote part {spec} of {} ({w} x {h}): rows {} to {} in {}",
+            whole.display(),
+            rows.start,
+            rows.end.saturating_sub(1).max(rows.start),
+            path.display()
+        ));
+        self.report_stats(scene, &rendered);
+        let elapsed = start.elapsed();
+        self.say(&hms(elapsed));
+        self.log_run(&path, (w, h), &rendered.stats, elapsed);
+        Ok(())
+    }
+
     /// Appends the run to `plytrace.log` and keeps its statistics.
     fn log_run(
         &mut self,
@@ -676,12 +749,25 @@ struct RunOutputs {
 
 impl Host for CliHost {
     fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
+        if let Some((a, b)) = self.frames {
+            let frame = self.frame;
+            self.frame += 1;
+            if !(a..=b).contains(&frame) {
+                // A run all the same: immediate mode renders no more.
+                self.runs += 1;
+                self.say(&format!("Frame {frame} skipped (--frames)"));
+                return Ok(());
+            }
+        }
         if self.check {
             return self.check_run(scene);
         }
         plytrace::cancel::reset();
         plytrace::signals::rendering(true);
-        let result = self.render(scene, shadows);
+        let result = match self.part {
+            Some(spec) => self.render_part(scene, shadows, spec),
+            None => self.render(scene, shadows),
+        };
         plytrace::signals::rendering(false);
         plytrace::cancel::reset();
         result
@@ -804,6 +890,22 @@ pub fn method_name(m: plytrace::raster::scan::Method) -> String {
     }
 }
 
+/// The settings that decide the pixels, as text: the manual's letters
+/// (not `-o`, nor the debugging level), the size and the rendering
+/// flags. Threads, budgets, messages and output names do not count.
+fn pixel_flags(s: &crate::args::Settings) -> String {
+    let modes: Vec<&(char, String)> = s
+        .modes
+        .iter()
+        .filter(|(l, _)| *l != 'o' && !l.is_ascii_digit())
+        .collect();
+    format!(
+        "modes {modes:?} size {:?} visibility {:?} refraction {:?} aa {:?} shading {:?} \
+         hidden-line {} raytrace {}",
+        s.size, s.visibility, s.refraction, s.aa, s.shading, s.hidden_line, s.raytrace
+    )
+}
+
 impl CliHost {
     /// The host of a session with these settings; `output` is where the
     /// image goes (a temporary file for `-o -`).
@@ -842,6 +944,10 @@ impl CliHost {
             orders: Default::default(),
             raytrace: s.raytrace,
             live: Default::default(),
+            part: s.part,
+            frames: s.frames,
+            frame: 0,
+            pixel_flags: pixel_flags(s),
         }
     }
 }

@@ -201,6 +201,7 @@ fn read_stdin() -> Result<String> {
             "<stdin>: the scene is longer than {limit} bytes, the most a scene file may hold"
         )));
     }
+    plytrace::part::note_input(&bytes);
     String::from_utf8(bytes)
         .map_err(|_| Error::Invalid("<stdin>: the scene is not UTF-8 text".into()))
 }

@@ -36,6 +36,19 @@ pub fn run(tool: Tool) -> ExitCode {
             clap_complete::generate(shell, &mut crate::args::command(), "plytrace", &mut script);
             print_document(&script)
         }
+        Tool::Merge {
+            parts,
+            output,
+            separations,
+            missing,
+            count,
+        } => {
+            if missing {
+                list_missing(&parts, count)
+            } else {
+                merge(&parts, output.as_deref(), separations)
+            }
+        }
         Tool::Man => {
             let mut page = Vec::new();
             match clap_mangen::Man::new(crate::args::command()).render(&mut page) {
@@ -93,6 +106,55 @@ fn check_tessellation(path: &Path) -> ExitCode {
         }
         Err(e) => {
             err(&format!("error: {}: {e}", path.display()));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// `plytrace merge PARTS -o OUT`: the parts checked, then joined.
+fn merge(parts: &[std::path::PathBuf], output: Option<&Path>, separations: bool) -> ExitCode {
+    use plytrace::part::MergeFormat;
+    if separations && output.is_none() {
+        err("error: merge --separations needs -o SEED (the separations are SEED.r, .g, .b)");
+        return ExitCode::from(2);
+    }
+    let format = separations.then_some(MergeFormat::Separations);
+    match plytrace::part::merge(parts, output, format) {
+        Ok(m) => {
+            let names: Vec<String> = m.written.iter().map(|p| p.display().to_string()).collect();
+            out(&format!(
+                "Merged {} parts into {} ({} x {})",
+                m.parts,
+                names.join(", "),
+                m.size.0,
+                m.size.1
+            ));
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            report(&e);
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// `plytrace merge --missing PARTS`: the indices of the parts still to
+/// render, comma-separated on standard output (nothing when all are
+/// there).
+fn list_missing(parts: &[std::path::PathBuf], count: Option<u32>) -> ExitCode {
+    match plytrace::part::missing(parts, count) {
+        Ok((missing, warnings)) => {
+            for w in warnings {
+                err(&format!("warning: {w}"));
+            }
+            if !missing.is_empty() {
+                let list: Vec<String> = missing.iter().map(u32::to_string).collect();
+                out(&list.join(","));
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            report(&e);
             ExitCode::FAILURE
         }
     }

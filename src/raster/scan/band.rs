@@ -88,9 +88,24 @@ pub(crate) struct Plan<'a> {
     pub coverage: bool,
     pub mask: bool,
     pub pixels: bool,
+    /// The rows, from the top, handed to the sink: a part of the image.
+    /// Only the bands that meet them are scan converted; each band is
+    /// converted from its own bucket alone, so its rows are the same
+    /// whatever other bands are converted.
+    pub part: std::ops::Range<u32>,
 }
 
 impl Plan<'_> {
+    /// The bands that meet [`Plan::part`], in order.
+    fn wanted(&self) -> std::ops::Range<usize> {
+        if self.part.is_empty() {
+            return 0..0;
+        }
+        let first = (self.part.start / self.act_lines) as usize;
+        let end = self.part.end.min(self.height).div_ceil(self.act_lines) as usize;
+        first..end.max(first)
+    }
+
     fn bands(&self) -> usize {
         self.height.div_ceil(self.act_lines) as usize
     }
@@ -264,9 +279,13 @@ fn deliver(plan: &Plan<'_>, done: &Finished, sink: &mut dyn RowSink) -> Result<(
     let top = done.band as u32 * plan.act_lines;
     let out = &done.out;
     for r in 0..done.rows as usize {
+        let y = top + r as u32;
+        if !plan.part.contains(&y) {
+            continue;
+        }
         let s = r * w..(r + 1) * w;
         sink.row(&Row {
-            y: top + r as u32,
+            y,
             rgb: &out.rgb[s.clone()],
             coverage: plan.coverage.then(|| &out.coverage[s.clone()]),
             mask: plan.mask.then(|| &out.mask[s.clone()]),
@@ -280,9 +299,9 @@ fn deliver(plan: &Plan<'_>, done: &Finished, sink: &mut dyn RowSink) -> Result<(
 /// The bands' progress, shared by the workers and the delivering thread.
 #[derive(Default)]
 struct Schedule {
-    /// The next band to start.
+    /// The next band to start (an index into the wanted bands).
     next: usize,
-    /// Bands delivered so far (in order).
+    /// Bands delivered so far (in order, counted like `next`).
     delivered: usize,
     /// Finished bands not yet delivered.
     done: std::collections::BTreeMap<usize, Finished>,
@@ -336,15 +355,17 @@ fn work<I: Integrator>(
     window: usize,
 ) {
     let _guard = StopOnPanic(shared);
+    let wanted = plan.wanted();
+    let n = wanted.len();
     let mut g = shared.lock();
     loop {
-        while !g.stop && g.next < buckets.len() && g.next >= g.delivered + window {
+        while !g.stop && g.next < n && g.next >= g.delivered + window {
             g = shared.wait(g);
         }
-        if g.stop || g.next >= buckets.len() {
+        if g.stop || g.next >= n {
             return;
         }
-        let band = g.next;
+        let band = wanted.start + g.next;
         g.next += 1;
         let mut done = g.spare.pop().unwrap_or_default();
         drop(g);
@@ -372,7 +393,7 @@ pub(crate) fn convert<I: Integrator>(
     sink: &mut dyn RowSink,
 ) -> Result<ScanStats> {
     let buckets = plan.buckets();
-    let nb = buckets.len();
+    let nb = plan.wanted().len();
     let threads = if threads > 0 {
         threads
     } else {
@@ -415,7 +436,7 @@ fn deliver_all(
     stats: &mut ScanStats,
     hit: &mut [bool],
 ) -> Result<()> {
-    for band in 0..nb {
+    for band in plan.wanted().take(nb) {
         crate::cancel::check()?;
         let done = {
             let mut g = shared.lock();

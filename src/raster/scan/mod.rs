@@ -199,8 +199,49 @@ pub fn scan_convert(
     options: &ScanOptions,
     sink: &mut dyn RowSink,
 ) -> Result<ScanStats> {
+    scan_convert_rows(stream, options, 0..options.height, sink)
+}
+
+/// Scan converts the part of `stream`'s image made of `rows` (from the
+/// top) and hands those rows, top first, to `sink`: each row is exactly
+/// the row [`scan_convert`] gives, since the bands the rows lie in are
+/// converted as they would be for the whole image, and the other bands
+/// are not converted at all. The statistics count the part's bands.
+pub fn scan_convert_rows(
+    stream: &RecordStream,
+    options: &ScanOptions,
+    rows: std::ops::Range<u32>,
+    sink: &mut dyn RowSink,
+) -> Result<ScanStats> {
+    if rows.end > options.height || rows.start > rows.end {
+        return Err(Error::Invalid(format!(
+            "rows {}..{} are not rows of a {}-row image",
+            rows.start, rows.end, options.height
+        )));
+    }
     let logic = choose(stream, options)?;
     let (w, h) = (options.width, options.height);
+    let act_lines = options.act_lines.clamp(1, h);
+    // A part: records outside its bands are checked, not prepared (their
+    // bucket would be skipped anyway).
+    let whole = rows == (0..h);
+    let wanted = {
+        let first = rows.start / act_lines;
+        let end = rows.end.div_ceil(act_lines);
+        first..end
+    };
+    let needed = |r: &crate::tree::Record| {
+        if whole {
+            return true;
+        }
+        let (ymin, ymax) = shade::y_range(r, h);
+        let (hf, first, end) = (h as f64, ymin.floor().max(0.0), ymax.ceil().min(h as f64));
+        if first >= end {
+            return false;
+        }
+        let top_row = |j: f64| (hf - 1.0 - j) as u32 / act_lines;
+        top_row(end - 1.0) < wanted.end && top_row(first) >= wanted.start
+    };
     // In parallel, in order (in a pool of `options.threads` when given).
     let prepare = || {
         use rayon::prelude::*;
@@ -208,13 +249,34 @@ pub fn scan_convert(
             .records
             .par_iter()
             .enumerate()
-            .map(|(k, r)| shade::prepare(r, k, w, h))
+            .map(|(k, r)| {
+                if needed(r) {
+                    let p = shade::prepare(r, k, w, h)?;
+                    let area = tiled_area_of(p.points.iter().copied(), w, h);
+                    Ok((p, area))
+                } else {
+                    shade::validate(r, k, w, h)?;
+                    let points = r
+                        .points
+                        .iter()
+                        .map(|p| DVec2::new(p[0] as f64 * w as f64, p[1] as f64 * h as f64));
+                    let area = tiled_area_of(points, w, h);
+                    let skipped = Prepared {
+                        points: Vec::new(),
+                        shading: shade::Shading::Special,
+                        level: r.level,
+                        ymin: 0.0,
+                        ymax: 0.0,
+                    };
+                    Ok((skipped, area))
+                }
+            })
             .collect::<Vec<Result<_>>>()
             .into_iter()
             // The first bad record, whatever the threads.
             .collect::<Result<Vec<_>>>()
     };
-    let records = match options.threads {
+    let prepared = match options.threads {
         0 => prepare(),
         n => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
             Ok(pool) => pool.install(prepare),
@@ -222,7 +284,9 @@ pub fn scan_convert(
         },
     }?;
     crate::cancel::check()?;
-    check_overdraw(&records, w, h, options.max_overdraw)?;
+    let area: f64 = prepared.iter().map(|(_, a)| *a).sum();
+    let records: Vec<Prepared> = prepared.into_iter().map(|(p, _)| p).collect();
+    check_overdraw_area(area, records.len(), w, h, options.max_overdraw)?;
     if let Logic::Multi(_) = logic
         && let Some((k, r)) = records
             .iter()
@@ -248,7 +312,7 @@ pub fn scan_convert(
     let plan = Plan {
         width: w,
         height: h,
-        act_lines: options.act_lines.clamp(1, h),
+        act_lines,
         records: &records,
         side,
         ids: options.ids,
@@ -258,6 +322,7 @@ pub fn scan_convert(
         coverage: logic != Logic::Painter && matches!(m, Method::Area | Method::Hybrid),
         mask: logic != Logic::Painter && matches!(m, Method::Mask | Method::Hybrid),
         pixels: logic != Logic::Painter && m == Method::Multilevel,
+        part: rows,
     };
     let t = options.threads;
     match logic {
@@ -284,35 +349,46 @@ pub fn scan_convert(
     }
 }
 
+/// Pixels of a record's bounding box within a `width` x `height` image.
+fn tiled_area_of(points: impl Iterator<Item = DVec2>, width: u32, height: u32) -> f64 {
+    let (w, h) = (width as f64, height as f64);
+    let (lo, hi) = points.fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    );
+    let x = hi.x.min(w) - lo.x.max(0.0);
+    let y = hi.y.min(h) - lo.y.max(0.0);
+    if x > 0.0 && y > 0.0 { x * y } else { 0.0 }
+}
+
 /// Pixels of the records' bounding boxes within a `width` x `height`
 /// image: an upper bound on the pixel visits of tiling them.
+#[cfg(test)]
 fn tiled_area(records: &[Prepared], width: u32, height: u32) -> f64 {
-    let (w, h) = (width as f64, height as f64);
     records
         .iter()
-        .map(|r| {
-            let (lo, hi) = r.points.iter().fold(
-                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            );
-            let x = hi.x.min(w) - lo.x.max(0.0);
-            let y = hi.y.min(h) - lo.y.max(0.0);
-            if x > 0.0 && y > 0.0 { x * y } else { 0.0 }
-        })
+        .map(|r| tiled_area_of(r.points.iter().copied(), width, height))
         .sum()
 }
 
 /// Refuses records that would tile more than `limit` times the image.
+#[cfg(test)]
 fn check_overdraw(records: &[Prepared], width: u32, height: u32, limit: u64) -> Result<()> {
+    let area = tiled_area(records, width, height);
+    check_overdraw_area(area, records.len(), width, height, limit)
+}
+
+/// Refuses `count` records whose bounding boxes cover `area` pixels of
+/// the image when that is more than `limit` times the image.
+fn check_overdraw_area(area: f64, count: usize, width: u32, height: u32, limit: u64) -> Result<()> {
     let pixels = f64::from(width) * f64::from(height);
-    let overdraw = tiled_area(records, width, height) / pixels.max(1.0);
+    let overdraw = area / pixels.max(1.0);
     if overdraw <= limit as f64 {
         return Ok(());
     }
     Err(Error::Invalid(crate::budget::Budgets::exceeded(
         &format!(
-            "scan converting {} records that cover the {width} x {height} image {overdraw:.1} times over (their bounding boxes)",
-            records.len()
+            "scan converting {count} records that cover the {width} x {height} image {overdraw:.1} times over (their bounding boxes)"
         ),
         format!("{limit} times"),
         "--max-overdraw",

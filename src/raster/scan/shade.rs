@@ -93,6 +93,48 @@ fn invalid(index: usize, what: &str) -> Error {
     Error::Invalid(format!("record {}: {what}", index + 1))
 }
 
+/// What [`prepare`] refuses in record `index`, found without preparing
+/// it: the same error, for a record outside the rows being converted.
+pub(crate) fn validate(rec: &Record, index: usize, width: u32, height: u32) -> Result<()> {
+    let n = rec.points.len();
+    let finite = rec.points.iter().all(|p| {
+        (p[0] as f64 * width as f64).is_finite() && (p[1] as f64 * height as f64).is_finite()
+    });
+    if !finite {
+        return Err(invalid(index, "a vertex is not a finite number"));
+    }
+    match &rec.shades {
+        Shades::Gouraud(cs) if cs.len() != n => {
+            Err(invalid(index, "Gouraud shades are not one per vertex"))
+        }
+        Shades::Phong(p) if p.light_colors.len() > MAX_LIGHTS => {
+            Err(invalid(index, "more than 16 highlight lights"))
+        }
+        Shades::Phong(p)
+            if p.rgbt.len() != n
+                || p.normals.len() != n
+                || p.normals.iter().any(|v| v.len() != p.light_colors.len()) =>
+        {
+            Err(invalid(
+                index,
+                "Phong values are not one per vertex and light",
+            ))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The rows from the bottom, as [`Prepared::ymin`] and [`Prepared::ymax`]
+/// would say, of record `rec` in an image `height` rows high.
+pub(crate) fn y_range(rec: &Record, height: u32) -> (f64, f64) {
+    rec.points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            let y = p[1] as f64 * height as f64;
+            (lo.min(y), hi.max(y))
+        })
+}
+
 /// Prepares record `index` for an image of `width` x `height` pixels.
 pub(crate) fn prepare(rec: &Record, index: usize, width: u32, height: u32) -> Result<Prepared> {
     let n = rec.points.len();
