@@ -247,3 +247,36 @@ def test_pgf_through_the_bridge(tmp_path):
     bridge = (tmp_path / "bridge.pgf").read_text().count("\\pgfusepath{fill}")
     assert 0 < bridge < plain / 4, (bridge, plain)
     plt.close(fig)
+
+
+@pytest.mark.parametrize("fmt", ["svg", "pdf", "png"])
+def test_other_3d_artists_draw_through_the_bridge(fmt, tmp_path):
+    """plot_trisurf, a translucent add_collection3d, contourf, quiver,
+    scatter, text and a log axis: saved through the bridge without
+    error, and translucent faces keep their alpha."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    fig = plt.figure(figsize=(8, 4))
+    ax = fig.add_subplot(1, 2, 1, projection="3d")
+    rng = np.random.default_rng(3)
+    x, y = rng.uniform(-1, 1, (2, 60))
+    ax.plot_trisurf(x, y, x * y, cmap="coolwarm")
+    tri = Poly3DCollection([[(-1, -1, -0.5), (1, -1, 0.5), (0, 1, 0)]], alpha=0.5,
+                           facecolor="tab:green", edgecolor="k")
+    ax.add_collection3d(tri)
+    ax.scatter(x, y, x * y, c="k", s=4)
+    ax.quiver(0, 0, 0, 0.5, 0.5, 0.5)
+    ax.text(0, 0, 1, "a label")
+    bx = fig.add_subplot(1, 2, 2, projection="3d")
+    X, Y = np.meshgrid(np.linspace(1, 10, 12), np.linspace(-1, 1, 12))
+    bx.contourf(X, Y, np.sin(X) * Y, zdir="z", offset=-1)
+    bx.plot_surface(X, Y, np.sin(X) * Y, alpha=0.7)
+    try:
+        bx.set_xscale("log")
+    except Exception:  # matplotlib without 3-D log axes
+        pass
+    plytrace.mpl.savefig(fig, tmp_path / f"other.{fmt}")
+    assert (tmp_path / f"other.{fmt}").stat().st_size > 1000
+    if fmt == "svg":
+        assert "fill-opacity: 0.5" in (tmp_path / "other.svg").read_text()
+    plt.close(fig)
