@@ -188,7 +188,7 @@ def line_score(fig, ax, img, line3d: np.ndarray, width_px: float):
     triangle is nearer along its ray, away from the ends of visible runs.
     Also the pixels near the line (to leave out of the surface score)."""
     m = np.asarray(ax.M, dtype=float)
-    n = 4000
+    n = max(40_000 // (len(line3d) - 1), 20)  # samples per segment
     t = np.linspace(0, 1, n)[:, None]
     pts = np.concatenate([line3d[i] + t * (line3d[i + 1] - line3d[i]) for i in range(len(line3d) - 1)])
     h4 = np.column_stack([pts, np.ones(len(pts))]) @ m.T
