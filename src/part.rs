@@ -3,10 +3,10 @@
 //!
 //! A part is row `first` to `first + rows - 1` of the whole image, each
 //! row exactly as a one-process render makes it (the scan converter
-//! converts a part's bands as it would for the whole image). Part `I` of
-//! `N` of an image `H` rows high has the rows `I * H / N` up to
-//! `(I + 1) * H / N` (rounded down): every row in exactly one part, and
-//! parts differing by at most one row.
+//! converts a part's bands as it would for the whole image). The rows of
+//! part `I` of `N` are chosen from the records so that the parts have
+//! about equal work ([`crate::raster::scan::part_rows`]): every row in
+//! exactly one part, boundaries on band boundaries.
 //!
 //! # The part file
 //!
@@ -37,7 +37,6 @@
 //! Memory holds a row of each kind, whatever the image size.
 
 use std::io::{BufReader, Write};
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
@@ -91,14 +90,6 @@ impl std::str::FromStr for PartSpec {
             ));
         }
         Ok(PartSpec { index: i, count: n })
-    }
-}
-
-impl PartSpec {
-    /// The part's rows of an image `height` rows high, from the top.
-    pub fn rows(&self, height: u32) -> Range<u32> {
-        let at = |i: u32| (u64::from(i) * u64::from(height) / u64::from(self.count)) as u32;
-        at(self.index)..at(self.index + 1)
     }
 }
 
@@ -314,18 +305,10 @@ fn open(path: &Path) -> Result<(PartInfo, Reader)> {
         output: text(KEY_OUTPUT)?,
         fingerprint: text(KEY_FINGERPRINT)?,
     };
-    let expected = part.rows(image.1);
-    if expected != (first..first + count) {
+    if u64::from(first) + u64::from(count) > u64::from(image.1) {
         return Err(bad(
             path,
-            format!(
-                "part {part} of a {}-row image should hold rows {}..{}, but says {}..{}",
-                image.1,
-                expected.start,
-                expected.end,
-                first,
-                first + count
-            ),
+            format!("rows {first}+{count} pass the image's {} rows", image.1),
         ));
     }
     let i = reader.info();
@@ -445,6 +428,30 @@ fn check_parts(paths: &[PathBuf]) -> Result<Checked> {
     }
     let mut parts: Vec<(PathBuf, PartInfo)> = parts.into_iter().map(|(p, i, _)| (p, i)).collect();
     parts.sort_by_key(|(_, i)| i.part.index);
+    // Every row once: each part starts where the one before ended.
+    let mut next = 0;
+    for (p, info) in &parts {
+        if info.first != next {
+            return Err(bad(
+                p,
+                format!(
+                    "part {} starts at row {}, but the parts before it end at row {next}; \
+                     the parts do not cover the image once",
+                    info.part, info.first
+                ),
+            ));
+        }
+        next = info.first + info.rows;
+    }
+    if next != base.image.1 {
+        return Err(bad(
+            &parts[parts.len() - 1].0,
+            format!(
+                "the last part ends at row {next}, not at the image's {} rows",
+                base.image.1
+            ),
+        ));
+    }
     Ok(Checked {
         parts,
         grey: base_grey,

@@ -835,7 +835,18 @@ fn run_part(
         &log_path(program.name()),
     )?;
     let stream = read_tree(program, args)?;
-    let rows = spec.rows(args.vres);
+    let options = ScanOptions {
+        width: args.hres,
+        height: args.vres,
+        method: program.method(),
+        act_lines: args.act_lines,
+        paint_background: args.background,
+        transparency: program.transparency(),
+        threads: 0,
+        ids: false,
+        max_overdraw: crate::budget::Budgets::default().overdraw,
+    };
+    let rows = crate::raster::scan::part_rows(&stream, &options, spec.index, spec.count);
     let flags = format!(
         "{}x{} act-lines {} -B {} display {:?}",
         args.hres, args.vres, args.act_lines, args.background, args.display
@@ -851,17 +862,6 @@ fn run_part(
     let mode = args.display.unwrap_or(DisplayMode::Color);
     let mut sink = crate::part::PartSink::create(file, info, mode)?;
     crate::cancel::check()?;
-    let options = ScanOptions {
-        width: args.hres,
-        height: args.vres,
-        method: program.method(),
-        act_lines: args.act_lines,
-        paint_background: args.background,
-        transparency: program.transparency(),
-        threads: 0,
-        ids: false,
-        max_overdraw: crate::budget::Budgets::default().overdraw,
-    };
     let stats = crate::raster::scan::scan_convert_rows(&stream, &options, rows, &mut sink)?;
     crate::cancel::check()?;
     commit_all(vec![sink.finish()?])?;

@@ -67,7 +67,8 @@ fn parts(prepared: &Prepared, mode: DisplayMode, count: u32, dir: &Path) -> Vec<
     (0..count)
         .map(|index| {
             let spec = PartSpec { index, count };
-            let rows = spec.rows(h);
+            let rows =
+                plytrace::raster::scan::part_rows(&prepared.picture, &prepared.scan, index, count);
             let path = dir.join(format!("part-{count}-{index}.png"));
             let info = PartInfo {
                 part: spec,

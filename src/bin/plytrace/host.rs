@@ -533,19 +533,10 @@ impl CliHost {
                 path.display()
             )));
         }
-        let (w, h) = self.run_size(scene)?;
-        let rows = spec.rows(h);
+        self.run_size(scene)?;
+        output::check_target(&path)?;
         let whole = PathBuf::from(format!("{}.png", self.stem(scene)?));
         let flags = format!("{} shadows {shadows}", self.pixel_flags);
-        let info = plytrace::part::PartInfo {
-            part: spec,
-            image: (w, h),
-            first: rows.start,
-            rows: rows.len() as u32,
-            output: whole.display().to_string(),
-            fingerprint: plytrace::part::fingerprint("plytrace", &flags),
-        };
-        let mut sink = plytrace::part::PartSink::create(&path, info, scene.outmode.into())?;
         self.warn_aspect(scene);
         self.say("Building image.");
         let plan = render::plan_with(scene, &self.render_options(shadows), &self.orders)?;
@@ -558,6 +549,22 @@ impl CliHost {
         };
         let mut prepared = *prepared;
         prepared.scan.ids = false;
+        let (w, h) = (prepared.scan.width, prepared.scan.height);
+        let rows = plytrace::raster::scan::part_rows(
+            &prepared.picture,
+            &prepared.scan,
+            spec.index,
+            spec.count,
+        );
+        let info = plytrace::part::PartInfo {
+            part: spec,
+            image: (w, h),
+            first: rows.start,
+            rows: rows.len() as u32,
+            output: whole.display().to_string(),
+            fingerprint: plytrace::part::fingerprint("plytrace", &flags),
+        };
+        let mut sink = plytrace::part::PartSink::create(&path, info, scene.outmode.into())?;
         let mut progress = ProgressSink::new(&mut sink, rows.len() as u32, self.progress);
         let rendered = render::scan_rows_into(prepared, rows.clone(), &mut progress);
         progress.finish();

@@ -202,6 +202,82 @@ pub fn scan_convert(
     scan_convert_rows(stream, options, 0..options.height, sink)
 }
 
+/// The rows (from the top) of part `index` of `count` of `stream`'s
+/// image, chosen so that the parts have about equal work: the estimate of
+/// a row is its pixels plus the widths of the records' bounding boxes
+/// that cross it, and part boundaries fall on band boundaries (of
+/// `options.act_lines` rows), so no band is converted by two parts. The
+/// parts cover every row once, in order; every process given the same
+/// stream and options finds the same rows. A part may have no rows.
+pub fn part_rows(
+    stream: &RecordStream,
+    options: &ScanOptions,
+    index: u32,
+    count: u32,
+) -> std::ops::Range<u32> {
+    let (w, h) = (options.width, options.height);
+    let count = count.max(1);
+    let index = index.min(count - 1);
+    if h == 0 {
+        return 0..0;
+    }
+    let act_lines = options.act_lines.clamp(1, h);
+    let bands = h.div_ceil(act_lines) as usize;
+    // Work a band: its pixels, plus the records' widths over its rows (a
+    // difference array over rows from the top).
+    let mut delta = vec![0.0f64; h as usize + 1];
+    let (wf, hf) = (f64::from(w), f64::from(h));
+    for r in &stream.records {
+        if r.points.len() < 3 {
+            continue;
+        }
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        for p in &r.points {
+            let q = DVec2::new(p[0] as f64 * wf, p[1] as f64 * hf);
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        let width = hi.x.min(wf) - lo.x.max(0.0);
+        let (bottom, top) = (lo.y.max(0.0).floor(), hi.y.min(hf).ceil());
+        let meets = width > 0.0 && top > bottom;
+        if !meets {
+            continue;
+        }
+        // Rows from the top: h - top .. h - bottom.
+        let (first, end) = ((hf - top) as usize, (hf - bottom) as usize);
+        delta[first] += width;
+        delta[end.min(h as usize)] -= width;
+    }
+    let mut band_work = vec![0.0f64; bands];
+    let mut running = 0.0;
+    for (y, d) in delta.iter().take(h as usize).enumerate() {
+        running += d;
+        band_work[y / act_lines as usize] += wf + running.max(0.0);
+    }
+    let total: f64 = band_work.iter().sum();
+    // Part k starts at the first band where the work before it reaches
+    // k / count of the total.
+    let start_of = |k: u32| -> u32 {
+        if k == 0 {
+            return 0;
+        }
+        if k >= count {
+            return h;
+        }
+        let goal = total * f64::from(k) / f64::from(count);
+        let mut before = 0.0;
+        for (b, work) in band_work.iter().enumerate() {
+            if before + work / 2.0 >= goal {
+                return (b as u32 * act_lines).min(h);
+            }
+            before += work;
+        }
+        h
+    };
+    let (a, b) = (start_of(index), start_of(index + 1));
+    a..b.max(a)
+}
+
 /// Scan converts the part of `stream`'s image made of `rows` (from the
 /// top) and hands those rows, top first, to `sink`: each row is exactly
 /// the row [`scan_convert`] gives, since the bands the rows lie in are
