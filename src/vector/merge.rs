@@ -123,22 +123,27 @@ struct Group {
     caps: Vec<Cap>,
 }
 
+/// The sealing pieces of the records ([`seal::Seal::pieces`]).
+type Pieces<'a> = &'a [Vec<Vec<Pt>>];
+
 /// A run of Gouraud records.
 struct Run {
     outline: Vec<Vec<Pt>>,
     triangles: Vec<[(Pt, [u8; 3]); 3]>,
 }
 
-struct Merger {
+struct Merger<'a> {
     open: Vec<Group>,
     run: Option<Run>,
     items: Vec<Item>,
     /// The cells of closed groups, cleared, for the next groups (a group
     /// per record is common: a curved surface's shades all differ).
     spare: Vec<Cells>,
+    /// The pieces the caps take of records with free edges near.
+    pieces: Pieces<'a>,
 }
 
-impl Merger {
+impl Merger<'_> {
     /// Closes (emits) every open group of another colour that `f` hits.
     fn close_hit(&mut self, f: &Footprint, keep: Option<[u8; 3]>) {
         let mut k = 0;
@@ -154,12 +159,22 @@ impl Merger {
 
     fn emit(&mut self, g: Group) {
         let mut paths = g.paths;
+        let member = |r: &usize| g.members.binary_search(r).is_ok();
         // A cap over records of the group itself adds nothing: the group
-        // is one path.
+        // is one path. The pieces of a record go in once.
+        let mut cut: Vec<usize> = Vec::new();
         for cap in g.caps {
-            if !cap.ring.iter().all(|r| g.members.binary_search(r).is_ok()) {
-                paths.extend(cap.paths);
+            if !cap.ring.iter().all(member) {
+                if !cap.path.is_empty() {
+                    paths.push(cap.path);
+                }
+                cut.extend(cap.cut.into_iter().filter(|r| !member(r)));
             }
+        }
+        cut.sort_unstable();
+        cut.dedup();
+        for r in cut {
+            paths.extend(self.pieces[r].iter().cloned());
         }
         self.items.push(Item::Fill {
             paths,
@@ -302,12 +317,6 @@ fn paint_of(r: &Record, w: f64, h: f64) -> Paint {
 /// The paint items of a back-to-front, pre-blended stream, in a frame of
 /// `w x h` user units.
 pub fn paint_items(records: &[Record], w: f64, h: f64) -> Vec<Item> {
-    let mut m = Merger {
-        open: Vec::new(),
-        run: None,
-        items: Vec::new(),
-        spare: Vec::new(),
-    };
     let paints: Vec<Paint> = records.iter().map(|r| paint_of(r, w, h)).collect();
     let mut points: Vec<Option<Vec<Pt>>> = records
         .iter()
@@ -321,7 +330,14 @@ pub fn paint_items(records: &[Record], w: f64, h: f64) -> Vec<Item> {
         .map(|p| matches!(p, Paint::Flat(_) | Paint::Gouraud(_)))
         .collect();
     let owners: Vec<bool> = paints.iter().map(|p| matches!(p, Paint::Flat(_))).collect();
-    let mut caps = seal::caps(&points, &opaque, &owners);
+    let seal::Seal { mut caps, pieces } = seal::caps(&points, &opaque, &owners);
+    let mut m = Merger {
+        open: Vec::new(),
+        run: None,
+        items: Vec::new(),
+        spare: Vec::new(),
+        pieces: &pieces,
+    };
     for (k, paint) in paints.into_iter().enumerate() {
         // A stop request ends the painting early; the caller reports it
         // and writes nothing.
@@ -335,9 +351,11 @@ pub fn paint_items(records: &[Record], w: f64, h: f64) -> Vec<Item> {
             Paint::Skip => {}
             Paint::Flat(color) => {
                 let caps = std::mem::take(&mut caps[k]);
+                let cut = caps.iter().flat_map(|c| &c.cut).flat_map(|&r| &pieces[r]);
                 let f = Footprint::of(
                     pts.iter()
-                        .chain(caps.iter().flat_map(|c| c.paths.iter().flatten())),
+                        .chain(caps.iter().flat_map(|c| &c.path))
+                        .chain(cut.flatten()),
                     w,
                     h,
                 );

@@ -54,21 +54,47 @@ use rayon::prelude::*;
 
 use super::Pt;
 
-/// A cap: closed subpaths whose nonzero fill lies within the union of
-/// `ring`, records painted after the cap's owner.
+/// A cap: a closed subpath, and the pieces of some records, whose
+/// nonzero fill lies within the union of `ring`, records painted after
+/// the cap's owner.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cap {
     /// The records whose union the cap fills, in increasing order.
     pub ring: Vec<usize>,
-    /// Its closed subpaths, filled together with the nonzero rule.
-    pub paths: Vec<Vec<Pt>>,
+    /// One closed subpath around the vertex over the faces of the ring
+    /// with no free edge near (empty if none).
+    pub path: Vec<Pt>,
+    /// The faces of the ring with free edges near: their
+    /// [`Seal::pieces`] belong to the cap.
+    pub cut: Vec<usize>,
 }
 
-/// The caps each record owns. `points[k]` is record `k`'s polygon (with
+/// What seals a picture's records.
+#[derive(Debug, Clone, Default)]
+pub struct Seal {
+    /// The caps each record owns.
+    pub caps: Vec<Vec<Cap>>,
+    /// Per record with free edges near: the record without the bands
+    /// [`INSET`] wide inside them (closed subpaths), as caps take it.
+    pub pieces: Vec<Vec<Vec<Pt>>>,
+}
+
+/// How a record enters the caps.
+#[derive(Debug, Clone, PartialEq)]
+enum Entry {
+    /// Whole: no free edge near.
+    Whole,
+    /// As its pieces, without the bands inside the free edges near it.
+    Cut(Vec<Vec<Pt>>),
+    /// Not at all.
+    Out,
+}
+
+/// The caps of the records. `points[k]` is record `k`'s polygon (with
 /// positive [`super::signed_area`]), `opaque[k]` says whether it covers
 /// what is under it, and `owners[k]` whether it is painted as a filled
 /// path that can carry caps (an opaque one).
-pub fn caps(points: &[Option<Vec<Pt>>], opaque: &[bool], owners: &[bool]) -> Vec<Vec<Cap>> {
+pub fn caps(points: &[Option<Vec<Pt>>], opaque: &[bool], owners: &[bool]) -> Seal {
     let paths: Vec<Option<&[Pt]>> = points
         .iter()
         .zip(opaque)
@@ -119,25 +145,110 @@ pub fn caps(points: &[Option<Vec<Pt>>], opaque: &[bool], owners: &[bool]) -> Vec
             plans.push(((owner, corner(group[first])), start..members.len()));
         }
     }
-    // The free edges within [`INSET`] of each record in a cap.
-    let near: Vec<Option<Near>> = paths
+    // How each record in a cap enters it: whole, or without the bands
+    // inside the free edges within [`INSET`] of it.
+    let entries: Vec<Option<Entry>> = paths
         .par_iter()
         .zip(&involved)
-        .map(|(p, &i)| i.then(|| edges.near(p.unwrap())))
+        .map(|(p, &i)| i.then(|| entry(p.unwrap(), edges.near(p.unwrap()))))
         .collect();
     let caps: Vec<Option<Cap>> = plans
         .par_iter()
         .map_init(Scratch::default, |scratch, (owner, range)| {
-            cap_at(*owner, &members[range.clone()], paths, &near, scratch)
+            cap_at(*owner, &members[range.clone()], paths, &entries, scratch)
         })
         .collect();
-    let mut out: Vec<Vec<Cap>> = vec![Vec::new(); paths.len()];
+    let mut seal = Seal {
+        caps: vec![Vec::new(); paths.len()],
+        pieces: vec![Vec::new(); paths.len()],
+    };
     for (((owner, _), _), cap) in plans.iter().zip(caps) {
         if let Some(cap) = cap {
-            out[*owner].push(cap);
+            seal.caps[*owner].push(cap);
         }
     }
-    out
+    for (k, e) in entries.into_iter().enumerate() {
+        if let Some(Entry::Cut(pieces)) = e {
+            seal.pieces[k] = pieces;
+        }
+    }
+    seal
+}
+
+/// How `poly` enters caps, with the free edges `near` it.
+fn entry(poly: &[Pt], near: Near) -> Entry {
+    let Some(free) = near else {
+        return Entry::Out;
+    };
+    if free.is_empty() {
+        return Entry::Whole;
+    }
+    let n = poly.len();
+    let own = |&(a, b): &(Pt, Pt)| (0..n).any(|i| poly[i] == a && poly[(i + 1) % n] == b);
+    if convex(poly) && free.iter().all(own) {
+        // Its own edges: the band inside each is all of the polygon
+        // within INSET of the edge's line.
+        let piece = free.iter().fold(poly.to_vec(), |p, &(a, b)| {
+            let (_, inward, _) = frame(a, b);
+            clip(&p, |q| inward(q) - INSET)
+        });
+        return Entry::Cut(tidy(vec![piece]));
+    }
+    let mut pieces = vec![poly.to_vec()];
+    let mut cut = false;
+    for &(a, b) in &free {
+        if pieces.iter().all(|p| area(&band(p, a, b)) <= 1e-9) {
+            continue;
+        }
+        cut = true;
+        pieces = pieces
+            .iter()
+            .flat_map(|p| outside_band(p, a, b))
+            .filter(|p| area(p) > 1e-6)
+            .collect();
+        if pieces.len() > MAX_PIECES {
+            return Entry::Out;
+        }
+    }
+    if cut {
+        Entry::Cut(tidy(pieces))
+    } else {
+        Entry::Whole
+    }
+}
+
+/// `pieces` without repeated points and without slivers (area under a
+/// thousandth of a unit times the perimeter).
+fn tidy(pieces: Vec<Vec<Pt>>) -> Vec<Vec<Pt>> {
+    pieces
+        .into_iter()
+        .map(|mut p| {
+            p.dedup();
+            while p.len() > 1 && p.first() == p.last() {
+                p.pop();
+            }
+            p
+        })
+        .filter(|p| p.len() >= 3 && area(p) > 1e-3 * perimeter(p))
+        .collect()
+}
+
+fn perimeter(p: &[Pt]) -> f64 {
+    (0..p.len())
+        .map(|i| {
+            let (a, b) = (p[i], p[(i + 1) % p.len()]);
+            (b[0] - a[0]).hypot(b[1] - a[1])
+        })
+        .sum()
+}
+
+/// Whether `p` turns one way only (positive orientation).
+fn convex(p: &[Pt]) -> bool {
+    let n = p.len();
+    (0..n).all(|i| {
+        let (a, b, c) = (p[i], p[(i + 1) % n], p[(i + 2) % n]);
+        (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]) >= 0.0
+    })
 }
 
 /// A point's key: the bits of its coordinates as `f32` (points within a
@@ -492,15 +603,14 @@ fn within(e: (Pt, Pt), f: (Pt, Pt), d: f64) -> bool {
 }
 
 /// The cap of `owner` (record, corner index) over `members`: one loop
-/// over the faces with no free edge near (the owner's own face included
-/// when it has none: it is in the owner's path anyway, and the loop need
-/// not go round it through the vertex), and each member with free edges
-/// near without the bands [`INSET`] wide inside them.
+/// over the faces that enter whole (the owner's own face included when
+/// it would: it is in the owner's path anyway, and the loop need not go
+/// round it through the vertex), and the members that enter cut.
 fn cap_at(
     owner: (usize, usize),
     members: &[(usize, usize)],
     paths: &[Option<&[Pt]>],
-    near: &[Option<Near>],
+    entries: &[Option<Entry>],
     scratch: &mut Scratch,
 ) -> Option<Cap> {
     let v = paths[owner.0].unwrap()[owner.1];
@@ -510,43 +620,20 @@ fn cap_at(
     let Scratch { points, faces } = scratch;
     points.clear();
     faces.clear();
-    let mut clipped: Vec<Vec<Pt>> = Vec::new();
+    let mut cut: Vec<usize> = Vec::new();
+    let mut whole = 0;
     for &(k, i) in std::iter::once(&owner).chain(members) {
         let path = paths[k].unwrap();
         let n = path.len();
-        // Among many free edges (shadows and reflections painted over
-        // a face), a face is left out.
-        let Some(Some(free)) = &near[k] else {
-            continue;
-        };
-        if k == owner.0 && !free.is_empty() {
-            continue;
-        }
-        if !free.is_empty() {
-            let mut pieces = vec![path.to_vec()];
-            let mut cut = false;
-            for &(a, b) in free {
-                if pieces.iter().all(|p| area(&band(p, a, b)) <= 1e-9) {
-                    continue;
-                }
-                cut = true;
-                pieces = pieces
-                    .iter()
-                    .flat_map(|p| outside_band(p, a, b))
-                    .filter(|p| area(p) > 1e-6)
-                    .collect();
-                if pieces.len() > MAX_PIECES {
-                    break;
-                }
-            }
-            if pieces.len() > MAX_PIECES {
+        match &entries[k] {
+            Some(Entry::Whole) => {}
+            Some(Entry::Cut(_)) if k != owner.0 => {
+                cut.push(k);
                 continue;
             }
-            if cut {
-                clipped.extend(pieces);
-                continue;
-            }
+            _ => continue,
         }
+        whole += (k != owner.0) as usize;
         // Points equal to `v` (repeated corners) are dropped.
         let start = points.len();
         points.extend((1..n).map(|d| path[(i + d) % n]).filter(|p| *p != v));
@@ -575,16 +662,15 @@ fn cap_at(
     if path.len() > 1 && path.first() == path.last() {
         path.pop();
     }
-    let mut paths = clipped;
-    if path.len() >= 3 {
-        paths.push(path);
+    if path.len() < 3 || whole == 0 {
+        path.clear();
     }
-    if paths.is_empty() {
+    if path.is_empty() && cut.is_empty() {
         return None;
     }
     let mut ring: Vec<usize> = members.iter().map(|m| m.0).collect();
     ring.sort_unstable();
-    Some(Cap { ring, paths })
+    Some(Cap { ring, path, cut })
 }
 
 /// Buffers [`cap_at`] reuses.
@@ -677,10 +763,12 @@ fn same_ray(v: Pt, a: Pt, b: Pt) -> bool {
 mod tests {
     use super::*;
 
-    /// Winding number of `p` about the cap's subpaths together.
-    fn winding(cap: &Cap, p: Pt) -> i32 {
+    /// Winding number of `p` about the cap's subpaths together: its
+    /// path and the pieces of the records it cuts.
+    fn winding((seal, cap): (&Seal, &Cap), p: Pt) -> i32 {
+        let pieces = cap.cut.iter().flat_map(|&r| &seal.pieces[r]);
         let mut w = 0;
-        for path in &cap.paths {
+        for path in std::iter::once(&cap.path).chain(pieces) {
             for k in 0..path.len() {
                 let (a, b) = (path[k], path[(k + 1) % path.len()]);
                 let cross = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
@@ -719,12 +807,13 @@ mod tests {
         inner.chain(outer).collect()
     }
 
-    /// The cap at the origin.
-    fn centre(caps: &[Vec<Cap>], owner: usize) -> &Cap {
-        caps[owner]
+    /// The cap at the origin, with the seal it belongs to.
+    fn centre(seal: &Seal, owner: usize) -> (&Seal, &Cap) {
+        let cap = seal.caps[owner]
             .iter()
             .find(|c| c.ring.iter().all(|&r| r < 6))
-            .expect("a cap at the centre")
+            .expect("a cap at the centre");
+        (seal, cap)
     }
 
     #[test]
@@ -732,11 +821,11 @@ mod tests {
         let paths = fan(None);
         let caps = caps(&paths, &[true; 12], &[true; 12]);
         let cap = centre(&caps, 0);
-        assert_eq!(cap.ring, vec![1, 2, 3, 4, 5]);
+        assert_eq!(cap.1.ring, vec![1, 2, 3, 4, 5]);
         // One loop, the hexagon: the owner's face is in it.
-        assert_eq!(cap.paths.len(), 1);
-        assert_eq!(cap.paths[0].len(), 6);
-        assert!((0..6).all(|k| cap.paths[0].contains(&at(10.0, k as f64))));
+        assert!(cap.1.cut.is_empty());
+        assert_eq!(cap.1.path.len(), 6);
+        assert!((0..6).all(|k| cap.1.path.contains(&at(10.0, k as f64))));
         for k in 0..6 {
             assert_eq!(winding(cap, at(5.0, k as f64 + 0.5)), 1);
         }
@@ -749,7 +838,7 @@ mod tests {
         let paths = fan(Some(3));
         let caps = caps(&paths, &[true; 12], &[true; 12]);
         let cap = centre(&caps, 0);
-        assert_eq!(cap.ring, vec![1, 2, 4, 5]);
+        assert_eq!(cap.1.ring, vec![1, 2, 4, 5]);
         assert_eq!(winding(cap, at(5.0, 3.5)), 0);
         // (The owner's own face, 0, is in its path; near the free edges
         // through the origin it is left out of the cap.)
@@ -777,9 +866,9 @@ mod tests {
         let mut owners = [true; 12];
         owners[0] = false;
         let caps = caps(&paths, &[true; 12], &owners);
-        assert!(caps[0].is_empty());
+        assert!(caps.caps[0].is_empty());
         let cap = centre(&caps, 1);
-        assert_eq!(cap.ring, vec![2, 3, 4, 5]);
+        assert_eq!(cap.1.ring, vec![2, 3, 4, 5]);
         assert_eq!(winding(cap, at(5.0, 0.5)), 0);
         assert_eq!(winding(cap, at(5.0, 1.5)), 1);
     }
