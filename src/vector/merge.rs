@@ -1,5 +1,7 @@
 //! Records to paint items, with abutting pieces of one colour merged into
-//! one path (no seams; the SVG/PDF "conflation" problem).
+//! one path (no seams; the SVG/PDF "conflation" problem), and each flat
+//! record's path carrying the caps that seal it to its neighbours of
+//! other colours ([`super::seal`]).
 //!
 //! A viewer anti-aliases each path on its own: where two abutting
 //! polygons of one colour each cover half of a pixel, the pixel gets
@@ -11,15 +13,18 @@
 //! another colour painted between them overlaps them (the pieces of one
 //! polygon split by NNS, 004 section 4.4; the faces of one flat-shaded
 //! surface). Overlap is judged on a 64 x 64 grid of screen cells covered
-//! by the records' bounding boxes: conservative, so the painting order is
-//! never changed where it matters. Open groups are pairwise disjoint, so
-//! the order in which they are closed does not matter either.
+//! by the records' bounding boxes (a record's caps included):
+//! conservative, so the painting order is never changed where it
+//! matters. Open groups are pairwise disjoint, so the order in which they
+//! are closed does not matter either. A cap over records that all ended
+//! up in its owner's group is left out: the group is one path already.
 //!
 //! Gouraud (and Phong) records that follow one another form one
 //! [`Item::Gouraud`] run: one type-4 shading in PDF (clipped to the union
 //! of their outlines), flat pieces dilated by a stroke in SVG and TikZ
 //! ([`super::gouraud`]).
 
+use super::seal::{self, Cap};
 use super::{Item, Pt, user_points, vertex_paint};
 use crate::tree::{Record, Shades};
 
@@ -68,7 +73,7 @@ struct Footprint {
 }
 
 impl Footprint {
-    fn of(points: &[Pt], w: f64, h: f64) -> Footprint {
+    fn of<'a>(points: impl IntoIterator<Item = &'a Pt>, w: f64, h: f64) -> Footprint {
         let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
         for p in points {
             x0 = x0.min(p[0]);
@@ -112,7 +117,14 @@ struct Group {
     color: [u8; 3],
     paths: Vec<Vec<Pt>>,
     cells: Cells,
+    /// The records in the group, in increasing order.
+    members: Vec<usize>,
+    /// The caps of its records ([`super::seal`]).
+    caps: Vec<Cap>,
 }
+
+/// The sealing pieces of the records ([`seal::Seal::pieces`]).
+type Pieces<'a> = &'a [Vec<Vec<Pt>>];
 
 /// A run of Gouraud records.
 struct Run {
@@ -120,16 +132,18 @@ struct Run {
     triangles: Vec<[(Pt, [u8; 3]); 3]>,
 }
 
-struct Merger {
+struct Merger<'a> {
     open: Vec<Group>,
     run: Option<Run>,
     items: Vec<Item>,
     /// The cells of closed groups, cleared, for the next groups (a group
     /// per record is common: a curved surface's shades all differ).
     spare: Vec<Cells>,
+    /// The pieces the caps take of records with free edges near.
+    pieces: Pieces<'a>,
 }
 
-impl Merger {
+impl Merger<'_> {
     /// Closes (emits) every open group of another colour that `f` hits.
     fn close_hit(&mut self, f: &Footprint, keep: Option<[u8; 3]>) {
         let mut k = 0;
@@ -144,8 +158,26 @@ impl Merger {
     }
 
     fn emit(&mut self, g: Group) {
+        let mut paths = g.paths;
+        let member = |r: &usize| g.members.binary_search(r).is_ok();
+        // A cap over records of the group itself adds nothing: the group
+        // is one path. The pieces of a record go in once.
+        let mut cut: Vec<usize> = Vec::new();
+        for cap in g.caps {
+            if !cap.ring.iter().all(member) {
+                if !cap.path.is_empty() {
+                    paths.push(cap.path);
+                }
+                cut.extend(cap.cut.into_iter().filter(|r| !member(r)));
+            }
+        }
+        cut.sort_unstable();
+        cut.dedup();
+        for r in cut {
+            paths.extend(self.pieces[r].iter().cloned());
+        }
         self.items.push(Item::Fill {
-            paths: g.paths,
+            paths,
             color: g.color,
             opacity: 1.0,
         });
@@ -163,12 +195,15 @@ impl Merger {
         }
     }
 
-    fn flat(&mut self, pts: Vec<Pt>, color: [u8; 3], f: Footprint) {
+    /// Record `k`, filled in one colour, with its caps.
+    fn flat(&mut self, k: usize, pts: Vec<Pt>, caps: Vec<Cap>, color: [u8; 3], f: Footprint) {
         self.flush_run();
         self.close_hit(&f, Some(color));
         if let Some(g) = self.open.iter_mut().find(|g| g.color == color) {
             f.add_to(&mut g.cells);
             g.paths.push(pts);
+            g.members.push(k);
+            g.caps.extend(caps);
             return;
         }
         if self.open.len() >= MAX_OPEN {
@@ -181,6 +216,8 @@ impl Merger {
             color,
             paths: vec![pts],
             cells,
+            members: vec![k],
+            caps,
         });
     }
 
@@ -240,51 +277,98 @@ fn fan(pts: &[Pt]) -> Vec<[usize; 3]> {
         .collect()
 }
 
+/// How a record is painted.
+enum Paint {
+    /// Nothing (special, or fewer than three points).
+    Skip,
+    /// Filled in one opaque colour.
+    Flat([u8; 3]),
+    /// Filled in one colour with an opacity below 1.
+    Translucent([u8; 3], f32),
+    /// Gouraud: a colour per point (in the order of the user points).
+    Gouraud(Vec<[u8; 3]>),
+}
+
+fn paint_of(r: &Record, w: f64, h: f64) -> Paint {
+    if r.points.len() < 3 {
+        return Paint::Skip;
+    }
+    if let Shades::Faceted(color) = r.shades {
+        // One opaque colour: the common case, without a colour list.
+        return Paint::Flat(color);
+    }
+    let Some((colors, opacity)) = vertex_paint(r) else {
+        return Paint::Skip;
+    };
+    if opacity < 1.0 {
+        let n = colors.len() as u32;
+        let mean = std::array::from_fn(|c| {
+            (colors.iter().map(|v| v[c] as u32).sum::<u32>() / n.max(1)) as u8
+        });
+        Paint::Translucent(mean, opacity)
+    } else if colors.iter().all(|c| *c == colors[0]) {
+        Paint::Flat(colors[0])
+    } else {
+        // Orientation may have been reversed: keep colours with points.
+        Paint::Gouraud(oriented_colors(r, &colors, w, h))
+    }
+}
+
 /// The paint items of a back-to-front, pre-blended stream, in a frame of
 /// `w x h` user units.
 pub fn paint_items(records: &[Record], w: f64, h: f64) -> Vec<Item> {
+    let paints: Vec<Paint> = records.iter().map(|r| paint_of(r, w, h)).collect();
+    let mut points: Vec<Option<Vec<Pt>>> = records
+        .iter()
+        .zip(&paints)
+        .map(|(r, p)| (!matches!(p, Paint::Skip)).then(|| user_points_with(r, w, h)))
+        .collect();
+    // The caps that seal abutting faces: over opaque records, owned by
+    // flat ones.
+    let opaque: Vec<bool> = paints
+        .iter()
+        .map(|p| matches!(p, Paint::Flat(_) | Paint::Gouraud(_)))
+        .collect();
+    let owners: Vec<bool> = paints.iter().map(|p| matches!(p, Paint::Flat(_))).collect();
+    let seal::Seal { mut caps, pieces } = seal::caps(&points, &opaque, &owners);
     let mut m = Merger {
         open: Vec::new(),
         run: None,
         items: Vec::new(),
         spare: Vec::new(),
+        pieces: &pieces,
     };
-    for (k, r) in records.iter().enumerate() {
+    for (k, paint) in paints.into_iter().enumerate() {
         // A stop request ends the painting early; the caller reports it
         // and writes nothing.
         if k % 1024 == 0 && crate::cancel::requested() {
             break;
         }
-        if let Shades::Faceted(color) = r.shades {
-            // One opaque colour: the common case, without a colour list.
-            if r.points.len() >= 3 {
-                let pts = user_points_with(r, w, h);
-                let f = Footprint::of(&pts, w, h);
-                m.flat(pts, color, f);
-            }
-            continue;
-        }
-        let Some((colors, opacity)) = vertex_paint(r) else {
+        let Some(pts) = points[k].take() else {
             continue;
         };
-        if r.points.len() < 3 {
-            continue;
-        }
-        let pts = user_points_with(r, w, h);
-        let f = Footprint::of(&pts, w, h);
-        let uniform = colors.iter().all(|c| *c == colors[0]);
-        if opacity < 1.0 {
-            let n = colors.len() as u32;
-            let mean = std::array::from_fn(|c| {
-                (colors.iter().map(|v| v[c] as u32).sum::<u32>() / n.max(1)) as u8
-            });
-            m.translucent(pts, mean, opacity, f);
-        } else if uniform {
-            m.flat(pts, colors[0], f);
-        } else {
-            // Orientation may have been reversed: keep colours with points.
-            let colors = oriented_colors(r, &colors, w, h);
-            m.gouraud(pts, colors, f);
+        match paint {
+            Paint::Skip => {}
+            Paint::Flat(color) => {
+                let caps = std::mem::take(&mut caps[k]);
+                let cut = caps.iter().flat_map(|c| &c.cut).flat_map(|&r| &pieces[r]);
+                let f = Footprint::of(
+                    pts.iter()
+                        .chain(caps.iter().flat_map(|c| &c.path))
+                        .chain(cut.flatten()),
+                    w,
+                    h,
+                );
+                m.flat(k, pts, caps, color, f);
+            }
+            Paint::Translucent(color, opacity) => {
+                let f = Footprint::of(&pts, w, h);
+                m.translucent(pts, color, opacity, f);
+            }
+            Paint::Gouraud(colors) => {
+                let f = Footprint::of(&pts, w, h);
+                m.gouraud(pts, colors, f);
+            }
         }
     }
     m.flush_run();

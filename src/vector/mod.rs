@@ -12,7 +12,8 @@
 //!   each record's source and which of its edges lie on the edges of the
 //!   original polygon (for hidden lines);
 //! - [`picture`]: records to paint items (filled paths, Gouraud runs,
-//!   strokes), merging abutting pieces of one colour ([`merge`]);
+//!   strokes), merging abutting pieces of one colour ([`merge`]) and
+//!   sealing abutting faces of any colours with vertex caps ([`seal`]);
 //! - [`svg`], [`pdf`], [`tikz`]: the writers; [`hidden_line`]: visible
 //!   edge segments, also rasterized for PNG output.
 //!
@@ -25,6 +26,7 @@ pub mod hidden_line;
 pub mod merge;
 pub mod overlay;
 pub mod pdf;
+pub mod seal;
 pub mod svg;
 pub mod tikz;
 
