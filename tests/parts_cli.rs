@@ -340,3 +340,72 @@ fn frames_render_only_their_runs_with_the_whole_numbering() {
         "frame 2 alone is frame 2 of the whole"
     );
 }
+
+/// An animation of five frames (`run`s) of a turning four-lobed surface,
+/// each frame named by its `fname`, at 48 x 32.
+const ANIMATION: &str = "resolution 48 32\nperspective 40 1 0.1 100\n\
+    light 4 -6 8 1 1 1 100 Diffuse\npushmatrix\nident\npolarview 4.5 25 65 0\n\
+    defobj geo\n  color 0.9 0.6 0.3\n  geodesic 4 angle\n  radial lobes 0.35 4\nendobj\n\
+    popmatrix\nfname f0\nrun\nradial rotate 15 z\nfname f1\nrun\nradial rotate 15 z\n\
+    fname f2\nrun\nradial rotate 15 z\nfname f3\nrun\nradial rotate 15 z\nfname f4\nrun\n";
+
+#[test]
+fn parts_of_an_animation_are_its_frames_each_as_a_whole_render_makes_it() {
+    let whole = tempfile::tempdir().unwrap();
+    std::fs::write(whole.path().join("anim.des"), ANIMATION).unwrap();
+    ok(&program("plytrace", whole.path(), &["anim.des", "-q"]));
+    let frames: Vec<String> = (0..5).map(|f| format!("f{f}.png")).collect();
+    for f in &frames {
+        assert!(whole.path().join(f).is_file(), "{f}");
+    }
+    // Three parts of five frames: 0, 1-2, 3-4; seven parts: some empty.
+    for n in [3u32, 7] {
+        let d = tempfile::tempdir().unwrap();
+        std::fs::write(d.path().join("anim.des"), ANIMATION).unwrap();
+        for i in 0..n {
+            let part = format!("{i}/{n}");
+            let pngs = || {
+                let mut f = files(d.path());
+                f.retain(|f| f.ends_with(".png"));
+                f
+            };
+            let before = pngs().len();
+            ok(&program(
+                "plytrace",
+                d.path(),
+                &["anim.des", "-q", "--part", &part],
+            ));
+            let (first, end) = (i * 5 / n, (i + 1) * 5 / n);
+            // Each part writes its frames and only those.
+            let wrote = pngs();
+            assert_eq!(
+                wrote.len(),
+                before + (end - first) as usize,
+                "part {part}: {wrote:?}"
+            );
+            assert!((first..end).all(|f| wrote.contains(&format!("f{f}.png"))));
+        }
+        for f in &frames {
+            let a = std::fs::read(whole.path().join(f)).unwrap();
+            let b = std::fs::read(d.path().join(f)).unwrap();
+            assert!(a == b, "{f} of {n} parts differs from the whole render's");
+        }
+    }
+    // A part file name makes no sense for frames: refused, nothing written.
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("anim.des"), ANIMATION).unwrap();
+    let out = program(
+        "plytrace",
+        d.path(),
+        &["anim.des", "-q", "--part", "1/2", "-o", "p.png"],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let msg = String::from_utf8_lossy(&out.stderr);
+    assert!(msg.contains("animation of 5 frames"), "{msg}");
+    assert!(!files(d.path()).iter().any(|f| f.ends_with(".png")));
+    // A one-run scene still needs -o for its part file.
+    let d = scenes();
+    let out = program("plytrace", d.path(), &["ccube.des", "-q", "--part", "1/2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("name it with -o"));
+}

@@ -150,7 +150,8 @@ pub struct Cli {
     #[arg(long, help_heading = OUTPUT)]
     pub check: bool,
     /// Render only part I of N horizontal bands (I from 0) into the part
-    /// file that -o names; `plytrace merge` joins the parts.
+    /// file that -o names; `plytrace merge` joins the parts. On a scene
+    /// with several `run`s the parts are its frames (without -o).
     #[arg(long, value_name = "I/N", value_parser = parse_part, help_heading = OUTPUT)]
     pub part: Option<plytrace::part::PartSpec>,
     /// Render only the frames (`run`s) A to B, counted from 0 over the
@@ -746,9 +747,12 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 
 /// `--part`: what a part needs, checked with the other flags.
 fn check_part(spec: plytrace::part::PartSpec, image: &Image, cli: &Cli) -> Result<(), String> {
+    // Without -o: an animation's parts are frames, named by their runs;
+    // a one-run scene is told to name its part file once it is read.
     let named = match image {
         Image::File(p) => p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")),
-        _ => false,
+        Image::Default => true,
+        Image::Stdout(_) => false,
     };
     if !named {
         return Err(format!(

@@ -235,12 +235,93 @@ pub fn run(settings: &Settings, host: &mut CliHost) -> ExitCode {
     code
 }
 
+/// `--part I/N`: on a scene with several `run`s (an animation) the parts
+/// are its frames, `I * F / N` to `(I + 1) * F / N - 1` of `F`, each
+/// written whole under the name its run gives (as `--frames`); on a scene
+/// with one run, the part is a band of its image, in the part file `-o`
+/// names. The runs are counted by reading the scene once without
+/// rendering. Returns false when this part has nothing to render; an
+/// error is reported, with the exit code (2 for flags that do not fit the
+/// scene).
+fn plan_part(settings: &Settings, host: &mut CliHost) -> std::result::Result<bool, ExitCode> {
+    let Some(spec) = host.part else {
+        return Ok(true);
+    };
+    let frames = match &settings.scene {
+        SceneSource::File(path) => count_runs(settings, path).map_err(|e| failed(&e, host))?,
+        // Standard input is read once: a band of its one run.
+        _ => 1,
+    };
+    let usage = |message: String| {
+        err(&format!("error: {message}"));
+        ExitCode::from(2)
+    };
+    if frames <= 1 {
+        if host.output.is_none() {
+            return Err(usage(format!(
+                "--part {spec} writes a part file (PNG): name it with -o, such as \
+                 -o parts/{}.png",
+                spec.index
+            )));
+        }
+        return Ok(true);
+    }
+    if host.output.is_some() || settings.frames.is_some() {
+        return Err(usage(format!(
+            "--part {spec}: this scene is an animation of {frames} frames, and its parts are \
+             frames, each written under the name its `run` gives: leave out -o and --frames"
+        )));
+    }
+    let (count, index) = (u64::from(spec.count), u64::from(spec.index));
+    let first = (index * u64::from(frames) / count) as u32;
+    let end = ((index + 1) * u64::from(frames) / count) as u32;
+    host.part = None;
+    if first >= end {
+        host.say(&format!(
+            "Part {spec} of {frames} frames has no frame to render"
+        ));
+        return Ok(false);
+    }
+    host.say(&format!(
+        "Part {spec} of {frames} frames: frames {first} to {}",
+        end - 1
+    ));
+    host.frames = Some((first, end - 1));
+    Ok(true)
+}
+
+/// Counts the `run`s of the scene file `path`, reading it without
+/// rendering.
+fn count_runs(settings: &Settings, path: &Path) -> Result<u32> {
+    struct Runs(u32);
+    impl Host for Runs {
+        fn run(&mut self, _scene: &plytrace::scene::Scene, _shadows: bool) -> Result<()> {
+            self.0 = self.0.saturating_add(1);
+            Ok(())
+        }
+    }
+    let mut interp = Interpreter::new();
+    interp.set_budgets(settings.budgets);
+    for (letter, value) in &settings.modes {
+        interp.force_mode(*letter, value)?;
+    }
+    let mut runs = Runs(0);
+    interp.execute_file(path, true, &mut runs)?;
+    interp.take_warnings();
+    Ok(runs.0)
+}
+
 fn scene_session(
     settings: &Settings,
     interp: &mut Interpreter,
     host: &mut CliHost,
     counts: &mut SceneCounts,
 ) -> ExitCode {
+    match plan_part(settings, host) {
+        Ok(true) => {}
+        Ok(false) => return ExitCode::SUCCESS,
+        Err(code) => return code,
+    }
     if settings.scene != SceneSource::None {
         match load_scene(interp, host, &settings.scene) {
             Ok(Flow::Quit) => return ExitCode::SUCCESS,
