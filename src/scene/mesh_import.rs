@@ -15,8 +15,8 @@ use std::io::Cursor;
 use std::path::Path;
 
 use glam::DVec3;
-use ply_rs_bw::parser::Parser;
-use ply_rs_bw::ply::{DefaultElement, Property};
+use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::ply::{BeginList, Property, PropertyAccess, PropertyAccessResult};
 
 use crate::error::{Error, Location, Result};
 use crate::model::Mesh;
@@ -332,80 +332,208 @@ fn append_obj_mesh(mesh: &mut Mesh, model: &tobj::Mesh, path: &Path) -> Result<(
 // ---------------------------------------------------------------------------
 // PLY
 
+/// A PLY file's `vertex` and `face` elements; other elements are read past.
+/// Each element is read into a small typed record ([`PlyVertex`],
+/// [`PlyFace`]), not the parser's map of named properties, which took
+/// about 400 bytes a face.
 fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh> {
-    let ply = Parser::<DefaultElement>::new()
-        .read_ply(&mut Cursor::new(bytes))
-        .map_err(|e| match e.line() {
-            Some(line) => Error::at(
-                Location::new(path, line, 0),
-                format!("cannot read PLY: {e}"),
-            ),
-            None => format_error(path, "PLY", e),
-        })?;
-    let no_elements = Vec::new();
-    let vertices = ply.payload.get("vertex").unwrap_or(&no_elements);
-    let faces = ply.payload.get("face").unwrap_or(&no_elements);
-    Ok(Mesh {
-        vertices: vertices
-            .iter()
-            .enumerate()
-            .map(|(i, v)| ply_vertex(v, i + 1, path))
-            .collect::<Result<_>>()?,
-        polygons: faces
-            .iter()
-            .enumerate()
-            .map(|(i, f)| ply_face(f, i + 1, path))
-            .collect::<Result<_>>()?,
-    })
+    let error = |e: ply_rs_bw::parser::ParseError| match e.line() {
+        Some(line) => Error::at(
+            Location::new(path, line, 0),
+            format!("cannot read PLY: {e}"),
+        ),
+        None => format_error(path, "PLY", e),
+    };
+    let mut reader = Reader::new(Cursor::new(bytes));
+    let header = Parser::<Skip>::new()
+        .read_header(&mut reader)
+        .map_err(error)?;
+    let (mut vertices, mut faces) = (Vec::new(), Vec::new());
+    for (name, element) in &header.elements {
+        match name.as_str() {
+            "vertex" => {
+                vertices = Parser::<PlyVertex>::new()
+                    .read_payload_for_element(&mut reader, element, &header)
+                    .map_err(error)?;
+            }
+            "face" => {
+                faces = Parser::<PlyFace>::new()
+                    .read_payload_for_element(&mut reader, element, &header)
+                    .map_err(error)?;
+            }
+            _ => {
+                Parser::<Skip>::new()
+                    .read_payload_for_element(&mut reader, element, &header)
+                    .map_err(error)?;
+            }
+        }
+    }
+    let vertices = vertices
+        .into_iter()
+        .enumerate()
+        .map(|(i, v)| v.point(i + 1, path))
+        .collect::<Result<_>>()?;
+    let polygons = faces
+        .into_iter()
+        .enumerate()
+        .map(|(i, f)| f.polygon(i + 1, path))
+        .collect::<Result<_>>()?;
+    Ok(Mesh { vertices, polygons })
 }
 
-/// The `x`, `y`, `z` (float or double) of PLY vertex `number`.
-fn ply_vertex(element: &DefaultElement, number: usize, path: &Path) -> Result<DVec3> {
-    let mut xyz = [0.0; 3];
-    for (value, name) in xyz.iter_mut().zip(["x", "y", "z"]) {
-        *value = match element.get(name) {
-            Some(Property::Float(v)) => f64::from(*v),
-            Some(Property::Double(v)) => *v,
-            Some(_) => {
-                return Err(format_error(
-                    path,
-                    "PLY",
-                    format!("vertex {number}: property `{name}` must be a float or double"),
-                ));
+/// An element read past.
+struct Skip;
+
+impl PropertyAccess for Skip {
+    fn new() -> Self {
+        Skip
+    }
+}
+
+/// A PLY vertex as read: `x`, `y`, `z`, and the first of them given as
+/// another type than float or double.
+#[derive(Default)]
+struct PlyVertex {
+    xyz: [Option<f64>; 3],
+    wrong: Option<&'static str>,
+}
+
+impl PropertyAccess for PlyVertex {
+    fn new() -> Self {
+        PlyVertex::default()
+    }
+
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        let Some(axis) = ["x", "y", "z"].iter().position(|a| *a == name) else {
+            return PropertyAccessResult::Ignored;
+        };
+        match property {
+            Property::Float(v) => self.xyz[axis] = Some(f64::from(v)),
+            Property::Double(v) => self.xyz[axis] = Some(v),
+            _ => {
+                self.wrong.get_or_insert(["x", "y", "z"][axis]);
             }
-            None => {
-                return Err(format_error(
+        }
+        PropertyAccessResult::Set
+    }
+}
+
+impl PlyVertex {
+    /// The point of vertex `number`.
+    fn point(self, number: usize, path: &Path) -> Result<DVec3> {
+        if let Some(name) = self.wrong {
+            return Err(format_error(
+                path,
+                "PLY",
+                format!("vertex {number}: property `{name}` must be a float or double"),
+            ));
+        }
+        let mut xyz = [0.0; 3];
+        for ((value, read), name) in xyz.iter_mut().zip(self.xyz).zip(["x", "y", "z"]) {
+            *value = read.ok_or_else(|| {
+                format_error(
                     path,
                     "PLY",
                     format!("vertex {number} has no property `{name}`"),
+                )
+            })?;
+        }
+        Ok(DVec3::from_array(xyz))
+    }
+}
+
+/// A PLY face as read: its `vertex_indices` (or `vertex_index`) list.
+/// Lists of `uint` and `int`, the common types, are filled in place.
+#[derive(Default)]
+struct PlyFace {
+    indices: Vec<u32>,
+    signed: Vec<i32>,
+    /// Which list was read: none yet, unsigned, signed, or one of
+    /// another type that is not a list of non-negative integers.
+    read: FaceList,
+}
+
+#[derive(Default, Clone, Copy, PartialEq)]
+enum FaceList {
+    #[default]
+    Missing,
+    Unsigned,
+    Signed,
+    Invalid,
+}
+
+/// Whether `name` is the face's index list (`vertex_index` only when
+/// there was no `vertex_indices` before it).
+fn index_list(name: &str, read: FaceList) -> bool {
+    name == "vertex_indices" || (name == "vertex_index" && read == FaceList::Missing)
+}
+
+impl PropertyAccess for PlyFace {
+    fn new() -> Self {
+        PlyFace::default()
+    }
+
+    fn begin_list_uint(&mut self, name: &str, _len: usize) -> BeginList<'_, u32> {
+        if !index_list(name, self.read) {
+            return BeginList::UseSetter;
+        }
+        self.read = FaceList::Unsigned;
+        BeginList::Fill(&mut self.indices)
+    }
+
+    fn begin_list_int(&mut self, name: &str, _len: usize) -> BeginList<'_, i32> {
+        if !index_list(name, self.read) {
+            return BeginList::UseSetter;
+        }
+        self.read = FaceList::Signed;
+        BeginList::Fill(&mut self.signed)
+    }
+
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        if !index_list(name, self.read) {
+            return PropertyAccessResult::Ignored;
+        }
+        match property.to_u32_list() {
+            Some(list) => {
+                self.indices = list;
+                self.read = FaceList::Unsigned;
+            }
+            None => self.read = FaceList::Invalid,
+        }
+        PropertyAccessResult::Set
+    }
+}
+
+impl PlyFace {
+    /// The clockwise polygon of face `number`.
+    fn polygon(self, number: usize, path: &Path) -> Result<Vec<u32>> {
+        let indices = match self.read {
+            FaceList::Unsigned => Some(self.indices),
+            FaceList::Signed => self
+                .signed
+                .into_iter()
+                .map(|i| u32::try_from(i).ok())
+                .collect(),
+            FaceList::Invalid => None,
+            FaceList::Missing => {
+                return Err(format_error(
+                    path,
+                    "PLY",
+                    format!("face {number} has no list property `vertex_indices`"),
                 ));
             }
         };
-    }
-    Ok(DVec3::from_array(xyz))
-}
-
-/// The clockwise polygon of PLY face `number`, from its `vertex_indices`
-/// (or `vertex_index`) list of any integer type.
-fn ply_face(element: &DefaultElement, number: usize, path: &Path) -> Result<Vec<u32>> {
-    let list = element
-        .get("vertex_indices")
-        .or_else(|| element.get("vertex_index"))
-        .ok_or_else(|| {
+        let indices = indices.ok_or_else(|| {
             format_error(
                 path,
                 "PLY",
-                format!("face {number} has no list property `vertex_indices`"),
+                format!(
+                    "face {number}: the vertex indices must be a list of non-negative integers"
+                ),
             )
         })?;
-    let indices = list.to_u32_list().ok_or_else(|| {
-        format_error(
-            path,
-            "PLY",
-            format!("face {number}: the vertex indices must be a list of non-negative integers"),
-        )
-    })?;
-    Ok(clockwise(indices))
+        Ok(clockwise(indices))
+    }
 }
 
 // ---------------------------------------------------------------------------
@@ -436,6 +564,108 @@ fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn ply(body: &str) -> Result<Mesh> {
+        read_ply(body.as_bytes(), Path::new("m.ply"))
+    }
+
+    const HEAD: &str = "ply\nformat ascii 1.0\n";
+
+    #[test]
+    fn ply_elements_of_every_index_type_and_others_read_past() {
+        let text = format!(
+            "{HEAD}element vertex 3\nproperty float x\nproperty double y\nproperty float z\n\
+             property uchar red\nelement edge 1\nproperty list uchar int vertex1\n\
+             element face 3\nproperty uchar flags\nproperty list uchar uint vertex_indices\n\
+             end_header\n0 0 0 9\n1 0 0 9\n0 1.5 0 9\n2 0 1\n7 3 0 1 2\n7 3 2 1 0\n7 3 0 2 1\n"
+        );
+        let mesh = ply(&text).unwrap();
+        assert_eq!(mesh.vertices[2], DVec3::new(0.0, 1.5, 0.0));
+        assert_eq!(
+            mesh.polygons,
+            vec![vec![2, 1, 0], vec![0, 1, 2], vec![1, 2, 0]]
+        );
+        for (list, name) in [
+            ("int", "vertex_indices"),
+            ("short", "vertex_index"),
+            ("uchar", "vertex_index"),
+        ] {
+            let text = format!(
+                "{HEAD}element vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                 element face 1\nproperty list uchar {list} {name}\nend_header\n\
+                 0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+            );
+            assert_eq!(
+                ply(&text).unwrap().polygons,
+                vec![vec![2, 1, 0]],
+                "{list} {name}"
+            );
+        }
+    }
+
+    #[test]
+    fn bad_ply_elements_are_named() {
+        let vertex = |props: &str, rows: &str| {
+            format!(
+                "{HEAD}element vertex 2\n{props}element face 0\nproperty list uchar int vertex_indices\nend_header\n{rows}"
+            )
+        };
+        let face = |list: &str, row: &str| {
+            format!(
+                "{HEAD}element vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                 element face 2\nproperty list uchar {list}\nend_header\n0 0 0\n1 0 0\n0 1 0\n\
+                 3 0 1 2\n{row}\n"
+            )
+        };
+        for (text, says) in [
+            (
+                vertex("property float x\nproperty float y\n", "0 0\n1 1\n"),
+                "vertex 1 has no property `z`",
+            ),
+            (
+                vertex(
+                    "property int x\nproperty float y\nproperty float z\n",
+                    "0 0 0\n1 1 1\n",
+                ),
+                "vertex 1: property `x` must be a float or double",
+            ),
+            (
+                face("int vertex_indices", "3 0 -1 2"),
+                "face 2: the vertex indices must be a list of non-negative integers",
+            ),
+            (
+                face("float vertex_indices", "3 0 1 2"),
+                "face 1: the vertex indices must be a list of non-negative integers",
+            ),
+            (
+                face("int corners", "3 0 1 2"),
+                "face 1 has no list property `vertex_indices`",
+            ),
+        ] {
+            let e = ply(&text).unwrap_err().to_string();
+            assert!(e.contains(says), "{e}\nshould say {says}");
+        }
+    }
+
+    #[test]
+    fn binary_ply_reads_as_its_ascii_twin() {
+        let mut bytes = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n\
+            property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+            end_header\n"
+            .to_vec();
+        for v in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.25]] {
+            for c in v {
+                bytes.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        bytes.push(3);
+        for i in [0i32, 1, 2] {
+            bytes.extend_from_slice(&i.to_le_bytes());
+        }
+        let mesh = read_ply(&bytes, Path::new("m.ply")).unwrap();
+        assert_eq!(mesh.vertices[2], DVec3::new(0.0, 1.0, 0.25));
+        assert_eq!(mesh.polygons, vec![vec![2, 1, 0]]);
+    }
 
     #[test]
     fn clockwise_reverses_the_order() {

@@ -30,19 +30,16 @@ use crate::profile::{Category, Profile};
 /// polygons (the same vertices from the same start, the same `type open`)
 /// share one caster, since they cast the same shadow.
 struct Caster {
-    /// The first polygon it stands for.
+    /// The object and polygon of the first polygon it stands for (its
+    /// points and plane are the scene's).
+    object: u32,
     polygon: u32,
     /// The object of every polygon it stands for, or `None` when they come
     /// from several objects.
     single_object: Option<u32>,
     /// How many identical polygons it stands for.
     copies: u32,
-    points: Vec<DVec3>,
-    /// Outward plane (unit normal).
-    plane: DVec4,
     open: bool,
-    lo: DVec3,
-    hi: DVec3,
 }
 
 /// A caster's box and index, stored in a light's hierarchy in leaf order.
@@ -81,6 +78,70 @@ const MAX_LIGHT_ITEMS: usize = 1 << 20;
 /// Items per leaf.
 const LEAF: usize = 4;
 
+/// No caster (the end of a chain of casters with one hash).
+const NONE: u32 = u32::MAX;
+
+/// A polygon of the scene as a caster: its points (world coordinates)
+/// and plane are read from the scene, not copied.
+#[derive(Clone, Copy)]
+struct CasterRef<'a> {
+    vertices: &'a [DVec3],
+    polygon: &'a crate::model::Polygon,
+}
+
+impl<'a> CasterRef<'a> {
+    fn new(scene: &'a Scene, object: u32, polygon: u32) -> CasterRef<'a> {
+        let o = &scene.objects[object as usize];
+        CasterRef {
+            vertices: &o.vertices,
+            polygon: &o.polygons[polygon as usize],
+        }
+    }
+
+    fn of(scene: &'a Scene, c: &Caster) -> CasterRef<'a> {
+        CasterRef::new(scene, c.object, c.polygon)
+    }
+
+    fn points(self) -> impl Iterator<Item = DVec3> + 'a {
+        self.polygon
+            .indices
+            .iter()
+            .map(move |&i| self.vertices[i as usize])
+    }
+
+    fn bounds(self) -> (DVec3, DVec3) {
+        self.points().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(p), hi.max(p)),
+        )
+    }
+
+    /// Whether it may cast a shadow from `light`: it faces the light, or
+    /// it is `type open`.
+    fn faces(self, open: bool, light: DVec3) -> bool {
+        let plane = self.polygon.plane;
+        open || plane.truncate().dot(light) + plane.w > 0.0
+    }
+}
+
+/// Whether `a` and `b` have the same points (bit for bit).
+fn same_points(a: CasterRef<'_>, b: CasterRef<'_>) -> bool {
+    let bits = |p: DVec3| p.to_array().map(f64::to_bits);
+    a.polygon.indices.len() == b.polygon.indices.len()
+        && a.points().zip(b.points()).all(|(p, q)| bits(p) == bits(q))
+}
+
+/// A hash of a caster's points (their bits) and whether it is open.
+fn caster_hash(open: bool, c: CasterRef<'_>) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::hash::DefaultHasher::new();
+    open.hash(&mut h);
+    for p in c.points() {
+        p.to_array().map(f64::to_bits).hash(&mut h);
+    }
+    h.finish()
+}
+
 /// Every displayed polygon of a scene as a caster, in world coordinates
 /// (levels below 1 map their shadow volumes back to them), and per Point
 /// light the hierarchy of those facing it.
@@ -97,47 +158,50 @@ impl CasterIndex {
     /// The casters of `scene`; the lights' hierarchies are built on first
     /// use.
     pub fn new(scene: &Scene) -> CasterIndex {
-        let mut casters: Vec<Caster> = Vec::new();
+        let shown = || scene.objects.iter().filter(|o| !o.surface_type.hidden);
+        let polygons: usize = shown().map(|o| o.polygons.len()).sum();
+        let mut casters: Vec<Caster> = Vec::with_capacity(polygons);
         // Identical polygons (65,535 copies of one triangle) would each
-        // be found by every query of the others: one caster for all.
-        let mut seen: std::collections::HashMap<(bool, Vec<[u64; 3]>), usize> =
-            std::collections::HashMap::new();
+        // be found by every query of the others: one caster for all. The
+        // casters with one hash are chained through `same_hash`.
+        let mut first_with: std::collections::HashMap<u64, u32> =
+            std::collections::HashMap::with_capacity(polygons);
+        let mut same_hash: Vec<u32> = Vec::with_capacity(polygons);
         for (oi, object) in scene.objects.iter().enumerate() {
             if object.surface_type.hidden {
                 continue;
             }
-            for (pi, poly) in object.polygons.iter().enumerate() {
-                let points: Vec<DVec3> = poly
-                    .indices
-                    .iter()
-                    .map(|&i| object.vertices[i as usize])
-                    .collect();
-                let key = (
-                    object.surface_type.open,
-                    points
-                        .iter()
-                        .map(|p| p.to_array().map(f64::to_bits))
-                        .collect(),
-                );
-                if let Some(&k) = seen.get(&key) {
-                    let caster: &mut Caster = &mut casters[k];
+            let open = object.surface_type.open;
+            for pi in 0..object.polygons.len() {
+                let this = CasterRef::new(scene, oi as u32, pi as u32);
+                let hash = caster_hash(open, this);
+                let mut k = first_with.get(&hash).copied().unwrap_or(NONE);
+                while k != NONE {
+                    let c = &casters[k as usize];
+                    if c.open == open && same_points(CasterRef::of(scene, c), this) {
+                        break;
+                    }
+                    k = same_hash[k as usize];
+                }
+                if k != NONE {
+                    let caster = &mut casters[k as usize];
                     caster.copies += 1;
                     if caster.single_object != Some(oi as u32) {
                         caster.single_object = None;
                     }
                     continue;
                 }
-                seen.insert(key, casters.len());
-                let (lo, hi) = bounds(&points);
+                same_hash.push(
+                    first_with
+                        .insert(hash, casters.len() as u32)
+                        .unwrap_or(NONE),
+                );
                 casters.push(Caster {
+                    object: oi as u32,
                     polygon: pi as u32,
                     single_object: Some(oi as u32),
                     copies: 1,
-                    points,
-                    plane: poly.plane,
-                    open: object.surface_type.open,
-                    lo,
-                    hi,
+                    open,
                 });
             }
         }
@@ -154,27 +218,33 @@ impl CasterIndex {
     /// while all lights' hierarchies together stay within
     /// [`MAX_LIGHT_ITEMS`] items, else one shared by every further light,
     /// so that many lights never cost lights times casters memory.
-    fn tree(&self, j: usize, light: DVec3) -> (&LightTree, bool) {
+    fn tree(&self, scene: &Scene, j: usize, light: DVec3) -> (&LightTree, bool) {
         let n = self.casters.len().max(1);
         if (j + 1).saturating_mul(n) > self.max_light_items && j > 0 {
-            return (self.shared.get_or_init(|| self.make_tree(|_| true)), true);
+            return (
+                self.shared.get_or_init(|| self.make_tree(scene, |_| true)),
+                true,
+            );
         }
         let tree = self.lights[j].get_or_init(|| {
-            self.make_tree(|c| c.open || c.plane.truncate().dot(light) + c.plane.w > 0.0)
+            self.make_tree(scene, |c| CasterRef::of(scene, c).faces(c.open, light))
         });
         (tree, false)
     }
 
-    fn make_tree(&self, keep: impl Fn(&Caster) -> bool) -> LightTree {
+    fn make_tree(&self, scene: &Scene, keep: impl Fn(&Caster) -> bool) -> LightTree {
         let mut items: Vec<Item> = self
             .casters
             .iter()
             .enumerate()
             .filter(|(_, c)| keep(c))
-            .map(|(k, c)| Item {
-                lo: c.lo,
-                hi: c.hi,
-                caster: k as u32,
+            .map(|(k, c)| {
+                let (lo, hi) = CasterRef::of(scene, c).bounds();
+                Item {
+                    lo,
+                    hi,
+                    caster: k as u32,
+                }
             })
             .collect();
         let mut nodes = Vec::new();
@@ -384,12 +454,12 @@ impl Casting<'_> {
         };
         {
             let _t = profile.time(Category::ChkBbox);
-            let (tree, facing_unknown) = index.tree(j, light);
+            let (tree, facing_unknown) = index.tree(scene, j, light);
             tree.query(&s.world_volume, bounds, &mut s.found);
             if facing_unknown {
                 s.found.retain(|&k| {
                     let c = &index.casters[k as usize];
-                    c.open || c.plane.truncate().dot(light) + c.plane.w > 0.0
+                    CasterRef::of(scene, c).faces(c.open, light)
                 });
             }
         }
@@ -406,14 +476,14 @@ impl Casting<'_> {
             {
                 continue;
             }
-            let pts: &[DVec3] = if identity {
-                &caster.points
+            let from = CasterRef::of(scene, caster);
+            s.points.clear();
+            if identity {
+                s.points.extend(from.points());
             } else {
-                s.points.clear();
-                s.points
-                    .extend(caster.points.iter().map(|p| t.transform_point(*p)));
-                &s.points
-            };
+                s.points.extend(from.points().map(|p| t.transform_point(p)));
+            }
+            let pts: &[DVec3] = &s.points;
             // A caster in the target's plane (a coincident copy, or a
             // neighbour of a tessellated plane) shadows nothing on it.
             if pts.iter().all(|p| (n.dot(*p) + plane.w).abs() <= eps) {
