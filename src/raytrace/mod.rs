@@ -49,7 +49,7 @@ use crate::geometry::bvh::{Hit, WorldPolygons};
 use crate::geometry::view::View;
 use crate::model::{Color, LightKind, Scene};
 use crate::raster::frame_buffer::FrameBuffer;
-use crate::shading::{FacetTerms, ShadingModel, shade_with_model};
+use crate::shading::{FacetTerms, Materials, ShadingModel, shade_with_model};
 
 /// Options of a ray-traced render.
 #[derive(Debug, Clone, Copy)]
@@ -151,6 +151,8 @@ const MAX_BENDS: u32 = 16;
 /// The scene, its polygons' hierarchy and the tree's cut-offs.
 pub struct RayTracer<'a> {
     scene: &'a Scene,
+    /// The polygons' materials, resolved once.
+    materials: Materials<'a>,
     polygons: WorldPolygons,
     view: View,
     shadows: bool,
@@ -178,6 +180,7 @@ impl<'a> RayTracer<'a> {
     pub fn new(scene: &'a Scene, view: View, shadows: bool, shading: ShadingModel) -> Self {
         RayTracer {
             scene,
+            materials: Materials::new(scene),
             polygons: WorldPolygons::new(scene),
             view,
             shadows,
@@ -321,7 +324,7 @@ impl<'a> RayTracer<'a> {
         let back = !front;
         let mut c = self.own_shade(ray, id, point, back, counter);
         let kt_trp = crate::shading::transparency_of(
-            self.scene,
+            &self.materials,
             self.view.eye,
             hit.object,
             hit.polygon,
@@ -457,7 +460,15 @@ impl<'a> RayTracer<'a> {
                 self.scene.ambient,
             );
         }
-        let terms = FacetTerms::new(self.scene, ray.eye, id.0, id.1, back, None, self.shading);
+        let terms = FacetTerms::new(
+            &self.materials,
+            ray.eye,
+            id.0,
+            id.1,
+            back,
+            None,
+            self.shading,
+        );
         if blocked.is_empty() {
             terms.shade()
         } else {

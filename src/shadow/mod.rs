@@ -23,7 +23,7 @@ use glam::{DVec3, DVec4};
 use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::math::Matrix4;
-use crate::model::Scene;
+use crate::model::Object;
 use crate::profile::{Category, Profile};
 
 /// A polygon that may cast a shadow, in world coordinates; identical
@@ -94,15 +94,15 @@ pub struct CasterIndex {
 }
 
 impl CasterIndex {
-    /// The casters of `scene`; the lights' hierarchies are built on first
-    /// use.
-    pub fn new(scene: &Scene) -> CasterIndex {
+    /// The casters among a scene's `objects`, for its `lights` lights; the
+    /// lights' hierarchies are built on first use.
+    pub fn new(objects: &[Object], lights: usize) -> CasterIndex {
         let mut casters: Vec<Caster> = Vec::new();
         // Identical polygons (65,535 copies of one triangle) would each
         // be found by every query of the others: one caster for all.
         let mut seen: std::collections::HashMap<(bool, Vec<[u64; 3]>), usize> =
             std::collections::HashMap::new();
-        for (oi, object) in scene.objects.iter().enumerate() {
+        for (oi, object) in objects.iter().enumerate() {
             if object.surface_type.hidden {
                 continue;
             }
@@ -143,7 +143,7 @@ impl CasterIndex {
         }
         CasterIndex {
             casters,
-            lights: (0..scene.lights.len()).map(|_| OnceLock::new()).collect(),
+            lights: (0..lights).map(|_| OnceLock::new()).collect(),
             shared: OnceLock::new(),
             max_light_items: MAX_LIGHT_ITEMS,
         }
@@ -324,11 +324,11 @@ pub struct Target<'a> {
     pub convex: bool,
 }
 
-/// What shadow casting reads: the scene, its casters, the profile and
-/// the level's tolerance.
+/// What shadow casting reads: the scene's objects, its casters, the
+/// profile and the level's tolerance.
 pub struct Casting<'a> {
-    /// The scene.
-    pub scene: &'a Scene,
+    /// The scene's objects.
+    pub objects: &'a [Object],
     /// Its casters.
     pub index: &'a CasterIndex,
     /// Timers of table 6.2.
@@ -350,7 +350,7 @@ impl Casting<'_> {
         light: DVec3,
         s: &mut Scratch,
     ) -> Vec<Vec<DVec3>> {
-        let (scene, index, profile, eps) = (self.scene, self.index, self.profile, self.eps);
+        let (objects, index, profile, eps) = (self.objects, self.index, self.profile, self.eps);
         let t = target.t;
         let plane = target.plane;
         let lv = t.transform_point(light);
@@ -393,7 +393,7 @@ impl Casting<'_> {
                 });
             }
         }
-        let own = &scene.objects[target.object as usize];
+        let own = &objects[target.object as usize];
         let n = plane.truncate();
         let mut out = Vec::new();
         for &k in &s.found {
@@ -513,13 +513,13 @@ mod tests {
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/gallery.des");
         let scene = crate::scene::load(&path).expect("the gallery fixture").0;
-        let own = CasterIndex::new(&scene);
-        let mut shared = CasterIndex::new(&scene);
+        let own = CasterIndex::new(&scene.objects, scene.lights.len());
+        let mut shared = CasterIndex::new(&scene.objects, scene.lights.len());
         shared.max_light_items = 0;
         let profile = Profile::new(false);
         let eps = scene.modes.epsilon * scene.size();
         let cast = |index| Casting {
-            scene: &scene,
+            objects: &scene.objects,
             index,
             profile: &profile,
             eps,
