@@ -350,7 +350,7 @@ impl<'a> RayTracer<'a> {
         if ray.level >= self.max_level || back {
             return c;
         }
-        let m = self.scene.objects[hit.object as usize].material(hit.polygon as usize);
+        let m = self.materials.material(hit.object, hit.polygon);
         if m.reflectance > 0.0 && ray.weight * m.reflectance > self.threshold {
             let child = Ray {
                 origin: point,
@@ -383,9 +383,8 @@ impl<'a> RayTracer<'a> {
         let Some(p) = self.polygons.get(id.0, id.1) else {
             return Color::ZERO;
         };
-        let object = &self.scene.objects[id.0 as usize];
-        let m = object.material(id.1 as usize);
-        let eta = 1.0 / object.surface.index;
+        let m = self.materials.material(id.0, id.1);
+        let eta = 1.0 / self.materials.resolved[id.0 as usize].index;
         let dir = optics::refract(rest, p.plane.truncate(), eta).direction();
         let child = Ray {
             origin: point,
@@ -439,8 +438,8 @@ impl<'a> RayTracer<'a> {
         let blocked = self.blocked(id, point, back, counter);
         if self.per_point {
             let object = &self.scene.objects[id.0 as usize];
-            let m = object.material(id.1 as usize);
-            if object.surface_type.ltsrc {
+            let m = self.materials.material(id.0, id.1);
+            if self.materials.resolved[id.0 as usize].unshaded {
                 return m.color;
             }
             let normal = object.polygons[id.1 as usize].normal();
