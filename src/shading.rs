@@ -58,7 +58,9 @@ pub struct Materials<'a> {
 #[derive(Debug, Clone)]
 pub struct ObjectMaterials<'a> {
     /// Per polygon (index into `Object::polygons`): its material, with
-    /// its `.pcl` entry or the mean of its vertices' `.vcl` entries.
+    /// its `.pcl` entry or the mean of its vertices' `.vcl` entries; one
+    /// for all when the object has no colour file (see
+    /// [`ObjectMaterials::material`]).
     pub materials: Vec<Material>,
     /// `transparency k_trp tpwr` (004 section 4.9).
     pub transparency: (f64, f64),
@@ -98,15 +100,19 @@ impl<'a> Materials<'a> {
 
     /// The material of polygon `polygon` of object `object`.
     pub fn material(&self, object: u32, polygon: u32) -> Material {
-        self.resolved[object as usize].materials[polygon as usize]
+        self.resolved[object as usize].material(polygon as usize)
     }
 }
 
 impl<'a> ObjectMaterials<'a> {
     /// `o`'s surface, each polygon's material resolved.
     pub fn new(o: &'a Object) -> ObjectMaterials<'a> {
+        // Without colour files every polygon has the object's surface:
+        // one copy, not one per polygon (office2's peak memory).
+        let per_polygon = o.polygon_colors.is_some() || o.vertex_colors.is_some();
+        let count = if per_polygon { o.polygons.len() } else { 1 };
         ObjectMaterials {
-            materials: (0..o.polygons.len()).map(|pi| o.material(pi)).collect(),
+            materials: (0..count).map(|pi| o.material(pi)).collect(),
             transparency: o.surface.transparency,
             index: o.surface.index,
             unshaded: o.surface_type.ltsrc,
@@ -115,6 +121,14 @@ impl<'a> ObjectMaterials<'a> {
                 (Some(vcl), None) => Some(vcl.as_slice()),
                 _ => None,
             },
+        }
+    }
+
+    /// The material of polygon `pi`.
+    pub fn material(&self, pi: usize) -> Material {
+        match self.materials.as_slice() {
+            [one] => *one,
+            many => many[pi],
         }
     }
 }
@@ -276,7 +290,7 @@ impl<'a> FacetTerms<'a> {
         let (object, resolved) = materials.object(object);
         let pi = polygon as usize;
         let poly = &object.polygons[pi];
-        let material = resolved.materials[pi];
+        let material = resolved.material(pi);
         let point = at.unwrap_or_else(|| {
             poly.indices
                 .iter()
@@ -453,7 +467,7 @@ fn vertex_normal_at(o: &Object, r: &ObjectMaterials<'_>, pi: usize, back: bool, 
 /// `.vcl` vertex colours the entries of the nearest edge's vertices,
 /// interpolated.
 fn material_at(o: &Object, r: &ObjectMaterials<'_>, pi: usize, p: DVec3) -> Material {
-    let base = r.materials[pi];
+    let base = r.material(pi);
     let Some(vcl) = r.vertex_colors else {
         return base;
     };
@@ -521,7 +535,7 @@ pub fn phong_vertices(
     }
     let (o, r) = materials.object(object);
     let pi = polygon as usize;
-    let material = r.materials[pi];
+    let material = r.material(pi);
     if r.unshaded || material.specular <= 0.0 {
         return None;
     }
@@ -766,7 +780,7 @@ pub fn facet_shade_with_model(
     let (object, resolved) = materials.object(object);
     let pi = polygon as usize;
     let polygon = &object.polygons[pi];
-    let material = resolved.materials[pi];
+    let material = resolved.material(pi);
     if resolved.unshaded {
         return material.color;
     }
