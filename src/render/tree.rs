@@ -63,7 +63,9 @@ pub fn prepare(
                 .ok()
         })
         .flatten();
-    let (refraction, said) = refraction_model(scene, view, options.refraction);
+    // Every polygon's material, resolved once for the tree and its records.
+    let materials = Materials::new(scene);
+    let (refraction, said) = refraction_model(scene, &materials, view, options.refraction);
     stats.refraction = said;
     let tree_options = TreeOptions {
         max_level: scene.modes.max_level,
@@ -75,8 +77,6 @@ pub fn prepare(
         shading: options.shading,
         budgets: options.budgets,
     };
-    // Every polygon's material, resolved once for the tree and its records.
-    let materials = Materials::new(scene);
     let tree = within(&pool, || {
         crate::image_tree::build_profiled(&materials, view, tree_options, &profile)
     });
@@ -217,18 +217,24 @@ fn within<R: Send>(pool: &Option<rayon::ThreadPool>, f: impl FnOnce() -> R + Sen
 /// The refraction model for `scene` (resolving `auto`: exact when the
 /// linearized matrix is off by more than a pixel through a transmitting
 /// polygon, [`crate::raytrace::exact::linear_error`]) and, when
-/// the scene refracts, the model in words for the statistics.
+/// the scene refracts, the model in words for the statistics. Whether a
+/// polygon transmits is read from the scene's resolved `materials`.
 pub fn refraction_model(
     scene: &Scene,
+    materials: &Materials<'_>,
     view: &View,
     asked: crate::image_tree::Refraction,
 ) -> (crate::image_tree::Refraction, Option<String>) {
     use crate::image_tree::Refraction;
     let refracts = scene.modes.max_level > 1
-        && scene.objects.iter().any(|o| {
-            !o.surface_type.hidden
-                && (0..o.polygons.len()).any(|p| o.material(p).transmittance > 0.0)
-        });
+        && materials
+            .objects
+            .iter()
+            .zip(&materials.resolved)
+            .any(|(o, r)| {
+                !o.surface_type.hidden
+                    && (0..o.polygons.len()).any(|p| r.material(p).transmittance > 0.0)
+            });
     if !refracts {
         return (asked, None);
     }
