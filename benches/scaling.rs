@@ -144,7 +144,7 @@ fn level_one_faces(scene: &plytrace::scene::Scene, view: &View) -> Vec<NnsFace> 
     let mut polys = Vec::new();
     let mut stats = GeometryStats::default();
     for i in 0..scene.objects.len() {
-        view::expand_object(scene, i, view, &mut polys, &mut stats);
+        view::expand_object(&scene.objects, i, view, &mut polys, &mut stats);
     }
     polys
         .into_iter()

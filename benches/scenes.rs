@@ -46,7 +46,7 @@ fn nns_faces(scene: &plytrace::scene::Scene, view: &View) -> Vec<NnsFace> {
     let mut stats = GeometryStats::default();
     for i in 0..scene.objects.len() {
         if !scene.objects[i].surface_type.hidden {
-            view::expand_object(scene, i, view, &mut polys, &mut stats);
+            view::expand_object(&scene.objects, i, view, &mut polys, &mut stats);
         }
     }
     polys

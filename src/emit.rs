@@ -16,9 +16,10 @@ use rayon::prelude::*;
 
 use crate::geometry::view::View;
 use crate::image_tree::{Fragment, FragmentKind, VirtualImageTree};
-use crate::model::{Color, Scene, SortOrder};
+use crate::model::{Color, SortOrder};
 use crate::shading::{
-    interpolate_in_polygon, phong_vertices, transparency_of, vertex_shades, vertex_transparency,
+    Materials, interpolate_in_polygon, phong_vertices, transparency_of, vertex_shades,
+    vertex_transparency,
 };
 use crate::tree::{PhongShades, Record, RecordStream, Shades};
 
@@ -47,17 +48,17 @@ pub struct Emit {
 }
 
 /// The tree (built for `view`) as a record stream, with each record's
-/// source.
+/// source; shades come from the scene's resolved `materials`.
 pub fn records(
-    scene: &Scene,
+    materials: &Materials<'_>,
     tree: &VirtualImageTree,
     how: Emit,
     view: &View,
 ) -> (RecordStream, Vec<Source>) {
     let order = tree.output_order(how.order);
-    let gouraud = blended_vertex_shades(scene, tree, how, view);
-    let (records, sources) = some_records(scene, tree, how, view, &order, &gouraud);
-    (stream(scene, how, records), sources)
+    let gouraud = blended_vertex_shades(materials, tree, how, view);
+    let (records, sources) = some_records(materials, tree, how, view, &order, &gouraud);
+    (stream(materials, how, records), sources)
 }
 
 /// [`records`] from a tree that is not needed afterwards: the fragments'
@@ -65,17 +66,17 @@ pub fn records(
 /// at a time, so that the tree and its records are never held whole
 /// together: office2's peak memory falls by a twelfth.
 pub fn records_freeing(
-    scene: &Scene,
+    materials: &Materials<'_>,
     mut tree: VirtualImageTree,
     how: Emit,
     view: &View,
 ) -> (RecordStream, Vec<Source>) {
     let order = tree.output_order(how.order);
-    let gouraud = blended_vertex_shades(scene, &tree, how, view);
+    let gouraud = blended_vertex_shades(materials, &tree, how, view);
     let mut records = Vec::with_capacity(order.len());
     let mut sources = Vec::with_capacity(order.len());
     for run in order.chunks(FREEING_RUN) {
-        let (r, s) = some_records(scene, &tree, how, view, run, &gouraud);
+        let (r, s) = some_records(materials, &tree, how, view, run, &gouraud);
         records.extend(r);
         sources.extend(s);
         for &n in run {
@@ -83,14 +84,14 @@ pub fn records_freeing(
         }
     }
     drop(tree);
-    (stream(scene, how, records), sources)
+    (stream(materials, how, records), sources)
 }
 
 /// `records` as the stream `how` asks for.
-fn stream(scene: &Scene, how: Emit, records: Vec<Record>) -> RecordStream {
+fn stream(materials: &Materials<'_>, how: Emit, records: Vec<Record>) -> RecordStream {
     RecordStream {
         records,
-        background: Some(color_bytes(scene.background)),
+        background: Some(color_bytes(materials.background)),
         front_to_back: how.order == SortOrder::FrontToBack,
         blended: how.blended,
     }
@@ -101,7 +102,7 @@ const FREEING_RUN: usize = 32768;
 
 /// The records of the fragments `order` of `tree`, and their sources.
 fn some_records(
-    scene: &Scene,
+    materials: &Materials<'_>,
     tree: &VirtualImageTree,
     how: Emit,
     view: &View,
@@ -123,14 +124,14 @@ fn some_records(
                     _ => None,
                 },
             };
-            (record(scene, tree, f, how, pre, view), source)
+            (record(materials, tree, f, how, pre, view), source)
         })
         .unzip()
 }
 
 /// One fragment's record.
 fn record(
-    scene: &Scene,
+    materials: &Materials<'_>,
     tree: &VirtualImageTree,
     f: &Fragment,
     how: Emit,
@@ -155,7 +156,7 @@ fn record(
         Shades::Special
     } else {
         shades(
-            scene,
+            materials,
             &Lit::new(tree, f),
             how.blended,
             pre_gouraud,
@@ -195,7 +196,7 @@ impl<'t> Lit<'t> {
 /// A fragment's shades: `offset + weight * own`, the offset being the
 /// parent's shade when pre-blending.
 fn shades(
-    scene: &Scene,
+    materials: &Materials<'_>,
     lit: &Lit<'_>,
     blended: bool,
     pre_gouraud: Option<&[Color]>,
@@ -210,7 +211,7 @@ fn shades(
     };
     if polygon
         && let Some(ph) = phong_vertices(
-            scene,
+            materials,
             lit.eye,
             f.object,
             f.polygon,
@@ -220,7 +221,7 @@ fn shades(
             weight,
         )
     {
-        let t = transparency_bytes(scene, lit, eye);
+        let t = transparency_bytes(materials, lit, eye);
         let stride = ph.stride();
         let vertices: Vec<&[f32]> = ph.attrs.chunks(stride).collect();
         let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
@@ -251,10 +252,10 @@ fn shades(
                 .collect(),
         }));
     }
-    let colors: Vec<Color> = match (polygon && scene.modes.vertex_shades, pre_gouraud) {
+    let colors: Vec<Color> = match (polygon && materials.vertex_shades, pre_gouraud) {
         (true, Some(pre)) => pre.to_vec(),
         (true, None) => vertex_shades(
-            scene,
+            materials,
             lit.eye,
             f.object,
             f.polygon,
@@ -271,7 +272,7 @@ fn shades(
         }],
     };
     let t = if polygon {
-        transparency_bytes(scene, lit, eye)
+        transparency_bytes(materials, lit, eye)
     } else {
         vec![0]
     };
@@ -297,12 +298,12 @@ fn shades(
 
 /// The transparency of a polygon fragment as bytes: one per vertex with
 /// vertex shades, else one for the polygon.
-fn transparency_bytes(scene: &Scene, lit: &Lit<'_>, eye: DVec4) -> Vec<u8> {
+fn transparency_bytes(materials: &Materials<'_>, lit: &Lit<'_>, eye: DVec4) -> Vec<u8> {
     let f = lit.f;
     let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
-    if scene.modes.vertex_shades
+    if materials.vertex_shades
         && let Some(ts) = vertex_transparency(
-            scene,
+            materials,
             lit.eye,
             f.object,
             f.polygon,
@@ -315,7 +316,7 @@ fn transparency_bytes(scene: &Scene, lit: &Lit<'_>, eye: DVec4) -> Vec<u8> {
     // At level n the eye is mapped back; the view direction only matters
     // for the roll-off.
     vec![byte(transparency_of(
-        scene,
+        materials,
         eye,
         f.object,
         f.polygon,
@@ -336,12 +337,12 @@ pub fn color_bytes(c: Color) -> [u8; 3] {
 /// times its own vertex shade. `None` for other fragments; empty when the
 /// records are not pre-blended or vertex shades are off.
 fn blended_vertex_shades(
-    scene: &Scene,
+    materials: &Materials<'_>,
     tree: &VirtualImageTree,
     how: Emit,
     view: &View,
 ) -> Vec<Option<Vec<Color>>> {
-    if !how.blended || !scene.modes.vertex_shades {
+    if !how.blended || !materials.vertex_shades {
         return Vec::new();
     }
     let mut out: Vec<Option<Vec<Color>>> = vec![None; tree.nodes.len()];
@@ -352,7 +353,7 @@ fn blended_vertex_shades(
             continue;
         }
         let own = vertex_shades(
-            scene,
+            materials,
             tree.eye(f),
             f.object,
             f.polygon,

@@ -44,9 +44,9 @@ use crate::geometry::face_splitter;
 use crate::geometry::polygon;
 use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
-use crate::model::{Color, Scene, SortOrder};
+use crate::model::{Color, SortOrder};
 use crate::profile::{Category, Profile};
-use crate::shading::{FacetTerms, ShadingModel};
+use crate::shading::{FacetTerms, Materials, ShadingModel};
 pub use crate::shadow::overlap::{ShadowRegion, intersect_in_plane, overlap_regions};
 use crate::visibility::{depth_sort, nns};
 use rayon::prelude::*;
@@ -342,7 +342,7 @@ struct Builder<'a> {
     /// Every polygon in world coordinates, for shadow casting at any level
     /// (built on the first shadow).
     casters: Option<std::sync::Arc<crate::shadow::CasterIndex>>,
-    scene: &'a Scene,
+    materials: &'a Materials<'a>,
     view: &'a View,
     options: TreeOptions,
     eps: f64,
@@ -406,14 +406,15 @@ struct Candidate {
     back_facing: bool,
 }
 
-/// Builds the virtual image tree of `scene` seen through `view`.
-pub fn build(scene: &Scene, view: &View, options: TreeOptions) -> VirtualImageTree {
-    build_profiled(scene, view, options, &Profile::new(false))
+/// Builds the virtual image tree of a scene, its polygons and
+/// `materials` resolved, seen through `view`.
+pub fn build(materials: &Materials<'_>, view: &View, options: TreeOptions) -> VirtualImageTree {
+    build_profiled(materials, view, options, &Profile::new(false))
 }
 
 /// [`build`], timing its parts into `profile` (table 6.2).
 pub fn build_profiled(
-    scene: &Scene,
+    materials: &Materials<'_>,
     view: &View,
     options: TreeOptions,
     profile: &Profile,
@@ -430,10 +431,10 @@ pub fn build_profiled(
     let mut b = Builder {
         profile,
         casters: None,
-        scene,
+        materials,
         view,
         options,
-        eps: scene.modes.epsilon * scene.size().max(f64::MIN_POSITIVE),
+        eps: materials.eps,
         frustum,
         tree: VirtualImageTree {
             max_depth: 1,
@@ -451,7 +452,10 @@ pub fn build_profiled(
         || {
             options.shadows.then(|| {
                 let _t = profile.time(Category::Transform);
-                std::sync::Arc::new(crate::shadow::CasterIndex::new(scene))
+                std::sync::Arc::new(crate::shadow::CasterIndex::new(
+                    materials.objects,
+                    materials.lights.len(),
+                ))
             })
         },
     );
@@ -485,10 +489,10 @@ impl<'a> Builder<'a> {
     fn level_one(&mut self) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Expobj);
         let mut polys = Vec::new();
-        for i in 0..self.scene.objects.len() {
-            if !self.scene.objects[i].surface_type.hidden {
+        for i in 0..self.materials.objects.len() {
+            if !self.materials.objects[i].surface_type.hidden {
                 view::expand_object(
-                    self.scene,
+                    self.materials.objects,
                     i,
                     self.view,
                     &mut polys,
@@ -514,7 +518,7 @@ impl<'a> Builder<'a> {
         let _t = self.profile.time(Category::Addobj);
         let mirrored = linear_determinant(t) < 0.0;
         let mut out = Vec::new();
-        for (oi, object) in self.scene.objects.iter().enumerate() {
+        for (oi, object) in self.materials.objects.iter().enumerate() {
             if object.surface_type.hidden {
                 continue;
             }
@@ -647,7 +651,7 @@ impl<'a> Builder<'a> {
         // orders are different sorts, not one reversed. The level list is
         // kept back to front, so an ftb sort is stored reversed (and
         // emitted front to back, its own order, again).
-        let order = self.scene.sort_order;
+        let order = self.materials.sort_order;
         let keys: Vec<f64> = candidates
             .iter()
             .map(|c| {
@@ -668,7 +672,7 @@ impl<'a> Builder<'a> {
             }
             v
         };
-        if self.scene.modes.expand {
+        if self.materials.expand {
             // `setmode x on`: one composite list.
             return stored(
                 depth_sort::sorted_order(&keys)
@@ -753,8 +757,12 @@ impl<'a> Builder<'a> {
             ids: Vec::new(),
         };
         let caster = self.caster();
-        let (scene, profile, shading, eye) =
-            (self.scene, self.profile, self.options.shading, at.eye_real);
+        let (materials, profile, shading, eye) = (
+            self.materials,
+            self.profile,
+            self.options.shading,
+            at.eye_real,
+        );
         // What a chunk's fragments need that does not depend on the tree
         // (shades, shadows), found in parallel.
         let prepare = |chunk: Option<&[Candidate]>| {
@@ -763,7 +771,7 @@ impl<'a> Builder<'a> {
             };
             let own = || {
                 let _t = profile.time(Category::Shading);
-                facet_terms(scene, eye, shading, chunk)
+                facet_terms(materials, eye, shading, chunk)
             };
             let (terms, regions) = match &caster {
                 Some(c) => rayon::join(own, || c.level_regions(chunk, t)),
@@ -839,8 +847,7 @@ impl<'a> Builder<'a> {
     /// Queues the reflected and refracted branches of fragment `id` (made
     /// from `c`, pre-blended shade `blended`) that pass the threshold.
     fn queue_branches(&mut self, at: &LevelState<'_>, c: &Candidate, id: usize, blended: Color) {
-        let object = &self.scene.objects[c.object as usize];
-        let material = object.material(c.polygon as usize);
+        let material = self.materials.material(c.object, c.polygon);
         let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
             return;
         };
@@ -862,7 +869,7 @@ impl<'a> Builder<'a> {
             self.enqueue(pending(Branch::Reflected, material.reflectance, &m));
         }
         if passes(material.transmittance) {
-            let eta = 1.0 / object.surface.index;
+            let eta = 1.0 / self.materials.resolved[c.object as usize].index;
             if let Some(m) = self.refraction_matrix(c, plane, eta) {
                 self.enqueue(pending(Branch::Refracted, material.transmittance, &m));
             }
@@ -980,13 +987,16 @@ impl<'a> Builder<'a> {
             Some(i) => i.clone(),
             None => {
                 let _t = self.profile.time(Category::Transform);
-                let i = std::sync::Arc::new(crate::shadow::CasterIndex::new(self.scene));
+                let i = std::sync::Arc::new(crate::shadow::CasterIndex::new(
+                    self.materials.objects,
+                    self.materials.lights.len(),
+                ));
                 self.casters = Some(i.clone());
                 i
             }
         };
         Some(ShadowCaster {
-            scene: self.scene,
+            materials: self.materials,
             view: self.view,
             profile: self.profile,
             eps: self.eps,
@@ -1062,7 +1072,7 @@ impl<'a> Builder<'a> {
             let at = points.iter().copied().sum::<DVec3>() / points.len() as f64;
             let at = inverse.map_or(at, |i| i.transform_point(at));
             return FacetTerms::new(
-                self.scene,
+                self.materials,
                 *eye_real,
                 c.object,
                 c.polygon,
@@ -1106,7 +1116,7 @@ impl<'a> Builder<'a> {
 /// What casting shadows needs of the builder, apart from its tree, so that
 /// a chunk's shadows can be cast while the tree grows.
 struct ShadowCaster<'a> {
-    scene: &'a Scene,
+    materials: &'a Materials<'a>,
     view: &'a View,
     profile: &'a Profile,
     eps: f64,
@@ -1145,7 +1155,7 @@ impl ShadowCaster<'_> {
         t: &Matrix4,
         scratch: &mut crate::shadow::Scratch,
     ) -> Vec<ShadowRegion> {
-        if self.scene.objects[c.object as usize].surface_type.ltsrc {
+        if self.materials.resolved[c.object as usize].unshaded {
             return Vec::new();
         }
         let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
@@ -1160,13 +1170,13 @@ impl ShadowCaster<'_> {
             convex: polygon::is_convex(&c.points),
         };
         let casting = crate::shadow::Casting {
-            scene: self.scene,
+            objects: self.materials.objects,
             index: &self.index,
             profile: self.profile,
             eps: self.eps,
         };
         let mut per_light = Vec::new();
-        for (j, light) in self.scene.lights.iter().enumerate() {
+        for (j, light) in self.materials.lights.iter().enumerate() {
             if light.kind != crate::model::LightKind::Point {
                 continue;
             }
@@ -1190,7 +1200,7 @@ impl ShadowCaster<'_> {
 /// and side (the pieces of a polygon of 200,000 vertices would each
 /// average all its vertices), in parallel.
 fn facet_terms<'a>(
-    scene: &'a Scene,
+    materials: &Materials<'a>,
     eye: DVec4,
     shading: ShadingModel,
     chunk: &[Candidate],
@@ -1212,7 +1222,7 @@ fn facet_terms<'a>(
         .par_iter()
         .map(|c| {
             FacetTerms::new(
-                scene,
+                materials,
                 eye,
                 c.object,
                 c.polygon,

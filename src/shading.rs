@@ -13,12 +13,125 @@
 //! Below the model, the shades of a scene's polygons: one per polygon
 //! (faceted), per vertex (Gouraud, with vertex attributes interpolated
 //! along the original polygon's edges), Phong highlight vectors, and the
-//! transparency `k_t = k_trp (E.N)^tpwr` (004 section 4.9).
+//! transparency `k_t = k_trp (E.N)^tpwr` (004 section 4.9). They read a
+//! scene's [`Materials`], resolved once per render: the tree builder,
+//! `emit` and the painters never look a material up in the `Scene`.
 
 use glam::{DVec3, DVec4};
 
 use crate::geometry::view::View;
-use crate::model::{Color, Light, Material, Object, Scene};
+use crate::model::{Color, ColorEntry, Light, Material, Object, Scene, SortOrder};
+
+/// What the tree builder, its records and their shades read of a scene,
+/// resolved once per render (004 section 4.3: the object's data
+/// structure; 4.8: the surface parameters of the illumination model):
+/// the built objects' world polygons, each polygon's material as a typed
+/// value, the lights and the few settings these stages follow.
+#[derive(Debug, Clone)]
+pub struct Materials<'a> {
+    /// The built objects (world vertices and polygons), in scene order.
+    pub objects: &'a [Object],
+    /// Per object, in the same order, its resolved surface.
+    pub resolved: Vec<ObjectMaterials<'a>>,
+    /// The lights, in definition order.
+    pub lights: &'a [Light],
+    /// `ambient r g b`.
+    pub ambient: Color,
+    /// `background r g b`: what the records' stream is painted over.
+    pub background: Color,
+    /// `setmode s`: Phong highlight vectors.
+    pub phong: bool,
+    /// `setmode v`: vertex shades (Gouraud).
+    pub vertex_shades: bool,
+    /// `setmode x`: one composite list per level.
+    pub expand: bool,
+    /// `sort btf|ftb`.
+    pub sort_order: SortOrder,
+    /// The absolute tolerance: `setmode e` times the scene's size.
+    pub eps: f64,
+}
+
+/// One object's surface, resolved: per polygon its material (colour,
+/// coefficients, specular and shininess for Phong), and what per-point
+/// shading interpolates (004 section 4.8: "world space vertex normals are
+/// carried along with each polygon").
+#[derive(Debug, Clone)]
+pub struct ObjectMaterials<'a> {
+    /// Per polygon (index into `Object::polygons`): its material, with
+    /// its `.pcl` entry or the mean of its vertices' `.vcl` entries; one
+    /// for all when the object has no colour file (see
+    /// [`ObjectMaterials::material`]).
+    pub materials: Vec<Material>,
+    /// `transparency k_trp tpwr` (004 section 4.9).
+    pub transparency: (f64, f64),
+    /// `index n`, the index of refraction.
+    pub index: f64,
+    /// `type ltsrc`: shown in its own colour, unshaded.
+    pub unshaded: bool,
+    /// Vertex normals for `type curved` objects.
+    pub vertex_normals: Option<&'a [DVec3]>,
+    /// `.vcl` vertex colours, interpolated along edges; `None` when the
+    /// object has none or polygon colours override them.
+    pub vertex_colors: Option<&'a [ColorEntry]>,
+}
+
+impl<'a> Materials<'a> {
+    /// Resolves the materials of every polygon of `scene`, once.
+    pub fn new(scene: &'a Scene) -> Materials<'a> {
+        let resolved = scene.objects.iter().map(ObjectMaterials::new).collect();
+        Materials {
+            objects: &scene.objects,
+            resolved,
+            lights: &scene.lights,
+            ambient: scene.ambient,
+            background: scene.background,
+            phong: scene.modes.phong,
+            vertex_shades: scene.modes.vertex_shades,
+            expand: scene.modes.expand,
+            sort_order: scene.sort_order,
+            eps: scene.modes.epsilon * scene.size().max(f64::MIN_POSITIVE),
+        }
+    }
+
+    /// Object `o`'s geometry and resolved surface.
+    fn object(&self, o: u32) -> (&'a Object, &ObjectMaterials<'a>) {
+        (&self.objects[o as usize], &self.resolved[o as usize])
+    }
+
+    /// The material of polygon `polygon` of object `object`.
+    pub fn material(&self, object: u32, polygon: u32) -> Material {
+        self.resolved[object as usize].material(polygon as usize)
+    }
+}
+
+impl<'a> ObjectMaterials<'a> {
+    /// `o`'s surface, each polygon's material resolved.
+    pub fn new(o: &'a Object) -> ObjectMaterials<'a> {
+        // Without colour files every polygon has the object's surface:
+        // one copy, not one per polygon (office2's peak memory).
+        let per_polygon = o.polygon_colors.is_some() || o.vertex_colors.is_some();
+        let count = if per_polygon { o.polygons.len() } else { 1 };
+        ObjectMaterials {
+            materials: (0..count).map(|pi| o.material(pi)).collect(),
+            transparency: o.surface.transparency,
+            index: o.surface.index,
+            unshaded: o.surface_type.ltsrc,
+            vertex_normals: o.vertex_normals.as_deref(),
+            vertex_colors: match (&o.vertex_colors, &o.polygon_colors) {
+                (Some(vcl), None) => Some(vcl.as_slice()),
+                _ => None,
+            },
+        }
+    }
+
+    /// The material of polygon `pi`.
+    pub fn material(&self, pi: usize) -> Material {
+        match self.materials.as_slice() {
+            [one] => *one,
+            many => many[pi],
+        }
+    }
+}
 
 /// Per vertex: the shade without highlights `I_e` (3 values), then per
 /// light the highlight normal vector `hltnml` (the vertex normal in a frame
@@ -166,7 +279,7 @@ impl<'a> FacetTerms<'a> {
     /// The terms of [`facet_shade_with_model`] with all of the scene's
     /// lights: one pass over them.
     pub fn new(
-        scene: &'a Scene,
+        materials: &Materials<'a>,
         eye: DVec4,
         object: u32,
         polygon: u32,
@@ -174,10 +287,10 @@ impl<'a> FacetTerms<'a> {
         at: Option<DVec3>,
         model: ShadingModel,
     ) -> FacetTerms<'a> {
-        let object = &scene.objects[object as usize];
+        let (object, resolved) = materials.object(object);
         let pi = polygon as usize;
         let poly = &object.polygons[pi];
-        let material = object.material(pi);
+        let material = resolved.material(pi);
         let point = at.unwrap_or_else(|| {
             poly.indices
                 .iter()
@@ -188,7 +301,7 @@ impl<'a> FacetTerms<'a> {
         let normal = if back { -poly.normal() } else { poly.normal() };
         let to_eye = crate::geometry::view::direction_to_eye(eye, point);
         let mut terms = FacetTerms {
-            lights: &scene.lights,
+            lights: materials.lights,
             eye,
             model,
             material,
@@ -197,9 +310,9 @@ impl<'a> FacetTerms<'a> {
             to_eye,
             total: None,
         };
-        if !object.surface_type.ltsrc {
-            let mut c = material.color * scene.ambient * material.ambient_coefficient();
-            for light in &scene.lights {
+        if !resolved.unshaded {
+            let mut c = material.color * materials.ambient * material.ambient_coefficient();
+            for light in materials.lights {
                 if let Some(t) = terms.term(light) {
                     c += t;
                 }
@@ -339,10 +452,10 @@ fn edge_position(o: &Object, pi: usize, p: DVec3) -> (usize, usize, f64) {
 /// The vertex normal at world point `p` of polygon `pi` of `o`: for `type
 /// curved` objects interpolated along the nearest edge of the original
 /// polygon, else the polygon's normal; turned to the viewer when `back`.
-fn vertex_normal_at(o: &Object, pi: usize, back: bool, p: DVec3) -> DVec3 {
+fn vertex_normal_at(o: &Object, r: &ObjectMaterials<'_>, pi: usize, back: bool, p: DVec3) -> DVec3 {
     let poly = &o.polygons[pi];
     let flat = if back { -poly.normal() } else { poly.normal() };
-    let Some(normals) = &o.vertex_normals else {
+    let Some(normals) = r.vertex_normals else {
         return flat;
     };
     let (ia, ib, t) = edge_position(o, pi, p);
@@ -353,15 +466,15 @@ fn vertex_normal_at(o: &Object, pi: usize, back: bool, p: DVec3) -> DVec3 {
 /// The material at world point `p` of polygon `pi`: the polygon's, or with
 /// `.vcl` vertex colours the entries of the nearest edge's vertices,
 /// interpolated.
-fn material_at(o: &Object, pi: usize, p: DVec3) -> Material {
-    let base = o.material(pi);
-    let (Some(vcl), None) = (&o.vertex_colors, &o.polygon_colors) else {
+fn material_at(o: &Object, r: &ObjectMaterials<'_>, pi: usize, p: DVec3) -> Material {
+    let base = r.material(pi);
+    let Some(vcl) = r.vertex_colors else {
         return base;
     };
     let (ia, ib, t) = edge_position(o, pi, p);
     let (a, b) = (vcl[ia], vcl[ib]);
     let lerp = |x: f64, y: f64| x + (y - x) * t;
-    base.with_entry(&crate::model::ColorEntry {
+    base.with_entry(&ColorEntry {
         color: a.color + (b.color - a.color) * t,
         diffuse: lerp(a.diffuse, b.diffuse),
         reflectance: lerp(a.reflectance, b.reflectance),
@@ -373,15 +486,15 @@ fn material_at(o: &Object, pi: usize, p: DVec3) -> Material {
 /// polygon (004 section 4.9: "carried along as a per-vertex component"),
 /// or `None` for an opaque object.
 pub fn vertex_transparency(
-    scene: &Scene,
+    materials: &Materials<'_>,
     eye: DVec4,
     object: u32,
     polygon: u32,
     back: bool,
     world: &[DVec3],
 ) -> Option<Vec<f32>> {
-    let o = &scene.objects[object as usize];
-    let (k, power) = o.surface.transparency;
+    let (o, r) = materials.object(object);
+    let (k, power) = r.transparency;
     if k <= 0.0 {
         return None;
     }
@@ -389,7 +502,7 @@ pub fn vertex_transparency(
         world
             .iter()
             .map(|&p| {
-                let n = vertex_normal_at(o, polygon as usize, back, p);
+                let n = vertex_normal_at(o, r, polygon as usize, back, p);
                 let e = crate::geometry::view::direction_to_eye(eye, p);
                 let cos = e.dot(n).clamp(0.0, 1.0);
                 (if power > 0.0 { k * cos.powf(power) } else { k }) as f32
@@ -408,7 +521,7 @@ pub fn vertex_transparency(
 /// asked for or not specular.
 #[allow(clippy::too_many_arguments)]
 pub fn phong_vertices(
-    scene: &Scene,
+    materials: &Materials<'_>,
     eye: DVec4,
     object: u32,
     polygon: u32,
@@ -417,24 +530,25 @@ pub fn phong_vertices(
     offset: Color,
     weight: f64,
 ) -> Option<PhongVertices> {
-    if !scene.modes.phong {
+    if !materials.phong {
         return None;
     }
-    let o = &scene.objects[object as usize];
+    let (o, r) = materials.object(object);
     let pi = polygon as usize;
-    let material = o.material(pi);
-    if o.surface_type.ltsrc || material.specular <= 0.0 {
+    let material = r.material(pi);
+    if r.unshaded || material.specular <= 0.0 {
         return None;
     }
+    let (lights, ambient) = (materials.lights, materials.ambient);
     let mut base_material = material;
     base_material.specular = 0.0;
-    let mut attrs = Vec::with_capacity(world.len() * (3 + 6 * scene.lights.len()));
+    let mut attrs = Vec::with_capacity(world.len() * (3 + 6 * lights.len()));
     for &p in world {
-        let n = vertex_normal_at(o, pi, back, p);
+        let n = vertex_normal_at(o, r, pi, back, p);
         let e = crate::geometry::view::direction_to_eye(eye, p);
-        let base = offset + shade(&base_material, p, n, e, &scene.lights, scene.ambient) * weight;
+        let base = offset + shade(&base_material, p, n, e, lights, ambient) * weight;
         attrs.extend(base.as_vec3().to_array());
-        for light in &scene.lights {
+        for light in lights {
             let to_light = light.position - p;
             let d = to_light.length();
             let l = to_light / d.max(f64::MIN_POSITIVE);
@@ -454,7 +568,7 @@ pub fn phong_vertices(
         }
     }
     Some(PhongVertices {
-        lights: scene.lights.len(),
+        lights: lights.len(),
         shininess: material.shininess as f32,
         attrs,
     })
@@ -489,23 +603,23 @@ fn rotate_to_z(h: DVec3, v: DVec3) -> DVec3 {
 /// the vertex it creates"), so no seam shows along the edge; other points
 /// get the model evaluated there.
 pub fn vertex_shades(
-    scene: &Scene,
+    materials: &Materials<'_>,
     eye: DVec4,
     object: u32,
     polygon: u32,
     back: bool,
     world: &[DVec3],
 ) -> Vec<Color> {
-    let o = &scene.objects[object as usize];
+    let (o, r) = materials.object(object);
     let pi = polygon as usize;
     let model_at = |p: DVec3| {
-        let material = material_at(o, pi, p);
-        if o.surface_type.ltsrc {
+        let material = material_at(o, r, pi, p);
+        if r.unshaded {
             return material.color;
         }
-        let n = vertex_normal_at(o, pi, back, p);
+        let n = vertex_normal_at(o, r, pi, back, p);
         let to_eye = crate::geometry::view::direction_to_eye(eye, p);
-        shade(&material, p, n, to_eye, &scene.lights, scene.ambient)
+        shade(&material, p, n, to_eye, materials.lights, materials.ambient)
     };
     world
         .iter()
@@ -525,9 +639,15 @@ pub fn vertex_shades(
 /// The transparency `k_t = k_trp (E.N)^tpwr` of a polygon (004 section
 /// 4.9) from the object's `transparency k_trp tpwr`, at its centroid; 0 for
 /// opaque polygons. With `tpwr = 0` it is the linear transparency `k_trp`.
-pub fn transparency_of(scene: &Scene, eye: DVec4, object: u32, polygon: u32, back: bool) -> f64 {
-    let o = &scene.objects[object as usize];
-    let (k, power) = o.surface.transparency;
+pub fn transparency_of(
+    materials: &Materials<'_>,
+    eye: DVec4,
+    object: u32,
+    polygon: u32,
+    back: bool,
+) -> f64 {
+    let (o, r) = materials.object(object);
+    let (k, power) = r.transparency;
     if k <= 0.0 {
         return 0.0;
     }
@@ -590,31 +710,51 @@ pub fn interpolate_in_polygon(screen: &[DVec3], values: &[Color], x: f64, y: f64
 /// One shade for the whole polygon (faceted): the illumination model at the
 /// centroid of the world polygon, with its plane normal turned towards the
 /// viewer (`back` when the viewer sees its back, for `type open`).
-pub fn facet_shade(scene: &Scene, view: &View, object: u32, polygon: u32, back: bool) -> Color {
-    facet_shade_from(scene, view.eye, object, polygon, back)
+pub fn facet_shade(
+    materials: &Materials<'_>,
+    view: &View,
+    object: u32,
+    polygon: u32,
+    back: bool,
+) -> Color {
+    facet_shade_from(materials, view.eye, object, polygon, back)
 }
 
 /// [`facet_shade`] seen from the homogeneous world point `eye` (for
 /// fragments seen by reflection or refraction, the eye mapped back into
 /// world space).
-pub fn facet_shade_from(scene: &Scene, eye: DVec4, object: u32, polygon: u32, back: bool) -> Color {
-    facet_shade_with(scene, eye, object, polygon, back, &scene.lights, None)
+pub fn facet_shade_from(
+    materials: &Materials<'_>,
+    eye: DVec4,
+    object: u32,
+    polygon: u32,
+    back: bool,
+) -> Color {
+    facet_shade_with(
+        materials,
+        eye,
+        object,
+        polygon,
+        back,
+        materials.lights,
+        None,
+    )
 }
 
 /// [`facet_shade_from`] with a given set of lights, and optionally at a
 /// given world point instead of the polygon's centroid (for shadow shades,
 /// 004 section 4.7: the target's shade without the shadowing light).
 pub fn facet_shade_with(
-    scene: &Scene,
+    materials: &Materials<'_>,
     eye: DVec4,
     object: u32,
     polygon: u32,
     back: bool,
-    lights: &[crate::model::Light],
+    lights: &[Light],
     at: Option<DVec3>,
 ) -> Color {
     facet_shade_with_model(
-        scene,
+        materials,
         eye,
         object,
         polygon,
@@ -628,20 +768,20 @@ pub fn facet_shade_with(
 /// [`facet_shade_with`] under a given illumination model.
 #[allow(clippy::too_many_arguments)]
 pub fn facet_shade_with_model(
-    scene: &Scene,
+    materials: &Materials<'_>,
     eye: DVec4,
     object: u32,
     polygon: u32,
     back: bool,
-    lights: &[crate::model::Light],
+    lights: &[Light],
     at: Option<DVec3>,
     model: ShadingModel,
 ) -> Color {
-    let object = &scene.objects[object as usize];
+    let (object, resolved) = materials.object(object);
     let pi = polygon as usize;
     let polygon = &object.polygons[pi];
-    let material = object.material(pi);
-    if object.surface_type.ltsrc {
+    let material = resolved.material(pi);
+    if resolved.unshaded {
         return material.color;
     }
     let centroid = at.unwrap_or_else(|| {
@@ -665,7 +805,7 @@ pub fn facet_shade_with_model(
         normal,
         to_eye,
         lights,
-        scene.ambient,
+        materials.ambient,
     )
 }
 

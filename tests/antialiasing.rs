@@ -18,7 +18,7 @@ use plytrace::geometry::view::View;
 use plytrace::raster::scan::Method;
 use plytrace::render::{RenderOptions, render};
 use plytrace::scene::Scene;
-use plytrace::shading::facet_shade;
+use plytrace::shading::{Materials, facet_shade};
 use plytrace::visibility::Algorithm;
 use plytrace::visibility::ray_cast::RayCaster;
 
@@ -37,6 +37,7 @@ fn oracle(scene: &Scene, n: u32) -> (Vec<[f64; 3]>, Vec<bool>) {
     let view = View::new(scene, SIZE * n, SIZE * n).unwrap();
     let hits = RayCaster::new(scene).id_image(SIZE * n, SIZE * n);
     let bg = scene.background.to_array();
+    let materials = Materials::new(scene);
     let mut shades = std::collections::HashMap::new();
     let mut color = vec![[0.0; 3]; (SIZE * SIZE) as usize];
     let mut first = vec![None; (SIZE * SIZE) as usize];
@@ -49,7 +50,14 @@ fn oracle(scene: &Scene, n: u32) -> (Vec<[f64; 3]>, Vec<bool>) {
             None => bg,
             Some(h) => *shades.entry(key).or_insert_with(|| {
                 let plane = scene.objects[h.object as usize].polygons[h.polygon as usize].plane;
-                facet_shade(scene, &view, h.object, h.polygon, !view.faces_eye(plane)).to_array()
+                facet_shade(
+                    &materials,
+                    &view,
+                    h.object,
+                    h.polygon,
+                    !view.faces_eye(plane),
+                )
+                .to_array()
             }),
         };
         for i in 0..3 {

@@ -137,7 +137,13 @@ fn paint_in_stored_order(scene: &Scene, rank: &[usize]) -> (usize, usize) {
     let size = 128;
     let view = View::new(scene, size, size).unwrap();
     let mut polys = Vec::new();
-    view::expand_object(scene, 0, &view, &mut polys, &mut GeometryStats::default());
+    view::expand_object(
+        &scene.objects,
+        0,
+        &view,
+        &mut polys,
+        &mut GeometryStats::default(),
+    );
     polys.sort_by_key(|p| rank[p.polygon as usize]);
     let items: Vec<PaintItem> = polys
         .iter()

@@ -17,6 +17,7 @@ use plytrace::geometry::view::View;
 use plytrace::image_tree::{self, FragmentKind, TreeOptions, VirtualImageTree};
 use plytrace::model::{LightKind, SortOrder};
 use plytrace::scene::Scene;
+use plytrace::shading::Materials;
 use plytrace::visibility::ray_cast::RayCaster;
 
 /// The scene of `des` (without its header), with `cube.det` and a unit
@@ -168,7 +169,7 @@ struct Counts {
 fn compare(scene: &Scene, size: u32, max_level: u32) -> Counts {
     let view = View::new(scene, size, size).unwrap();
     let tree = image_tree::build(
-        scene,
+        &Materials::new(scene),
         &view,
         TreeOptions {
             max_level,
@@ -291,8 +292,9 @@ fn overlapping_shadows_of_two_lights() {
     let scene = box_under_two_lights();
     let size = 96;
     let view = View::new(&scene, size, size).unwrap();
+    let materials = Materials::new(&scene);
     let tree = image_tree::build(
-        &scene,
+        &materials,
         &view,
         TreeOptions {
             nns: true,
@@ -308,7 +310,7 @@ fn overlapping_shadows_of_two_lights() {
         let f = &tree.nodes[n];
         assert_eq!(f.kind, FragmentKind::Shadow { light: 0 });
         let without_both = plytrace::shading::facet_shade_with(
-            &scene,
+            &materials,
             tree.eye(f),
             f.object,
             f.polygon,
@@ -319,7 +321,7 @@ fn overlapping_shadows_of_two_lights() {
         assert!((f.shade - without_both).length() < 1e-12, "{}", f.shade);
         // Darker than the target without one light only.
         let without_one = plytrace::shading::facet_shade_with(
-            &scene,
+            &materials,
             tree.eye(f),
             f.object,
             f.polygon,
@@ -334,7 +336,7 @@ fn overlapping_shadows_of_two_lights() {
     // `setmode h on`: each region shaded at its own centroid, still without
     // both lights.
     let tree = image_tree::build(
-        &scene,
+        &materials,
         &view,
         TreeOptions {
             nns: true,
@@ -348,7 +350,7 @@ fn overlapping_shadows_of_two_lights() {
         count += 1;
         let at = f.virtual_points.iter().copied().sum::<DVec3>() / f.virtual_points.len() as f64;
         let want = plytrace::shading::facet_shade_with(
-            &scene,
+            &materials,
             tree.eye(f),
             f.object,
             f.polygon,
@@ -445,10 +447,11 @@ fn the_tree_shades_with_the_selected_model() {
     use plytrace::shading::{ShadingModel, facet_shade_with_model};
     let scene = box_beside_mirror();
     let view = View::new(&scene, 64, 64).unwrap();
+    let materials = Materials::new(&scene);
     let mut differ = 0;
     for model in [ShadingModel::Garcia, ShadingModel::Donovan] {
         let tree = image_tree::build(
-            &scene,
+            &materials,
             &view,
             TreeOptions {
                 max_level: 2,
@@ -466,7 +469,7 @@ fn the_tree_shades_with_the_selected_model() {
                 .collect();
             let shade = |m| {
                 facet_shade_with_model(
-                    &scene,
+                    &materials,
                     tree.eye(f),
                     f.object,
                     f.polygon,
@@ -527,11 +530,13 @@ fn split_vertices_get_interpolated_gouraud_shades() {
         .collect();
     let (sorted, _) = nns::sort(faces, &view, 1e-9);
     assert!(sorted.len() > 2, "nothing was split");
+    let materials = Materials::new(&scene);
     let mut split = 0;
     for f in &sorted {
         let o = &scene.objects[f.object as usize];
         let idx = &o.polygons[f.polygon as usize].indices;
-        let shade = |p: DVec3| vertex_shades(&scene, view.eye, f.object, f.polygon, false, &[p])[0];
+        let shade =
+            |p: DVec3| vertex_shades(&materials, view.eye, f.object, f.polygon, false, &[p])[0];
         for &p in &f.world {
             for k in 0..idx.len() {
                 let a = o.vertices[idx[k] as usize];

@@ -7,6 +7,7 @@
 use glam::DVec3;
 use plytrace::geometry::polygon;
 use plytrace::scene::Scene;
+use plytrace::shading::Materials;
 
 /// Writes `det/NAME.det` for each `(name, det text)` and `s.des` holding
 /// `des` into a temporary directory, and loads the scene.
@@ -140,7 +141,7 @@ fn a_200000_vertex_polygon_goes_through_the_pipeline() {
     // vertices of their source polygon.
     let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
     let tree = plytrace::image_tree::build(
-        &scene,
+        &Materials::new(&scene),
         &view,
         plytrace::image_tree::TreeOptions {
             nns: true,
@@ -166,7 +167,7 @@ fn a_200000_vertex_polygon_goes_through_the_pipeline() {
 fn shadow_tree(scene: &Scene) -> plytrace::image_tree::VirtualImageTree {
     let view = plytrace::geometry::view::View::new(scene, 64, 64).unwrap();
     plytrace::image_tree::build(
-        scene,
+        &Materials::new(scene),
         &view,
         plytrace::image_tree::TreeOptions {
             shadows: true,
@@ -287,7 +288,7 @@ fn twenty_thousand_point_lights() {
             .map(|k| scene.lights[k as usize])
             .collect();
         let want = plytrace::shading::facet_shade_with(
-            &scene,
+            &Materials::new(&scene),
             tree.eye(f),
             f.object,
             f.polygon,
@@ -340,7 +341,7 @@ fn nns_on_20000_random_intersecting_triangles() {
     let scene = random_scene(20_000);
     let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
     let tree = plytrace::image_tree::build(
-        &scene,
+        &Materials::new(&scene),
         &view,
         plytrace::image_tree::TreeOptions {
             nns: true,
@@ -371,7 +372,7 @@ fn nns_falls_back_to_the_depth_sort_past_its_split_budget() {
         ..Default::default()
     };
     let tree = plytrace::image_tree::build(
-        &scene,
+        &Materials::new(&scene),
         &view,
         plytrace::image_tree::TreeOptions {
             nns: true,
@@ -441,7 +442,7 @@ fn glass_tree(budget: usize) -> plytrace::image_tree::VirtualImageTree {
     let scene = glass_slabs();
     let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
     plytrace::image_tree::build(
-        &scene,
+        &Materials::new(&scene),
         &view,
         plytrace::image_tree::TreeOptions {
             max_level: scene.modes.max_level,
@@ -517,10 +518,11 @@ fn overlapping_shadows_of_many_lights_stay_within_the_node_budget() {
         },
         ..Default::default()
     };
-    let free = plytrace::image_tree::build(&scene, &view, options(1 << 20));
+    let materials = Materials::new(&scene);
+    let free = plytrace::image_tree::build(&materials, &view, options(1 << 20));
     assert!(shadow_count(&free) > 400, "{}", shadow_count(&free));
     let budget = 300;
-    let tree = plytrace::image_tree::build(&scene, &view, options(budget));
+    let tree = plytrace::image_tree::build(&materials, &view, options(budget));
     assert!(tree.nodes.len() <= budget, "{} nodes", tree.nodes.len());
     assert!(tree.pruned > 0);
     assert!(

@@ -7,6 +7,7 @@ mod support;
 
 use plytrace::image_tree::{self, TreeOptions};
 use plytrace::render::{RenderOptions, render};
+use plytrace::shading::Materials;
 
 fn pool(n: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
@@ -33,7 +34,7 @@ fn the_tree_does_not_depend_on_the_thread_count() {
             shadows: true,
             ..TreeOptions::default()
         };
-        let one = pool(1).install(|| image_tree::build(&scene, &view, options));
+        let one = pool(1).install(|| image_tree::build(&Materials::new(&scene), &view, options));
         assert!(
             one.nodes
                 .iter()
@@ -41,7 +42,8 @@ fn the_tree_does_not_depend_on_the_thread_count() {
             "{name}: no shadows to compare"
         );
         for threads in [2, 3] {
-            let many = pool(threads).install(|| image_tree::build(&scene, &view, options));
+            let many = pool(threads)
+                .install(|| image_tree::build(&Materials::new(&scene), &view, options));
             assert_eq!(
                 one.nodes.len(),
                 many.nodes.len(),

@@ -13,6 +13,7 @@ use plytrace::image_tree::{self, Branch, TreeOptions};
 use plytrace::model::SortOrder;
 use plytrace::render::{RenderOptions, render};
 use plytrace::scene::Scene;
+use plytrace::shading::Materials;
 use plytrace::visibility::ray_cast::RayCaster;
 
 fn traced_oracle(scene: &Scene, size: u32) -> Vec<Option<(u32, u32)>> {
@@ -108,7 +109,7 @@ fn cube_on_mirror_output_orders() {
     let scene = cube_on_mirror();
     let view = View::new(&scene, 128, 128).unwrap();
     let tree = image_tree::build(
-        &scene,
+        &Materials::new(&scene),
         &view,
         TreeOptions {
             max_level: 2,
@@ -248,7 +249,7 @@ fn cube_on_partly_diffuse_mirror_orders_with_shadows() {
     let scene = cube_on_mirror_lit("light -4 -2 6 1 1 1 100 Point\n");
     let view = View::new(&scene, 128, 128).unwrap();
     let tree = image_tree::build(
-        &scene,
+        &Materials::new(&scene),
         &view,
         TreeOptions {
             max_level: 2,
@@ -315,7 +316,7 @@ fn tree_file_of_the_cube_on_a_mirror() {
     // size, in the tree's back-to-front order.
     let view = View::new(&scene, 128, 128).unwrap();
     let built = image_tree::build(
-        &scene,
+        &Materials::new(&scene),
         &view,
         TreeOptions {
             max_level: 2,
@@ -347,7 +348,7 @@ fn refraction_models_map_the_pool_floor() {
     let view = View::new(&scene, 128, 128).unwrap();
     let centroid_of_refracted = |model: image_tree::Refraction| {
         let tree = image_tree::build(
-            &scene,
+            &Materials::new(&scene),
             &view,
             TreeOptions {
                 max_level: 2,

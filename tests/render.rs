@@ -8,6 +8,7 @@ use std::path::Path;
 
 use plytrace::render::{RenderOptions, render};
 use plytrace::scene::{self, Scene};
+use plytrace::shading::Materials;
 
 fn ccube() -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ccube.des");
@@ -351,14 +352,29 @@ fn transparency_per_vertex_follows_the_roll_off() {
         .iter()
         .map(|&i| o.vertices[i as usize])
         .collect();
-    let kt = plytrace::shading::vertex_transparency(&scene, view.eye, 0, 0, false, &world).unwrap();
+    let kt = plytrace::shading::vertex_transparency(
+        &Materials::new(&scene),
+        view.eye,
+        0,
+        0,
+        false,
+        &world,
+    )
+    .unwrap();
     let cos = 4.0 / 18f64.sqrt();
     for k in kt {
         assert!((k as f64 - 0.8 * cos * cos).abs() < 1e-6, "{k}");
     }
     let centre = [world.iter().copied().sum::<glam::DVec3>() / 4.0];
-    let kt =
-        plytrace::shading::vertex_transparency(&scene, view.eye, 0, 0, false, &centre).unwrap();
+    let kt = plytrace::shading::vertex_transparency(
+        &Materials::new(&scene),
+        view.eye,
+        0,
+        0,
+        false,
+        &centre,
+    )
+    .unwrap();
     assert!((kt[0] - 0.8).abs() < 1e-6);
 }
 
@@ -439,7 +455,8 @@ fn records_made_while_freeing_the_tree_are_the_records_of_the_tree() {
         shadows: true,
         ..TreeOptions::default()
     };
-    let tree = image_tree::build(&scene, &view, options);
+    let materials = Materials::new(&scene);
+    let tree = image_tree::build(&materials, &view, options);
     assert!(tree.nodes.len() > 100_000, "{}", tree.nodes.len());
     for order in [SortOrder::FrontToBack, SortOrder::BackToFront] {
         for blended in [false, true] {
@@ -449,8 +466,8 @@ fn records_made_while_freeing_the_tree_are_the_records_of_the_tree() {
                 width: 64,
                 height: 64,
             };
-            let whole = emit::records(&scene, &tree, how, &view);
-            let freeing = emit::records_freeing(&scene, tree.clone(), how, &view);
+            let whole = emit::records(&materials, &tree, how, &view);
+            let freeing = emit::records_freeing(&materials, tree.clone(), how, &view);
             assert!(whole == freeing, "{order:?}, blended {blended}");
         }
     }

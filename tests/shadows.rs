@@ -13,6 +13,7 @@ use plytrace::image_tree::{self, FragmentKind, TreeOptions};
 use plytrace::model::LightKind;
 use plytrace::render::{RenderOptions, render};
 use plytrace::scene::Scene;
+use plytrace::shading::Materials;
 use plytrace::visibility::ray_cast::RayCaster;
 
 fn level_one(name: &str) -> Scene {
@@ -134,7 +135,7 @@ fn shadow_polygons_lie_in_their_target() {
     let scene = level_one("ccube.des");
     let view = View::new(&scene, 256, 256).unwrap();
     let tree = image_tree::build(
-        &scene,
+        &Materials::new(&scene),
         &view,
         TreeOptions {
             max_level: 1,

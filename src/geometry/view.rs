@@ -180,18 +180,19 @@ pub struct GeometryStats {
     pub too_small: usize,
 }
 
-/// Expands object `index` of `scene` into screen polygons appended to `out`.
+/// Expands object `index` of a scene's `objects` into screen polygons
+/// appended to `out`.
 /// The polygons are expanded in parallel and appended in order, so the
 /// thread count changes nothing.
 pub fn expand_object(
-    scene: &Scene,
+    objects: &[Object],
     index: usize,
     view: &View,
     out: &mut Vec<ScreenPolygon>,
     stats: &mut GeometryStats,
 ) {
     use rayon::prelude::*;
-    let object = &scene.objects[index];
+    let object = &objects[index];
     let containment = classify_object(object, view);
     if containment == Containment::Outside {
         stats.objects_culled += 1;

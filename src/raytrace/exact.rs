@@ -95,9 +95,9 @@ pub fn layer(
     };
     // The mask: sites white (weight 1 after the record's `k`), all else
     // black; flat shades only.
-    let mut flat = scene.clone();
-    flat.modes.vertex_shades = false;
-    flat.modes.phong = false;
+    let mut flat = crate::shading::Materials::new(scene);
+    flat.vertex_shades = false;
+    flat.phong = false;
     flat.background = Color::ZERO;
     let mut white = tree.clone();
     // A shadow on a site stands for the site where it lies.

@@ -49,7 +49,7 @@ use crate::geometry::bvh::{Hit, WorldPolygons};
 use crate::geometry::view::View;
 use crate::model::{Color, LightKind, Scene};
 use crate::raster::frame_buffer::FrameBuffer;
-use crate::shading::{FacetTerms, ShadingModel, shade_with_model};
+use crate::shading::{FacetTerms, Materials, ShadingModel, shade_with_model};
 
 /// Options of a ray-traced render.
 #[derive(Debug, Clone, Copy)]
@@ -151,6 +151,8 @@ const MAX_BENDS: u32 = 16;
 /// The scene, its polygons' hierarchy and the tree's cut-offs.
 pub struct RayTracer<'a> {
     scene: &'a Scene,
+    /// The polygons' materials, resolved once.
+    materials: Materials<'a>,
     polygons: WorldPolygons,
     view: View,
     shadows: bool,
@@ -178,6 +180,7 @@ impl<'a> RayTracer<'a> {
     pub fn new(scene: &'a Scene, view: View, shadows: bool, shading: ShadingModel) -> Self {
         RayTracer {
             scene,
+            materials: Materials::new(scene),
             polygons: WorldPolygons::new(scene),
             view,
             shadows,
@@ -321,7 +324,7 @@ impl<'a> RayTracer<'a> {
         let back = !front;
         let mut c = self.own_shade(ray, id, point, back, counter);
         let kt_trp = crate::shading::transparency_of(
-            self.scene,
+            &self.materials,
             self.view.eye,
             hit.object,
             hit.polygon,
@@ -347,7 +350,7 @@ impl<'a> RayTracer<'a> {
         if ray.level >= self.max_level || back {
             return c;
         }
-        let m = self.scene.objects[hit.object as usize].material(hit.polygon as usize);
+        let m = self.materials.material(hit.object, hit.polygon);
         if m.reflectance > 0.0 && ray.weight * m.reflectance > self.threshold {
             let child = Ray {
                 origin: point,
@@ -380,9 +383,8 @@ impl<'a> RayTracer<'a> {
         let Some(p) = self.polygons.get(id.0, id.1) else {
             return Color::ZERO;
         };
-        let object = &self.scene.objects[id.0 as usize];
-        let m = object.material(id.1 as usize);
-        let eta = 1.0 / object.surface.index;
+        let m = self.materials.material(id.0, id.1);
+        let eta = 1.0 / self.materials.resolved[id.0 as usize].index;
         let dir = optics::refract(rest, p.plane.truncate(), eta).direction();
         let child = Ray {
             origin: point,
@@ -436,8 +438,8 @@ impl<'a> RayTracer<'a> {
         let blocked = self.blocked(id, point, back, counter);
         if self.per_point {
             let object = &self.scene.objects[id.0 as usize];
-            let m = object.material(id.1 as usize);
-            if object.surface_type.ltsrc {
+            let m = self.materials.material(id.0, id.1);
+            if self.materials.resolved[id.0 as usize].unshaded {
                 return m.color;
             }
             let normal = object.polygons[id.1 as usize].normal();
@@ -457,7 +459,15 @@ impl<'a> RayTracer<'a> {
                 self.scene.ambient,
             );
         }
-        let terms = FacetTerms::new(self.scene, ray.eye, id.0, id.1, back, None, self.shading);
+        let terms = FacetTerms::new(
+            &self.materials,
+            ray.eye,
+            id.0,
+            id.1,
+            back,
+            None,
+            self.shading,
+        );
         if blocked.is_empty() {
             terms.shade()
         } else {

@@ -14,7 +14,7 @@ use crate::geometry::view::{self, ScreenPolygon, View};
 use crate::model::{Color, Scene, SortOrder};
 use crate::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
 use crate::shading::{
-    facet_shade, phong_vertices, transparency_of, vertex_shades, vertex_transparency,
+    Materials, facet_shade, phong_vertices, transparency_of, vertex_shades, vertex_transparency,
 };
 use crate::visibility::ray_cast::RayCaster;
 use crate::visibility::z_buffer::{self, DepthItem};
@@ -39,8 +39,9 @@ pub(super) fn paint(
         .check_frame(width, height, PAINTED_BYTES_PER_PIXEL)
         .map_err(Error::Invalid)?;
     let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
+    let materials = Materials::new(scene);
     let polygons = if algorithm == Algorithm::RayCast {
-        ray_cast(scene, view, &mut frame, &mut stats)
+        ray_cast(scene, &materials, view, &mut frame, &mut stats)
     } else {
         let t = Instant::now();
         let lists = screen_lists(scene, view, algorithm == Algorithm::Brown, &mut stats);
@@ -53,11 +54,12 @@ pub(super) fn paint(
         let mut shades = ShadeCache::default();
         let colors: Vec<[f32; 3]> = sorted
             .iter()
-            .map(|(_, (o, p), back)| shades.get(scene, view, *o, *p, *back))
+            .map(|(_, (o, p), back)| shades.get(&materials, view, *o, *p, *back))
             .collect();
         stats.shading_time = t.elapsed();
         let t = Instant::now();
-        stats.polygons_tiled = paint_list(scene, view, algorithm, &sorted, &colors, &mut frame);
+        stats.polygons_tiled =
+            paint_list(&materials, view, algorithm, &sorted, &colors, &mut frame);
         stats.paint_time = t.elapsed();
         sorted.iter().map(|(_, id, _)| *id).collect()
     };
@@ -84,7 +86,7 @@ fn screen_lists(
     for i in visible {
         let mut one = Vec::new();
         let into = if per_object { &mut one } else { &mut all };
-        view::expand_object(scene, i, view, into, &mut stats.geometry);
+        view::expand_object(&scene.objects, i, view, into, &mut stats.geometry);
         if !one.is_empty() {
             lists.push(one);
         }
@@ -138,7 +140,7 @@ fn painting_list(
 
 /// Paints the list with its shades; returns the polygons painted.
 fn paint_list(
-    scene: &Scene,
+    materials: &Materials<'_>,
     view: &View,
     algorithm: Algorithm,
     sorted: &[Listed],
@@ -150,9 +152,9 @@ fn paint_list(
             .iter()
             .zip(colors)
             .enumerate()
-            .map(|(k, (listed, color))| paint_item(scene, view, listed, *color, k as u32 + 1))
+            .map(|(k, (listed, color))| paint_item(materials, view, listed, *color, k as u32 + 1))
             .collect();
-        let mode = match scene.sort_order {
+        let mode = match materials.sort_order {
             SortOrder::BackToFront => PaintMode::Overwrite,
             SortOrder::FrontToBack => PaintMode::FirstWins,
         };
@@ -177,28 +179,34 @@ fn paint_list(
 
 /// One polygon of Brown's order for the priority painter: its shade,
 /// transparency, and with `setmode v`/`s` its vertex shades or Phong data.
-fn paint_item(scene: &Scene, view: &View, listed: &Listed, color: [f32; 3], id: u32) -> PaintItem {
+fn paint_item(
+    materials: &Materials<'_>,
+    view: &View,
+    listed: &Listed,
+    color: [f32; 3],
+    id: u32,
+) -> PaintItem {
     let (points, (o, p), back) = listed;
     let (o, p, back) = (*o, *p, *back);
     let world: Vec<DVec3> = points
         .iter()
         .map(|q| view.unproject(*q).unwrap_or(DVec3::ZERO))
         .collect();
-    let vertex_shades_on = scene.modes.vertex_shades;
+    let vertex_shades_on = materials.vertex_shades;
     PaintItem {
         points: points.iter().map(|q| DVec2::new(q.x, q.y)).collect(),
         color,
         id,
-        transparency: transparency_of(scene, view.eye, o, p, back) as f32,
-        phong: phong_vertices(scene, view.eye, o, p, back, &world, Color::ZERO, 1.0),
+        transparency: transparency_of(materials, view.eye, o, p, back) as f32,
+        phong: phong_vertices(materials, view.eye, o, p, back, &world, Color::ZERO, 1.0),
         vertex_colors: vertex_shades_on.then(|| {
-            vertex_shades(scene, view.eye, o, p, back, &world)
+            vertex_shades(materials, view.eye, o, p, back, &world)
                 .into_iter()
                 .map(|c| c.as_vec3().to_array())
                 .collect()
         }),
         vertex_transparency: if vertex_shades_on {
-            vertex_transparency(scene, view.eye, o, p, back, &world)
+            vertex_transparency(materials, view.eye, o, p, back, &world)
         } else {
             None
         },
@@ -285,6 +293,7 @@ fn simple_sorted_lists(mut lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> 
 /// Casts a ray per pixel and paints the faceted shade of what it hits.
 fn ray_cast(
     scene: &Scene,
+    materials: &Materials<'_>,
     view: &View,
     frame: &mut FrameBuffer,
     stats: &mut RenderStats,
@@ -307,7 +316,7 @@ fn ray_cast(
         });
         let plane = scene.objects[h.object as usize].polygons[h.polygon as usize].plane;
         frame.ids[px] = id;
-        frame.color[px] = shades.get(scene, view, h.object, h.polygon, !view.faces_eye(plane));
+        frame.color[px] = shades.get(materials, view, h.object, h.polygon, !view.faces_eye(plane));
     }
     stats.polygons_listed = polygons.len();
     stats.polygons_tiled = polygons.len();
@@ -323,7 +332,7 @@ struct ShadeCache {
 impl ShadeCache {
     fn get(
         &mut self,
-        scene: &Scene,
+        materials: &Materials<'_>,
         view: &View,
         object: u32,
         polygon: u32,
@@ -333,7 +342,7 @@ impl ShadeCache {
             .shades
             .entry((object, polygon, back))
             .or_insert_with(|| {
-                facet_shade(scene, view, object, polygon, back)
+                facet_shade(materials, view, object, polygon, back)
                     .as_vec3()
                     .to_array()
             })

@@ -11,7 +11,7 @@ use crate::image_tree::{Refraction, TreeOptions, VirtualImageTree};
 use crate::model::{Scene, SortOrder};
 use crate::raster::scan::{self, Method, ScanOptions};
 use crate::raytrace::exact::ExactLayer;
-use crate::shading::ShadingModel;
+use crate::shading::{Materials, ShadingModel};
 use crate::tree::RecordStream;
 use crate::visibility::Algorithm;
 
@@ -63,7 +63,9 @@ pub fn prepare(
                 .ok()
         })
         .flatten();
-    let (refraction, said) = refraction_model(scene, view, options.refraction);
+    // Every polygon's material, resolved once for the tree and its records.
+    let materials = Materials::new(scene);
+    let (refraction, said) = refraction_model(scene, &materials, view, options.refraction);
     stats.refraction = said;
     let tree_options = TreeOptions {
         max_level: scene.modes.max_level,
@@ -76,7 +78,7 @@ pub fn prepare(
         budgets: options.budgets,
     };
     let tree = within(&pool, || {
-        crate::image_tree::build_profiled(scene, view, tree_options, &profile)
+        crate::image_tree::build_profiled(&materials, view, tree_options, &profile)
     });
     stats.sort_time = t.elapsed();
     stats.geometry = tree.geometry;
@@ -87,7 +89,11 @@ pub fn prepare(
     let t = Instant::now();
     let method = best_method(options);
     let keep = refraction == Refraction::Exact;
-    let (picture, sources, file, tree) = records(scene, view, tree, options, method, keep, &pool);
+    // `setmode o`: the tree file in the scene's order and blending.
+    let file_how = (scene.modes.output_tree).then_some((scene.sort_order, scene.modes.blend));
+    let (picture, sources, file, tree) = records(
+        &materials, file_how, view, tree, options, method, keep, &pool,
+    );
     stats.shading_time = t.elapsed();
     profile.add(crate::profile::Category::Shading, t.elapsed());
     stats.polygons_listed = picture.records.len();
@@ -107,9 +113,12 @@ pub fn prepare(
 }
 
 /// The picture's records and their sources, the tree file's records
-/// (`setmode o`), and the tree itself when `keep` (exact refraction).
+/// (`setmode o`: `file_how`, its order and blending), and the tree itself
+/// when `keep` (exact refraction).
+#[allow(clippy::too_many_arguments)]
 fn records(
-    scene: &Scene,
+    materials: &Materials<'_>,
+    file_how: Option<(SortOrder, bool)>,
     view: &View,
     tree: VirtualImageTree,
     options: &RenderOptions,
@@ -136,17 +145,17 @@ fn records(
         ShadingModel::Donovan => emit(SortOrder::BackToFront, true),
         ShadingModel::Garcia => emit(SortOrder::FrontToBack, wants_pre_blending(method)),
     };
-    let file = scene.modes.output_tree.then(|| {
-        let how = emit(scene.sort_order, scene.modes.blend);
-        within(pool, || emit::records(scene, &tree, how, view).0)
+    let file = file_how.map(|(order, blended)| {
+        let how = emit(order, blended);
+        within(pool, || emit::records(materials, &tree, how, view).0)
     });
     // The tree is kept past its records only for exact refraction.
     if keep {
-        let (p, s) = within(pool, || emit::records(scene, &tree, picture_how, view));
+        let (p, s) = within(pool, || emit::records(materials, &tree, picture_how, view));
         (p, s, file, Some(tree))
     } else {
         let (p, s) = within(pool, || {
-            emit::records_freeing(scene, tree, picture_how, view)
+            emit::records_freeing(materials, tree, picture_how, view)
         });
         (p, s, file, None)
     }
@@ -208,18 +217,24 @@ fn within<R: Send>(pool: &Option<rayon::ThreadPool>, f: impl FnOnce() -> R + Sen
 /// The refraction model for `scene` (resolving `auto`: exact when the
 /// linearized matrix is off by more than a pixel through a transmitting
 /// polygon, [`crate::raytrace::exact::linear_error`]) and, when
-/// the scene refracts, the model in words for the statistics.
+/// the scene refracts, the model in words for the statistics. Whether a
+/// polygon transmits is read from the scene's resolved `materials`.
 pub fn refraction_model(
     scene: &Scene,
+    materials: &Materials<'_>,
     view: &View,
     asked: crate::image_tree::Refraction,
 ) -> (crate::image_tree::Refraction, Option<String>) {
     use crate::image_tree::Refraction;
     let refracts = scene.modes.max_level > 1
-        && scene.objects.iter().any(|o| {
-            !o.surface_type.hidden
-                && (0..o.polygons.len()).any(|p| o.material(p).transmittance > 0.0)
-        });
+        && materials
+            .objects
+            .iter()
+            .zip(&materials.resolved)
+            .any(|(o, r)| {
+                !o.surface_type.hidden
+                    && (0..o.polygons.len()).any(|p| r.material(p).transmittance > 0.0)
+            });
     if !refracts {
         return (asked, None);
     }

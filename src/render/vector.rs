@@ -38,8 +38,9 @@ fn prepared(
     let lines = style == Style::HiddenLine;
     let view = View::for_scene(scene, options.size)?;
     let (width, height) = (view.width as u32, view.height as u32);
+    let materials = crate::shading::Materials::new(scene);
     let tree = crate::image_tree::build(
-        scene,
+        &materials,
         &view,
         TreeOptions {
             max_level: if lines { 1 } else { scene.modes.max_level },
@@ -60,7 +61,7 @@ fn prepared(
         width,
         height,
     };
-    let (stream, sources) = emit::records(scene, &tree, how, &view);
+    let (stream, sources) = emit::records(&materials, &tree, how, &view);
     let tree_file = scene.modes.output_tree.then(|| {
         let how = Emit {
             order: scene.sort_order,
@@ -68,7 +69,7 @@ fn prepared(
             width,
             height,
         };
-        emit::records(scene, &tree, how, &view).0
+        emit::records(&materials, &tree, how, &view).0
     });
     let order = tree.output_order(SortOrder::BackToFront);
     let direct: Vec<bool> = order

@@ -23,7 +23,7 @@ use glam::{DVec3, DVec4};
 use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::math::Matrix4;
-use crate::model::Scene;
+use crate::model::Object;
 use crate::profile::{Category, Profile};
 
 /// A polygon that may cast a shadow, in world coordinates; identical
@@ -90,16 +90,16 @@ struct CasterRef<'a> {
 }
 
 impl<'a> CasterRef<'a> {
-    fn new(scene: &'a Scene, object: u32, polygon: u32) -> CasterRef<'a> {
-        let o = &scene.objects[object as usize];
+    fn new(objects: &'a [Object], object: u32, polygon: u32) -> CasterRef<'a> {
+        let o = &objects[object as usize];
         CasterRef {
             vertices: &o.vertices,
             polygon: &o.polygons[polygon as usize],
         }
     }
 
-    fn of(scene: &'a Scene, c: &Caster) -> CasterRef<'a> {
-        CasterRef::new(scene, c.object, c.polygon)
+    fn of(objects: &'a [Object], c: &Caster) -> CasterRef<'a> {
+        CasterRef::new(objects, c.object, c.polygon)
     }
 
     fn points(self) -> impl Iterator<Item = DVec3> + 'a {
@@ -155,10 +155,10 @@ pub struct CasterIndex {
 }
 
 impl CasterIndex {
-    /// The casters of `scene`; the lights' hierarchies are built on first
-    /// use.
-    pub fn new(scene: &Scene) -> CasterIndex {
-        let shown = || scene.objects.iter().filter(|o| !o.surface_type.hidden);
+    /// The casters among a scene's `objects`, for its `lights` lights; the
+    /// lights' hierarchies are built on first use.
+    pub fn new(objects: &[Object], lights: usize) -> CasterIndex {
+        let shown = || objects.iter().filter(|o| !o.surface_type.hidden);
         let polygons: usize = shown().map(|o| o.polygons.len()).sum();
         let mut casters: Vec<Caster> = Vec::with_capacity(polygons);
         // Identical polygons (65,535 copies of one triangle) would each
@@ -167,18 +167,18 @@ impl CasterIndex {
         let mut first_with: std::collections::HashMap<u64, u32> =
             std::collections::HashMap::with_capacity(polygons);
         let mut same_hash: Vec<u32> = Vec::with_capacity(polygons);
-        for (oi, object) in scene.objects.iter().enumerate() {
+        for (oi, object) in objects.iter().enumerate() {
             if object.surface_type.hidden {
                 continue;
             }
             let open = object.surface_type.open;
             for pi in 0..object.polygons.len() {
-                let this = CasterRef::new(scene, oi as u32, pi as u32);
+                let this = CasterRef::new(objects, oi as u32, pi as u32);
                 let hash = caster_hash(open, this);
                 let mut k = first_with.get(&hash).copied().unwrap_or(NONE);
                 while k != NONE {
                     let c = &casters[k as usize];
-                    if c.open == open && same_points(CasterRef::of(scene, c), this) {
+                    if c.open == open && same_points(CasterRef::of(objects, c), this) {
                         break;
                     }
                     k = same_hash[k as usize];
@@ -207,7 +207,7 @@ impl CasterIndex {
         }
         CasterIndex {
             casters,
-            lights: (0..scene.lights.len()).map(|_| OnceLock::new()).collect(),
+            lights: (0..lights).map(|_| OnceLock::new()).collect(),
             shared: OnceLock::new(),
             max_light_items: MAX_LIGHT_ITEMS,
         }
@@ -218,28 +218,29 @@ impl CasterIndex {
     /// while all lights' hierarchies together stay within
     /// [`MAX_LIGHT_ITEMS`] items, else one shared by every further light,
     /// so that many lights never cost lights times casters memory.
-    fn tree(&self, scene: &Scene, j: usize, light: DVec3) -> (&LightTree, bool) {
+    fn tree(&self, objects: &[Object], j: usize, light: DVec3) -> (&LightTree, bool) {
         let n = self.casters.len().max(1);
         if (j + 1).saturating_mul(n) > self.max_light_items && j > 0 {
             return (
-                self.shared.get_or_init(|| self.make_tree(scene, |_| true)),
+                self.shared
+                    .get_or_init(|| self.make_tree(objects, |_| true)),
                 true,
             );
         }
         let tree = self.lights[j].get_or_init(|| {
-            self.make_tree(scene, |c| CasterRef::of(scene, c).faces(c.open, light))
+            self.make_tree(objects, |c| CasterRef::of(objects, c).faces(c.open, light))
         });
         (tree, false)
     }
 
-    fn make_tree(&self, scene: &Scene, keep: impl Fn(&Caster) -> bool) -> LightTree {
+    fn make_tree(&self, objects: &[Object], keep: impl Fn(&Caster) -> bool) -> LightTree {
         let mut items: Vec<Item> = self
             .casters
             .iter()
             .enumerate()
             .filter(|(_, c)| keep(c))
             .map(|(k, c)| {
-                let (lo, hi) = CasterRef::of(scene, c).bounds();
+                let (lo, hi) = CasterRef::of(objects, c).bounds();
                 Item {
                     lo,
                     hi,
@@ -394,11 +395,11 @@ pub struct Target<'a> {
     pub convex: bool,
 }
 
-/// What shadow casting reads: the scene, its casters, the profile and
-/// the level's tolerance.
+/// What shadow casting reads: the scene's objects, its casters, the
+/// profile and the level's tolerance.
 pub struct Casting<'a> {
-    /// The scene.
-    pub scene: &'a Scene,
+    /// The scene's objects.
+    pub objects: &'a [Object],
     /// Its casters.
     pub index: &'a CasterIndex,
     /// Timers of table 6.2.
@@ -420,7 +421,7 @@ impl Casting<'_> {
         light: DVec3,
         s: &mut Scratch,
     ) -> Vec<Vec<DVec3>> {
-        let (scene, index, profile, eps) = (self.scene, self.index, self.profile, self.eps);
+        let (objects, index, profile, eps) = (self.objects, self.index, self.profile, self.eps);
         let t = target.t;
         let plane = target.plane;
         let lv = t.transform_point(light);
@@ -454,16 +455,16 @@ impl Casting<'_> {
         };
         {
             let _t = profile.time(Category::ChkBbox);
-            let (tree, facing_unknown) = index.tree(scene, j, light);
+            let (tree, facing_unknown) = index.tree(objects, j, light);
             tree.query(&s.world_volume, bounds, &mut s.found);
             if facing_unknown {
                 s.found.retain(|&k| {
                     let c = &index.casters[k as usize];
-                    CasterRef::of(scene, c).faces(c.open, light)
+                    CasterRef::of(objects, c).faces(c.open, light)
                 });
             }
         }
-        let own = &scene.objects[target.object as usize];
+        let own = &objects[target.object as usize];
         let n = plane.truncate();
         let mut out = Vec::new();
         for &k in &s.found {
@@ -476,7 +477,7 @@ impl Casting<'_> {
             {
                 continue;
             }
-            let from = CasterRef::of(scene, caster);
+            let from = CasterRef::of(objects, caster);
             s.points.clear();
             if identity {
                 s.points.extend(from.points());
@@ -583,13 +584,13 @@ mod tests {
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/gallery.des");
         let scene = crate::scene::load(&path).expect("the gallery fixture").0;
-        let own = CasterIndex::new(&scene);
-        let mut shared = CasterIndex::new(&scene);
+        let own = CasterIndex::new(&scene.objects, scene.lights.len());
+        let mut shared = CasterIndex::new(&scene.objects, scene.lights.len());
         shared.max_light_items = 0;
         let profile = Profile::new(false);
         let eps = scene.modes.epsilon * scene.size();
         let cast = |index| Casting {
-            scene: &scene,
+            objects: &scene.objects,
             index,
             profile: &profile,
             eps,
