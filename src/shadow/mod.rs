@@ -48,6 +48,9 @@ struct Item {
     lo: DVec3,
     hi: DVec3,
     caster: u32,
+    /// The object of every polygon the caster stands for ([`NONE`] if
+    /// several).
+    object: u32,
 }
 
 /// A node: a leaf when `count > 0` (items `first..first + count`), else
@@ -58,6 +61,9 @@ struct Node {
     hi: DVec3,
     first: u32,
     count: u32,
+    /// The one object all its casters stand for, or [`NONE`]: a query
+    /// for a fragment its own object cannot shadow skips the node.
+    object: u32,
 }
 
 /// The hierarchy of the casters facing one light.
@@ -245,6 +251,7 @@ impl CasterIndex {
                     lo,
                     hi,
                     caster: k as u32,
+                    object: c.single_object.unwrap_or(NONE),
                 }
             })
             .collect();
@@ -255,6 +262,7 @@ impl CasterIndex {
                 hi: DVec3::ZERO,
                 first: 0,
                 count: 0,
+                object: NONE,
             });
             let n = items.len();
             build(&mut items, &mut nodes, 0, 0, n);
@@ -276,11 +284,14 @@ fn build(items: &mut [Item], nodes: &mut Vec<Node>, node: usize, start: usize, e
         hi = hi.max(it.hi);
     }
     if end - start <= LEAF {
+        let object = items[start].object;
+        let one = items[start..end].iter().all(|it| it.object == object);
         nodes[node] = Node {
             lo,
             hi,
             first: start as u32,
             count: (end - start) as u32,
+            object: if one { object } else { NONE },
         };
         return;
     }
@@ -304,6 +315,7 @@ fn build(items: &mut [Item], nodes: &mut Vec<Node>, node: usize, start: usize, e
         hi: DVec3::ZERO,
         first: 0,
         count: 0,
+        object: NONE,
     };
     nodes.push(blank);
     nodes.push(blank);
@@ -312,9 +324,13 @@ fn build(items: &mut [Item], nodes: &mut Vec<Node>, node: usize, start: usize, e
         hi,
         first: left as u32,
         count: 0,
+        object: NONE,
     };
     build(items, nodes, left, start, mid);
     build(items, nodes, left + 1, mid, end);
+    if nodes[left].object == nodes[left + 1].object {
+        nodes[node].object = nodes[left].object;
+    }
 }
 
 /// Whether the box is wholly behind one of `planes`.
@@ -331,11 +347,15 @@ fn box_outside(planes: &[DVec4], lo: DVec3, hi: DVec3) -> bool {
 impl LightTree {
     /// The casters whose boxes are not wholly outside one of `planes`, in
     /// increasing order, into `out`.
-    fn query(&self, planes: &[DVec4], bounds: (DVec3, DVec3), out: &mut Vec<u32>) {
+    /// The casters whose boxes may meet the volume `planes` within
+    /// `bounds`, in caster order, leaving out those that stand only for
+    /// polygons of object `skip` (none when it is [`NONE`]).
+    fn query(&self, planes: &[DVec4], bounds: (DVec3, DVec3), skip: u32, out: &mut Vec<u32>) {
         let (blo, bhi) = bounds;
         let outside = |lo: DVec3, hi: DVec3| {
             lo.cmpgt(bhi).any() || hi.cmplt(blo).any() || box_outside(planes, lo, hi)
         };
+        let skipped = |object: u32| skip != NONE && object == skip;
         out.clear();
         if self.nodes.is_empty() {
             return;
@@ -346,7 +366,7 @@ impl LightTree {
         while top > 0 {
             top -= 1;
             let node = self.nodes[stack[top] as usize];
-            if outside(node.lo, node.hi) {
+            if skipped(node.object) || outside(node.lo, node.hi) {
                 continue;
             }
             if node.count == 0 {
@@ -357,7 +377,7 @@ impl LightTree {
                 let leaf = &self.items[node.first as usize..(node.first + node.count) as usize];
                 out.extend(
                     leaf.iter()
-                        .filter(|it| !outside(it.lo, it.hi))
+                        .filter(|it| !skipped(it.object) && !outside(it.lo, it.hi))
                         .map(|it| it.caster),
                 );
             }
@@ -453,10 +473,17 @@ impl Casting<'_> {
             }
             _ => (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY)),
         };
+        let own = &objects[target.object as usize];
+        // Its own object shadows a fragment only if it is `type concave`.
+        let skip = if own.surface_type.concave {
+            NONE
+        } else {
+            target.object
+        };
         {
             let _t = profile.time(Category::ChkBbox);
             let (tree, facing_unknown) = index.tree(objects, j, light);
-            tree.query(&s.world_volume, bounds, &mut s.found);
+            tree.query(&s.world_volume, bounds, skip, &mut s.found);
             if facing_unknown {
                 s.found.retain(|&k| {
                     let c = &index.casters[k as usize];
@@ -464,7 +491,6 @@ impl Casting<'_> {
                 });
             }
         }
-        let own = &objects[target.object as usize];
         let n = plane.truncate();
         let mut out = Vec::new();
         for &k in &s.found {

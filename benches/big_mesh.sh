@@ -1,0 +1,48 @@
+#!/bin/sh
+# How time and memory grow with a mesh's size: a bumpy torus of N
+# triangles (examples/torus_ply.rs, binary PLY) over a floor, one Point
+# light, 512 x 512, the whole process; prints seconds and peak RSS per
+# size and the fitted exponent of time = c n^e. Not run in CI.
+#
+#   benches/big_mesh.sh [N...]     (default 100000 1000000 10000000)
+set -eu
+root=$(cd "$(dirname "$0")/.." && pwd)
+cargo build --release --quiet --manifest-path "$root/Cargo.toml" --bin plytrace --example torus_ply
+bin="$root/target/release"
+work=$(mktemp -d /tmp/plytrace-big.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+mkdir "$work/det"
+cat >"$work/det/floor.det" <<'DET'
+title floor
+data
+4 1
+-3 -3 -0.6
+3 -3 -0.6
+3 3 -0.6
+-3 3 -0.6
+4 4 3 2 1
+DET
+cat >"$work/mesh.des" <<'DES'
+resolution 512 512
+perspective 40 1 0.1 100
+light 3 -4 6 1 1 1 100 Point
+pushmatrix
+ident
+polarview 4 25 55 0
+color 0.8 0.7 0.5
+defobj mesh
+endobj
+color 0.6 0.6 0.7
+defobj floor
+endobj
+popmatrix
+DES
+cd "$work"
+for n in ${*:-100000 1000000 10000000}; do
+    "$bin/examples/torus_ply" "$n" det/mesh.ply
+    /usr/bin/time -f "$n %e %M" "$bin/plytrace" mesh.des -q --max-polygons 100000000 \
+        --max-tree-nodes 1000000000 -o mesh.png 2>>times.txt
+    tail -n 1 times.txt | awk '{ printf "%12d triangles  %7.2f s  %6.0f MB peak\n", $1, $2, $3 / 1024 }'
+done
+awk 'NF == 3 { x = log($1); y = log($2); n++; sx += x; sy += y; sxx += x * x; sxy += x * y }
+     END { if (n > 1) printf "time ~ n^%.2f\n", (n * sxy - sx * sy) / (n * sxx - sx * sx) }' times.txt
