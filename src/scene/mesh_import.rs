@@ -368,16 +368,20 @@ fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh> {
             }
         }
     }
-    let vertices = vertices
+    // (Collected in place into the records' larger allocations: shrunk,
+    // since the mesh is kept for the scene's lifetime.)
+    let mut vertices: Vec<DVec3> = vertices
         .into_iter()
         .enumerate()
         .map(|(i, v)| v.point(i + 1, path))
         .collect::<Result<_>>()?;
-    let polygons = faces
+    let mut polygons: Vec<Vec<u32>> = faces
         .into_iter()
         .enumerate()
         .map(|(i, f)| f.polygon(i + 1, path))
         .collect::<Result<_>>()?;
+    vertices.shrink_to_fit();
+    polygons.shrink_to_fit();
     Ok(Mesh { vertices, polygons })
 }
 
