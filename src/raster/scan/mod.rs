@@ -313,82 +313,11 @@ pub fn scan_convert_rows(
     let logic = choose(stream, options)?;
     let (w, h) = (options.width, options.height);
     let act_lines = options.act_lines.clamp(1, h);
-    // A part: records outside its bands are checked, not prepared (their
-    // bucket would be skipped anyway).
-    let whole = rows == (0..h);
-    let wanted = {
-        let first = rows.start / act_lines;
-        let end = rows.end.div_ceil(act_lines);
-        first..end
-    };
-    let needed = |r: &crate::tree::Record| {
-        if whole {
-            return true;
-        }
-        let (ymin, ymax) = shade::y_range(r, h);
-        let (hf, first, end) = (h as f64, ymin.floor().max(0.0), ymax.ceil().min(h as f64));
-        if first >= end {
-            return false;
-        }
-        let top_row = |j: f64| (hf - 1.0 - j) as u32 / act_lines;
-        top_row(end - 1.0) < wanted.end && top_row(first) >= wanted.start
-    };
-    // In parallel, in order (in a pool of `options.threads` when given).
-    let prepare = || {
-        use rayon::prelude::*;
-        stream
-            .records
-            .par_iter()
-            .enumerate()
-            .map(|(k, r)| {
-                if needed(r) {
-                    let p = shade::prepare(r, k, w, h)?;
-                    let area = tiled_area_of(p.points.iter().copied(), w, h);
-                    Ok((p, area))
-                } else {
-                    shade::validate(r, k, w, h)?;
-                    let points = r
-                        .points
-                        .iter()
-                        .map(|p| DVec2::new(p[0] as f64 * w as f64, p[1] as f64 * h as f64));
-                    let area = tiled_area_of(points, w, h);
-                    let skipped = Prepared {
-                        points: Vec::new(),
-                        shading: shade::Shading::Special,
-                        level: r.level,
-                        ymin: 0.0,
-                        ymax: 0.0,
-                    };
-                    Ok((skipped, area))
-                }
-            })
-            .collect::<Vec<Result<_>>>()
-            .into_iter()
-            // The first bad record, whatever the threads.
-            .collect::<Result<Vec<_>>>()
-    };
-    let prepared = match options.threads {
-        0 => prepare(),
-        n => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
-            Ok(pool) => pool.install(prepare),
-            Err(_) => prepare(),
-        },
-    }?;
+    let (records, area) = prepare_records(stream, options, &rows)?;
     crate::cancel::check()?;
-    let area: f64 = prepared.iter().map(|(_, a)| *a).sum();
-    let records: Vec<Prepared> = prepared.into_iter().map(|(p, _)| p).collect();
     check_overdraw_area(area, records.len(), w, h, options.max_overdraw)?;
-    if let Logic::Multi(_) = logic
-        && let Some((k, r)) = records
-            .iter()
-            .enumerate()
-            .find(|(_, r)| !(1..=31).contains(&r.level))
-    {
-        return Err(Error::Invalid(format!(
-            "record {}: level {} is outside 1..31, the depths a pixel-struct can hold",
-            k + 1,
-            r.level
-        )));
+    if let Logic::Multi(_) = logic {
+        check_levels(&records)?;
     }
     let m = options.method;
     let side = match (m, logic) {
@@ -437,6 +366,92 @@ pub fn scan_convert_rows(
             sink,
         ),
         Logic::Multi(n) => convert(&plan, t, || MultiLevel::new(n), sink),
+    }
+}
+
+/// The records of `stream` prepared for tiling, in order (in parallel, in
+/// a pool of `options.threads` when given), with the pixels their
+/// bounding boxes cover in all. For a part (`rows` not the whole image),
+/// records outside its bands are checked, not prepared (their bucket would
+/// be skipped anyway).
+fn prepare_records(
+    stream: &RecordStream,
+    options: &ScanOptions,
+    rows: &std::ops::Range<u32>,
+) -> Result<(Vec<Prepared>, f64)> {
+    let (w, h) = (options.width, options.height);
+    let act_lines = options.act_lines.clamp(1, h);
+    let whole = *rows == (0..h);
+    let wanted = rows.start / act_lines..rows.end.div_ceil(act_lines);
+    let needed = |r: &crate::tree::Record| {
+        if whole {
+            return true;
+        }
+        let (ymin, ymax) = shade::y_range(r, h);
+        let (hf, first, end) = (h as f64, ymin.floor().max(0.0), ymax.ceil().min(h as f64));
+        if first >= end {
+            return false;
+        }
+        let top_row = |j: f64| (hf - 1.0 - j) as u32 / act_lines;
+        top_row(end - 1.0) < wanted.end && top_row(first) >= wanted.start
+    };
+    let one = |(k, r): (usize, &crate::tree::Record)| -> Result<(Prepared, f64)> {
+        if needed(r) {
+            let p = shade::prepare(r, k, w, h)?;
+            let area = tiled_area_of(p.points.iter().copied(), w, h);
+            return Ok((p, area));
+        }
+        shade::validate(r, k, w, h)?;
+        let points = r
+            .points
+            .iter()
+            .map(|p| DVec2::new(p[0] as f64 * w as f64, p[1] as f64 * h as f64));
+        let skipped = Prepared {
+            points: Vec::new(),
+            shading: shade::Shading::Special,
+            level: r.level,
+            ymin: 0.0,
+            ymax: 0.0,
+        };
+        Ok((skipped, tiled_area_of(points, w, h)))
+    };
+    let prepare = || {
+        use rayon::prelude::*;
+        stream
+            .records
+            .par_iter()
+            .enumerate()
+            .map(one)
+            .collect::<Vec<Result<_>>>()
+            .into_iter()
+            // The first bad record, whatever the threads.
+            .collect::<Result<Vec<_>>>()
+    };
+    let prepared = match options.threads {
+        0 => prepare(),
+        n => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
+            Ok(pool) => pool.install(prepare),
+            Err(_) => prepare(),
+        },
+    }?;
+    let area: f64 = prepared.iter().map(|(_, a)| *a).sum();
+    Ok((prepared.into_iter().map(|(p, _)| p).collect(), area))
+}
+
+/// Method 4 keeps a record's level in a pixel-struct's five bits: a
+/// level outside 1..31 is refused, naming the record.
+fn check_levels(records: &[Prepared]) -> Result<()> {
+    match records
+        .iter()
+        .enumerate()
+        .find(|(_, r)| !(1..=31).contains(&r.level))
+    {
+        Some((k, r)) => Err(Error::Invalid(format!(
+            "record {}: level {} is outside 1..31, the depths a pixel-struct can hold",
+            k + 1,
+            r.level
+        ))),
+        None => Ok(()),
     }
 }
 
