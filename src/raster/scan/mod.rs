@@ -216,7 +216,7 @@ pub fn scan_convert(
 
 /// The rows (from the top) of part `index` of `count` of `stream`'s
 /// image, chosen so that the parts have about equal work (see
-/// [`ROW_WORK`]), and part boundaries fall on band boundaries (of
+/// `ROW_WORK`), and part boundaries fall on band boundaries (of
 /// `options.act_lines` rows), so no band is converted by two parts. The
 /// parts cover every row once, in order; every process given the same
 /// stream and options finds the same rows. A part may have no rows.
