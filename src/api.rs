@@ -38,11 +38,53 @@ use crate::model::{ColorEntry, Mesh};
 use crate::render::{self, RenderOptions, RenderStats};
 use crate::scene::build::{ObjectParts, build_object};
 
+/// The anti-aliasing methods of [`Options::antialiasing`] (the scan
+/// conversion methods of the virtual image tree).
+///
+/// ```
+/// use plytrace::api::{render, Antialiasing, Camera, Options, Scene};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+/// scene.set_background([0., 1., 0.]);
+/// let options = Options { antialiasing: Some(Antialiasing::Supersample(2)), ..Options::default() };
+/// let image = render(&scene, &options)?;
+/// assert!(image.rgb.chunks(3).all(|p| p == [0, 255, 0]));
+/// # Ok(())
+/// # }
+/// ```
+#[doc(inline)]
 pub use crate::raster::scan::Method as Antialiasing;
+/// The vector formats of [`render_vector`]; [`VectorFormat::from_path`]
+/// picks one by a file name's extension.
+///
+/// ```
+/// use std::path::Path;
+/// use plytrace::api::VectorFormat;
+///
+/// assert_eq!(VectorFormat::from_path(Path::new("cube.SVG")), Some(VectorFormat::Svg));
+/// assert_eq!(VectorFormat::from_path(Path::new("cube.tex")), Some(VectorFormat::Tikz));
+/// assert_eq!(VectorFormat::from_path(Path::new("cube.png")), None);
+/// ```
+#[doc(inline)]
 pub use crate::vector::Format as VectorFormat;
 
 /// How the scene is seen: an eye, the point it looks at, a twist about
 /// the line of sight, and a projection.
+///
+/// ```
+/// use plytrace::api::{render, Camera, Options, Scene};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let mut camera = Camera::looking_at([0., -5., 0.], [0., 0., 0.]);
+/// camera.twist = 90.0;
+/// assert!(render(&Scene::new(camera, 16, 16), &Options::default()).is_ok());
+/// // A camera looking at its own eye has no line of sight.
+/// camera.target = camera.eye;
+/// assert!(render(&Scene::new(camera, 16, 16), &Options::default()).is_err());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     /// The eye.
@@ -58,6 +100,23 @@ pub struct Camera {
 }
 
 /// The projection of a [`Camera`].
+///
+/// ```
+/// use plytrace::api::{render, Camera, Options, Projection, Scene};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let mut camera = Camera::looking_at([0., -5., 0.], [0., 0., 0.]);
+/// camera.projection = Projection::Orthographic {
+///     left: -2., right: 2., bottom: -1., top: 1., near: 0.1, far: 100.,
+/// };
+/// let image = render(&Scene::new(camera, 32, 16), &Options::default())?;
+/// assert_eq!((image.width, image.height), (32, 16));
+/// // A field of view of 180 degrees or more is refused.
+/// camera.projection = Projection::Perspective { fovy: 200., near: 0.1, far: 100. };
+/// assert!(render(&Scene::new(camera, 32, 16), &Options::default()).is_err());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Projection {
     /// `perspective fovy aspect near far`; the aspect is the image's.
@@ -91,6 +150,15 @@ impl Camera {
     /// (near 0.01, far 10,000) and +z up, as in most plotting tools. (The
     /// scene language's `lookat` keeps +y up, as IRIS GL did: set `up` to
     /// `[0, 1, 0]` for the same view.)
+    ///
+    /// ```
+    /// use plytrace::api::{Camera, Projection};
+    ///
+    /// let camera = Camera::looking_at([4., -6., 3.], [0., 0., 0.]);
+    /// assert_eq!((camera.eye, camera.target), ([4., -6., 3.], [0., 0., 0.]));
+    /// assert_eq!((camera.up, camera.twist), ([0., 0., 1.], 0.));
+    /// assert_eq!(camera.projection, Projection::Perspective { fovy: 45., near: 0.01, far: 10_000. });
+    /// ```
     pub fn looking_at(eye: [f64; 3], target: [f64; 3]) -> Camera {
         Camera {
             eye,
@@ -148,6 +216,27 @@ impl Camera {
 }
 
 /// A light source.
+///
+/// ```
+/// use plytrace::api::{render, Camera, Light, MeshData, Material, Options, Scene};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let square = MeshData::new(
+///     vec![[-1., 0., -1.], [1., 0., -1.], [1., 0., 1.], [-1., 0., 1.]],
+///     vec![vec![0, 1, 2, 3]],
+/// );
+/// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+/// scene.add_mesh("square", &square, &Material::color([1., 1., 1.]))?;
+/// scene.set_ambient([0., 0., 0.]);
+/// // A red light that casts no shadows (the manual's `Diffuse`).
+/// let red = Light { color: [1., 0., 0.], shadows: false, ..Light::point([0., -5., 0.], [1., 1., 1.]) };
+/// scene.add_light(red);
+/// let image = render(&scene, &Options::default())?;
+/// let centre = &image.rgb[(8 * 16 + 8) * 3..][..3];
+/// assert!(centre[0] > 0 && centre[1..] == [0, 0], "white lit red: {centre:?}");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {
     /// Position in world coordinates.
@@ -162,6 +251,14 @@ pub struct Light {
 
 impl Light {
     /// A shadow-casting light with a range of 10,000.
+    ///
+    /// ```
+    /// use plytrace::api::Light;
+    ///
+    /// let light = Light::point([5., -5., 8.], [1., 0.9, 0.8]);
+    /// assert!(light.shadows);
+    /// assert_eq!((light.position, light.color, light.range), ([5., -5., 8.], [1., 0.9, 0.8], 10_000.));
+    /// ```
     pub fn point(position: [f64; 3], color: [f64; 3]) -> Light {
         Light {
             position,
@@ -176,6 +273,29 @@ impl Light {
 /// `color`, `diffuse`, `specular`, `shininess`, `reflectance`,
 /// `transmittance`, `index` and `transparency` commands (004 section 4.8),
 /// and whether both sides of its faces are seen (`type polygon open`).
+///
+/// ```
+/// use plytrace::api::{render, Camera, MeshData, Material, Options, Scene};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// // A square facing -y, seen from behind (from +y).
+/// let square = MeshData::new(
+///     vec![[-1., 0., -1.], [1., 0., -1.], [1., 0., 1.], [-1., 0., 1.]],
+///     vec![vec![0, 1, 2, 3]],
+/// );
+/// let centre = |material: &Material| -> Result<Vec<u8>, plytrace::Error> {
+///     let mut scene = Scene::new(Camera::looking_at([0., 5., 0.], [0., 0., 0.]), 16, 16);
+///     scene.add_mesh("square", &square, material)?;
+///     Ok(render(&scene, &Options::default())?.rgb[(8 * 16 + 8) * 3..][..3].to_vec())
+/// };
+/// let mut red = Material::color([1., 0., 0.]);
+/// red.surface.diffuse = 0.0; // ambient only: k_a = 1 - k_d = 1
+/// assert_eq!(centre(&red)?, [0, 0, 0], "its back is culled");
+/// red.two_sided = true;
+/// assert_eq!(centre(&red)?, [255, 0, 0]);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Material {
     /// The scene language's surface attributes.
@@ -188,6 +308,15 @@ pub struct Material {
 
 impl Material {
     /// The default surface in colour `rgb`.
+    ///
+    /// ```
+    /// use plytrace::api::Material;
+    ///
+    /// let m = Material::color([0.2, 0.6, 1.0]);
+    /// assert_eq!(m.surface.color.to_array(), [0.2, 0.6, 1.0]);
+    /// assert_eq!(m.surface.diffuse, 0.6, "the scene language's default");
+    /// assert!(!m.two_sided && !m.smooth);
+    /// ```
     pub fn color(rgb: [f64; 3]) -> Material {
         let mut m = Material::default();
         m.surface.color = DVec3::from_array(rgb);
@@ -199,6 +328,17 @@ impl Material {
 /// 0-based vertex indices, counter-clockwise seen from outside (the
 /// convention of OBJ, PLY and numpy-based tools; the scene language's
 /// object files are clockwise). Optional colours per face or per vertex.
+///
+/// ```
+/// use plytrace::api::MeshData;
+///
+/// let mut triangle = MeshData::new(vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]], vec![vec![0, 1, 2]]);
+/// triangle.vertex_colors = Some(vec![[1., 0., 0.], [0., 1., 0.], [0., 0., 1.]]);
+/// assert!(triangle.validate().is_ok());
+/// // Face colours must be one per face.
+/// triangle.face_colors = Some(vec![[1., 1., 1.]; 2]);
+/// assert!(triangle.validate().is_err());
+/// ```
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct MeshData {
     /// Vertex positions.
@@ -213,6 +353,17 @@ pub struct MeshData {
 
 impl MeshData {
     /// A mesh of `vertices` and counter-clockwise `faces`.
+    ///
+    /// ```
+    /// use plytrace::api::MeshData;
+    ///
+    /// let square = MeshData::new(
+    ///     vec![[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]],
+    ///     vec![vec![0, 1, 2, 3]],
+    /// );
+    /// assert_eq!((square.vertices.len(), square.faces.len()), (4, 1));
+    /// assert!(square.face_colors.is_none() && square.vertex_colors.is_none());
+    /// ```
     pub fn new(vertices: Vec<[f64; 3]>, faces: Vec<Vec<u32>>) -> MeshData {
         MeshData {
             vertices,
@@ -224,6 +375,18 @@ impl MeshData {
     /// Checks the arrays: finite coordinates and colours, faces of three
     /// or more indices within the vertices, colour arrays of the right
     /// length.
+    ///
+    /// ```
+    /// use plytrace::api::MeshData;
+    ///
+    /// let mut mesh = MeshData::new(vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]], vec![vec![0, 1, 2]]);
+    /// assert!(mesh.validate().is_ok());
+    /// mesh.faces[0][2] = 3;
+    /// let error = mesh.validate().unwrap_err().to_string();
+    /// assert!(error.contains("face 0 names vertex 3, but there are 3 vertices"), "{error}");
+    /// mesh.faces[0] = vec![0, 1];
+    /// assert!(mesh.validate().is_err(), "a face needs three vertices");
+    /// ```
     pub fn validate(&self) -> Result<()> {
         if let Some(i) = self
             .vertices
@@ -290,6 +453,20 @@ impl MeshData {
 }
 
 /// A scene ready to render.
+///
+/// ```
+/// use plytrace::api::{render, Camera, Light, Material, MeshData, Options, Scene};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let triangle = MeshData::new(vec![[-1., 0., -1.], [1., 0., -1.], [0., 0., 1.]], vec![vec![0, 1, 2]]);
+/// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+/// scene.add_light(Light::point([2., -5., 3.], [1., 1., 1.]));
+/// scene.add_mesh("triangle", &triangle, &Material::color([0., 1., 0.]))?;
+/// let image = render(&scene, &Options::default())?;
+/// assert_eq!(image.stats.polygons_tiled, 1);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone)]
 pub struct Scene {
     inner: model::Scene,
@@ -299,6 +476,18 @@ pub struct Scene {
 impl Scene {
     /// An empty scene of `width` x `height` pixels seen by `camera`, with
     /// the scene language's defaults (black background, white ambient).
+    ///
+    /// ```
+    /// use plytrace::api::{render, Camera, Options, Scene};
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 32, 16);
+    /// assert_eq!(scene.size(), (32, 16));
+    /// let image = render(&scene, &Options::default())?;
+    /// assert!(image.rgb.iter().all(|&b| b == 0), "an empty scene: black background");
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn new(camera: Camera, width: u32, height: u32) -> Scene {
         let inner = model::Scene {
             viewport: Viewport::of_size(width.max(1), height.max(1)),
@@ -312,6 +501,21 @@ impl Scene {
 
     /// Reads a scene descriptor file, as `plytrace -f FILE` does (its
     /// `run` commands are not acted on: render it with [`fn@render`]).
+    ///
+    /// ```
+    /// use plytrace::api::{render, Options, Scene};
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let path = std::env::temp_dir().join(format!("plytrace-doc-{}-from_file.des", std::process::id()));
+    /// std::fs::write(&path, "resolution 16 8\nbackground 0 0 1\n").map_err(|e| plytrace::Error::io(&path, e))?;
+    /// let scene = Scene::from_file(&path);
+    /// std::fs::remove_file(&path).map_err(|e| plytrace::Error::io(&path, e))?;
+    /// let image = render(&scene?, &Options::default())?;
+    /// assert_eq!((image.width, image.height, &image.rgb[..3]), (16, 8, &[0, 0, 255][..]));
+    /// assert!(Scene::from_file(&path).is_err(), "the file is gone");
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn from_file(path: &Path) -> Result<Scene> {
         let (inner, _warnings) = crate::scene::load(path)?;
         Ok(Scene {
@@ -322,6 +526,22 @@ impl Scene {
 
     /// Reads a scene from the text of a scene descriptor file; object
     /// files are looked up from `dir`.
+    ///
+    /// ```
+    /// use std::path::Path;
+    /// use plytrace::api::{render, Options, Scene};
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// // `cube` is read from `det/cube.det` under the directory given.
+    /// let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes");
+    /// let text = "resolution 16 16\nlookat 0 0 6 0 0 0 0\ndefobj cube\nendobj\n";
+    /// let scene = Scene::from_text(text, &dir)?;
+    /// assert_eq!(scene.size(), (16, 16));
+    /// assert!(render(&scene, &Options::default())?.stats.polygons_tiled > 0);
+    /// assert!(Scene::from_text("defobj nothing_here\nendobj\n", &dir).is_err());
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn from_text(text: &str, dir: &Path) -> Result<Scene> {
         let mut interp = crate::scene::Interpreter::new();
         interp.execute_source(text, Path::new("<text>"), dir, &mut crate::scene::NoHost)?;
@@ -332,6 +552,24 @@ impl Scene {
     }
 
     /// Adds a light.
+    ///
+    /// ```
+    /// use plytrace::api::{render, Camera, Light, Material, MeshData, Options, Scene};
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let square = MeshData::new(
+    ///     vec![[-1., 0., -1.], [1., 0., -1.], [1., 0., 1.], [-1., 0., 1.]],
+    ///     vec![vec![0, 1, 2, 3]],
+    /// );
+    /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+    /// scene.add_mesh("square", &square, &Material::color([1., 1., 1.]))?;
+    /// let dark = render(&scene, &Options::default())?.rgb[(8 * 16 + 8) * 3];
+    /// scene.add_light(Light::point([0., -5., 0.], [1., 1., 1.]));
+    /// let lit = render(&scene, &Options::default())?.rgb[(8 * 16 + 8) * 3];
+    /// assert!(lit > dark, "{lit} > {dark}");
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn add_light(&mut self, light: Light) {
         self.inner.lights.push(model::Light {
             position: DVec3::from_array(light.position),
@@ -347,6 +585,26 @@ impl Scene {
 
     /// Adds an object made from `mesh` with `material`, in world
     /// coordinates. Degenerate faces are skipped, as in object files.
+    ///
+    /// ```
+    /// use plytrace::api::{render, Camera, Material, MeshData, Options, Scene};
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+    /// let mut square = MeshData::new(
+    ///     vec![[-1., 0., -1.], [1., 0., -1.], [1., 0., 1.], [-1., 0., 1.]],
+    ///     vec![vec![0, 1, 2, 3]],
+    /// );
+    /// square.face_colors = Some(vec![[0., 0., 1.]]);
+    /// scene.add_mesh("square", &square, &Material::default())?;
+    /// let image = render(&scene, &Options::default())?;
+    /// let centre = &image.rgb[(8 * 16 + 8) * 3..][..3];
+    /// assert!(centre[..2] == [0, 0] && centre[2] > 0, "blue in the middle: {centre:?}");
+    /// square.vertices[0][0] = f64::NAN;
+    /// assert!(scene.add_mesh("broken", &square, &Material::default()).is_err());
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn add_mesh(&mut self, name: &str, mesh: &MeshData, material: &Material) -> Result<()> {
         mesh.validate()?;
         let colors = |c: &Option<Vec<[f64; 3]>>| {
@@ -386,17 +644,56 @@ impl Scene {
     }
 
     /// The background colour, 0 to 1.
+    ///
+    /// ```
+    /// use plytrace::api::{render, Camera, Options, Scene};
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+    /// scene.set_background([1., 0.5, 0.]);
+    /// let image = render(&scene, &Options::default())?;
+    /// assert!(image.rgb.chunks(3).all(|p| p[0] == 255 && p[1] > 100 && p[2] == 0));
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn set_background(&mut self, rgb: [f64; 3]) {
         self.inner.background = DVec3::from_array(rgb);
     }
 
     /// The ambient light's colour, 0 to 1.
+    ///
+    /// ```
+    /// use plytrace::api::{render, Camera, Material, MeshData, Options, Scene};
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let square = MeshData::new(
+    ///     vec![[-1., 0., -1.], [1., 0., -1.], [1., 0., 1.], [-1., 0., 1.]],
+    ///     vec![vec![0, 1, 2, 3]],
+    /// );
+    /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+    /// let mut white = Material::color([1., 1., 1.]);
+    /// white.surface.diffuse = 0.0; // ambient only: k_a = 1 - k_d = 1
+    /// scene.add_mesh("square", &square, &white)?;
+    /// scene.set_ambient([0., 1., 0.]);
+    /// let image = render(&scene, &Options::default())?;
+    /// assert_eq!(&image.rgb[(8 * 16 + 8) * 3..][..3], [0, 255, 0], "white seen in green light");
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn set_ambient(&mut self, rgb: [f64; 3]) {
         self.inner.ambient = DVec3::from_array(rgb);
     }
 
     /// Levels of reflection and refraction followed (the manual's
     /// `depth`, 1 to 14).
+    ///
+    /// ```
+    /// use plytrace::api::{Camera, Scene};
+    ///
+    /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+    /// assert!(scene.set_depth(3).is_ok());
+    /// assert!(scene.set_depth(0).is_err() && scene.set_depth(15).is_err());
+    /// ```
     pub fn set_depth(&mut self, levels: u32) -> Result<()> {
         if !(1..=14).contains(&levels) {
             return Err(invalid(&format!("depth {levels}: expected 1 to 14")));
@@ -406,6 +703,18 @@ impl Scene {
     }
 
     /// The image size.
+    ///
+    /// ```
+    /// use std::path::Path;
+    /// use plytrace::api::{Camera, Scene};
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// assert_eq!(Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 32, 16).size(), (32, 16));
+    /// let scene = Scene::from_text("resolution 64 48\n", Path::new("."))?;
+    /// assert_eq!(scene.size(), (64, 48));
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn size(&self) -> (u32, u32) {
         (self.inner.viewport.width(), self.inner.viewport.height())
     }
@@ -422,6 +731,24 @@ impl Scene {
 }
 
 /// How to render.
+///
+/// ```
+/// use plytrace::api::{render, Antialiasing, Camera, Options, Scene};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 640, 480);
+/// let options = Options {
+///     size: Some((16, 12)),
+///     antialiasing: Some(Antialiasing::Point),
+///     threads: 1,
+///     ..Options::default()
+/// };
+/// let image = render(&scene, &options)?;
+/// assert_eq!((image.width, image.height), (16, 12), "the size given, not the scene's");
+/// assert!(Options::default().shadows);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Options {
     /// Image size overriding the scene's.
@@ -462,6 +789,20 @@ impl Options {
 }
 
 /// A rendered image: 8-bit RGB, rows from the top.
+///
+/// ```
+/// use plytrace::api::{render, Camera, Options, Scene};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 8);
+/// scene.set_background([1., 1., 1.]);
+/// let image = render(&scene, &Options::default())?;
+/// assert_eq!((image.width, image.height), (16, 8));
+/// assert_eq!(image.rgb, vec![255; 16 * 8 * 3]);
+/// assert_eq!(image.stats.polygons_tiled, 0, "nothing in the scene");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone)]
 pub struct Image {
     /// Width in pixels.
@@ -476,6 +817,19 @@ pub struct Image {
 
 impl Image {
     /// The image as a PNG file's bytes.
+    ///
+    /// ```
+    /// use plytrace::api::{render, Camera, Options, Scene};
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 8);
+    /// let png = render(&scene, &Options::default())?.to_png()?;
+    /// assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+    /// // The IHDR chunk: width and height, big-endian.
+    /// assert_eq!(&png[12..24], b"IHDR\0\0\0\x10\0\0\0\x08");
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn to_png(&self) -> Result<Vec<u8>> {
         let mut out = Vec::new();
         let mut encoder = png::Encoder::new(&mut out, self.width, self.height);
@@ -495,6 +849,21 @@ impl Image {
 }
 
 /// Renders `scene` to an image in memory.
+///
+/// ```
+/// use plytrace::api::{render, Camera, Options, Scene};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 32, 32);
+/// let image = render(&scene, &Options::default())?;
+/// assert_eq!(image.rgb.len(), 32 * 32 * 3);
+/// // Over the pixel budget (the program's `--max-pixels`), it is refused.
+/// let mut small = Options::default();
+/// small.budgets.pixels = 100;
+/// assert!(render(&scene, &small).is_err());
+/// # Ok(())
+/// # }
+/// ```
 pub fn render(scene: &Scene, options: &Options) -> Result<Image> {
     let mut rgb = Vec::new();
     let (mut width, mut height) = (0, 0);
@@ -516,6 +885,21 @@ pub fn render(scene: &Scene, options: &Options) -> Result<Image> {
 /// and its RGB bytes, in order, as the scan converter finishes them; the
 /// whole image is never held when the scene takes the streamed path (the
 /// virtual image tree).
+///
+/// ```
+/// use plytrace::api::{render_rows, Camera, Options, Scene};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 8);
+/// let mut rows = Vec::new();
+/// render_rows(&scene, &Options::default(), &mut |y, row| {
+///     rows.push((y, row.len()));
+///     Ok(())
+/// })?;
+/// assert_eq!(rows, (0..8).map(|y| (y, 16 * 3)).collect::<Vec<_>>());
+/// # Ok(())
+/// # }
+/// ```
 pub fn render_rows(
     scene: &Scene,
     options: &Options,
@@ -570,6 +954,23 @@ impl crate::raster::scan::RowSink for ByteRows<'_> {
 /// Renders `scene` as vector graphics (SVG, one-page PDF or TikZ): the
 /// polygons of the virtual image tree, split and ordered by NNS, painted
 /// back to front.
+///
+/// ```
+/// use plytrace::api::{render_vector, Camera, Material, MeshData, Options, Scene, VectorFormat};
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let triangle = MeshData::new(vec![[-1., 0., -1.], [1., 0., -1.], [0., 0., 1.]], vec![vec![0, 1, 2]]);
+/// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 32, 32);
+/// scene.add_mesh("triangle", &triangle, &Material::color([1., 0., 0.]))?;
+/// let svg = String::from_utf8(render_vector(&scene, &Options::default(), VectorFormat::Svg)?).unwrap();
+/// assert!(svg.starts_with("<?xml") && svg.contains("<svg"));
+/// let pdf = render_vector(&scene, &Options::default(), VectorFormat::Pdf)?;
+/// assert!(pdf.starts_with(b"%PDF-"));
+/// let tikz = render_vector(&scene, &Options::default(), VectorFormat::Tikz)?;
+/// assert!(String::from_utf8_lossy(&tikz).contains("\\begin{tikzpicture}"));
+/// # Ok(())
+/// # }
+/// ```
 pub fn render_vector(scene: &Scene, options: &Options, format: VectorFormat) -> Result<Vec<u8>> {
     let model = scene.model()?;
     let style = crate::vector::Style::Shaded;
@@ -666,6 +1067,21 @@ struct ProjectedSource {
 }
 
 /// What [`Projected::paint_order`] gives.
+///
+/// ```
+/// use plytrace::api::Projected;
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// // Two squares, the second above and overlapping the first, seen from above.
+/// let low: Vec<[f64; 3]> = vec![[0., 0., 0.], [2., 0., 0.], [2., 2., 0.], [0., 2., 0.]];
+/// let high: Vec<[f64; 3]> = vec![[1., 1., 1.], [3., 1., 1.], [3., 3., 1.], [1., 3., 1.]];
+/// let m = [[1., 0., 0., 0.], [0., 1., 0., 0.], [0., 0., -1., 0.], [0., 0., 0., 1.]];
+/// let order = Projected::new(&[&low[..], &high[..]], m)?.paint_order()?;
+/// assert_eq!(order.patches.len(), 2);
+/// assert_eq!((order.splits, order.warning), (0, None), "no cycle, nothing split");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct PaintOrder {
     /// The visible pieces, to paint in this order.
@@ -680,6 +1096,21 @@ pub struct PaintOrder {
 /// Pieces painted together, as one fill of their rings (which do not
 /// overlap): the pieces of one source polygon, or with
 /// [`Projected::paint_order_by`] of sources that share a key.
+///
+/// ```
+/// use plytrace::api::Projected;
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// // Two squares side by side at different heights, drawn as one fill.
+/// let a: Vec<[f64; 3]> = vec![[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]];
+/// let b: Vec<[f64; 3]> = vec![[2., 0., 1.], [3., 0., 1.], [3., 1., 1.], [2., 1., 1.]];
+/// let m = [[1., 0., 0., 0.], [0., 1., 0., 0.], [0., 0., -1., 0.], [0., 0., 0., 1.]];
+/// let order = Projected::new(&[&a[..], &b[..]], m)?.paint_order_by(Some(&[7, 7]))?;
+/// assert_eq!(order.patches.len(), 1);
+/// assert_eq!(order.patches[0].rings.len(), 2);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Patch {
     /// The rings, each a closed outline in the projected 2-D coordinates.
@@ -688,12 +1119,42 @@ pub struct Patch {
 
 impl Patch {
     /// The source polygon of the first ring.
+    ///
+    /// ```
+    /// use plytrace::api::Projected;
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let low: Vec<[f64; 3]> = vec![[0., 0., 0.], [2., 0., 0.], [2., 2., 0.], [0., 2., 0.]];
+    /// let high: Vec<[f64; 3]> = vec![[1., 1., 1.], [3., 1., 1.], [3., 3., 1.], [1., 3., 1.]];
+    /// let m = [[1., 0., 0., 0.], [0., 1., 0., 0.], [0., 0., -1., 0.], [0., 0., 0., 1.]];
+    /// // Given nearest first, painted farthest first.
+    /// let order = Projected::new(&[&high[..], &low[..]], m)?.paint_order()?;
+    /// let sources: Vec<usize> = order.patches.iter().map(|p| p.source()).collect();
+    /// assert_eq!(sources, [1, 0]);
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn source(&self) -> usize {
         self.rings[0].source
     }
 }
 
 /// A closed outline of a [`Patch`].
+///
+/// ```
+/// use plytrace::api::Projected;
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let square: Vec<[f64; 3]> = vec![[0., 0., 0.], [2., 0., 0.], [2., 2., 0.], [0., 2., 0.]];
+/// let m = [[1., 0., 0., 0.], [0., 1., 0., 0.], [0., 0., -1., 0.], [0., 0., 0., 1.]];
+/// let order = Projected::new(&[&square[..]], m)?.paint_order()?;
+/// let ring = &order.patches[0].rings[0];
+/// assert!(ring.whole && ring.source == 0);
+/// assert_eq!(ring.points, [[0., 0.], [2., 0.], [2., 2.], [0., 2.]]);
+/// assert_eq!(ring.edges, [true; 4]);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ring {
     /// Index of the source polygon.
@@ -710,6 +1171,22 @@ pub struct Ring {
 }
 
 /// A visible piece of a segment given to [`Projected::visible_segments`].
+///
+/// ```
+/// use plytrace::api::Projected;
+///
+/// # fn main() -> Result<(), plytrace::Error> {
+/// let square: Vec<[f64; 3]> = vec![[0., 0., 0.], [2., 0., 0.], [2., 2., 0.], [0., 2., 0.]];
+/// let m = [[1., 0., 0., 0.], [0., 1., 0., 0.], [0., 0., -1., 0.], [0., 0., 0., 1.]];
+/// let seen = Projected::new(&[&square[..]], m)?;
+/// // Segment 1 passes above the square; segment 0 lies under it.
+/// let pieces = seen.visible_segments(&[[[0.5, 1., -1.], [1.5, 1., -1.]], [[0.5, 1., 1.], [1.5, 1., 1.]]])?;
+/// assert_eq!(pieces.len(), 1);
+/// assert_eq!(pieces[0].segment, 1);
+/// assert_eq!(pieces[0].points, [[0.5, 1.], [1.5, 1.]]);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SegmentPiece {
     /// Index of the segment.
@@ -729,6 +1206,19 @@ impl Projected {
     /// Projects `polygons` (each three or more points) with `matrix`
     /// (rows of `M` in `M @ [x, y, z, 1]`). Refuses non-finite input and
     /// polygons of fewer than three points.
+    ///
+    /// ```
+    /// use plytrace::api::Projected;
+    ///
+    /// let m = [[1., 0., 0., 0.], [0., 1., 0., 0.], [0., 0., -1., 0.], [0., 0., 0., 1.]];
+    /// let triangle: Vec<[f64; 3]> = vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]];
+    /// assert!(Projected::new(&[&triangle[..]], m).is_ok());
+    /// let error = Projected::new(&[&triangle[..2]], m).unwrap_err().to_string();
+    /// assert!(error.contains("polygon 0 has 2 points"), "{error}");
+    /// let mut bad = m;
+    /// bad[3][3] = f64::NAN;
+    /// assert!(Projected::new(&[&triangle[..]], bad).is_err());
+    /// ```
     pub fn new(polygons: &[&[[f64; 3]]], matrix: [[f64; 4]; 4]) -> Result<Projected> {
         if matrix.iter().flatten().any(|v| !v.is_finite()) {
             return Err(invalid("the projection matrix is not finite"));
@@ -840,6 +1330,21 @@ impl Projected {
     /// polygon nothing cuts comes back whole, as given. Edge-on polygons
     /// are kept. Gives up with [`Error::Cancelled`] on a stop request
     /// ([`crate::cancel`]).
+    ///
+    /// ```
+    /// use plytrace::api::Projected;
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// // Two triangles piercing each other (each is above the other at one end):
+    /// // neither can be painted whole first, so one is split.
+    /// let a: Vec<[f64; 3]> = vec![[0., 0., -1.], [4., 0., 1.], [4., 2., 1.]];
+    /// let b: Vec<[f64; 3]> = vec![[0., 2., 1.], [4., 1., -1.], [0., 0., 1.]];
+    /// let m = [[1., 0., 0., 0.], [0., 1., 0., 0.], [0., 0., -1., 0.], [0., 0., 0., 1.]];
+    /// let order = Projected::new(&[&a[..], &b[..]], m)?.paint_order()?;
+    /// assert!(order.splits > 0 && order.patches.len() > 2, "{order:?}");
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn paint_order(&self) -> Result<PaintOrder> {
         self.paint_order_by(None)
     }
@@ -850,6 +1355,21 @@ impl Projected {
     /// no seam shows between them. Pieces of one key must not need to be
     /// told apart where they overlap (overlapping pieces of a patch are
     /// filled once).
+    ///
+    /// ```
+    /// use plytrace::api::Projected;
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let a: Vec<[f64; 3]> = vec![[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]];
+    /// let b: Vec<[f64; 3]> = vec![[2., 0., 0.], [3., 0., 0.], [3., 1., 0.], [2., 1., 0.]];
+    /// let m = [[1., 0., 0., 0.], [0., 1., 0., 0.], [0., 0., -1., 0.], [0., 0., 0., 1.]];
+    /// let seen = Projected::new(&[&a[..], &b[..]], m)?;
+    /// assert_eq!(seen.paint_order_by(Some(&[0, 1]))?.patches.len(), 2);
+    /// assert_eq!(seen.paint_order_by(Some(&[5, 5]))?.patches.len(), 1, "one key, one fill");
+    /// assert!(seen.paint_order_by(Some(&[0])).is_err(), "one key per polygon");
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn paint_order_by(&self, keys: Option<&[u32]>) -> Result<PaintOrder> {
         use crate::visibility::nns;
         if let Some(k) = keys
@@ -968,6 +1488,21 @@ impl Projected {
     /// the sort) stays visible; a segment of zero length is a point, kept
     /// whole or dropped. Pieces come in the order of the segments, along
     /// each from its first end.
+    ///
+    /// ```
+    /// use plytrace::api::Projected;
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let square: Vec<[f64; 3]> = vec![[0., 0., 0.], [2., 0., 0.], [2., 2., 0.], [0., 2., 0.]];
+    /// let m = [[1., 0., 0., 0.], [0., 1., 0., 0.], [0., 0., -1., 0.], [0., 0., 0., 1.]];
+    /// let seen = Projected::new(&[&square[..]], m)?;
+    /// // Under the square from x = -1 to x = 3: only the ends outside it show.
+    /// let pieces = seen.visible_segments(&[[[-1., 1., -1.], [3., 1., -1.]]])?;
+    /// assert_eq!(pieces.len(), 2);
+    /// assert!((pieces[0].points[1][0] - 0.).abs() < 1e-6 && (pieces[1].points[0][0] - 2.).abs() < 1e-6);
+    /// # Ok(())
+    /// # }
+    /// ```
     pub fn visible_segments(&self, segments: &[[[f64; 3]; 2]]) -> Result<Vec<SegmentPiece>> {
         if let Some(i) = segments
             .iter()
