@@ -10,10 +10,9 @@
 
 mod support;
 
-use plytrace::render::{RenderOptions, Rendered, render};
+use plytrace::render::Rendered;
 use plytrace::scene::Scene;
 use plytrace::vector::{self, Format, Style};
-use plytrace::visibility::Algorithm;
 
 fn scene(name: &str) -> Scene {
     plytrace::scene::load(&support::scene_fixture(name))
@@ -28,44 +27,6 @@ fn scene_text(des: &str) -> Scene {
     plytrace::scene::load(&path).unwrap().0
 }
 
-/// Immediate mode's options: shadows on (`run y`).
-fn options() -> RenderOptions {
-    RenderOptions {
-        shadows: true,
-        ..RenderOptions::default()
-    }
-}
-
-/// The PNG's picture with NNS, ids included.
-fn png(scene: &Scene) -> Rendered {
-    render(
-        scene,
-        &RenderOptions {
-            visibility: Some(Algorithm::Nns),
-            ..options()
-        },
-    )
-    .unwrap()
-}
-
-/// An SVG rasterized by resvg at `w x h`: RGB per pixel, rows top first
-/// (un-premultiplied; the background rectangle makes every pixel opaque).
-fn rasterize(svg: &[u8], w: u32, h: u32) -> Vec<[u8; 3]> {
-    let opt = resvg::usvg::Options::default();
-    let tree = resvg::usvg::Tree::from_data(svg, &opt).unwrap();
-    let mut pixmap = resvg::tiny_skia::Pixmap::new(w, h).unwrap();
-    resvg::render(
-        &tree,
-        resvg::tiny_skia::Transform::default(),
-        &mut pixmap.as_mut(),
-    );
-    pixmap
-        .data()
-        .chunks(4)
-        .map(|p| [p[0], p[1], p[2]])
-        .collect()
-}
-
 /// Writes an RGB raster as PNG (for looking at failures).
 fn dump(path: &str, rgb: &[[u8; 3]], w: u32, h: u32) {
     let f = std::fs::File::create(path).unwrap();
@@ -77,29 +38,18 @@ fn dump(path: &str, rgb: &[[u8; 3]], w: u32, h: u32) {
 
 /// Pixels whose 3 x 3 neighbourhood shows one polygon in the PNG.
 fn interior(r: &Rendered) -> Vec<bool> {
-    let (w, h) = (r.frame.width as i64, r.frame.height as i64);
-    let id = |x: i64, y: i64| r.frame.ids[(y * w + x) as usize];
-    (0..h)
-        .flat_map(|y| (0..w).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            x > 0
-                && y > 0
-                && x < w - 1
-                && y < h - 1
-                && (-1..=1).all(|dy| (-1..=1).all(|dx| id(x + dx, y + dy) == id(x, y)))
-        })
-        .collect()
+    support::interior_pixels(r, &|a, b| a == b)
 }
 
 /// Share of interior pixels where the id-coloured SVG shows another
 /// source polygon than the PNG.
 fn object_mismatch(name: &str) -> (usize, usize) {
     let sc = scene(name);
-    let r = png(&sc);
-    let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
+    let r = support::vector_png(&sc);
+    let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
     let svg = vector::svg::to_svg(&vector::picture(&input, Style::Ids));
     let (w, h) = (r.frame.width, r.frame.height);
-    let raster = rasterize(&svg, w, h);
+    let raster = support::resvg_rgb(&svg, w, h);
     let inside = interior(&r);
     let (mut checked, mut bad) = (0, 0);
     for y in 0..h {
@@ -149,23 +99,13 @@ fn shaded_svg_matches_the_png_s_colours() {
         ("mirror.des", 0.005),
     ] {
         let sc = scene(name);
-        let r = png(&sc);
-        let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
+        let r = support::vector_png(&sc);
+        let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
         let svg = vector::svg::to_svg(&vector::picture(&input, Style::Shaded));
         let (w, h) = (r.frame.width, r.frame.height);
-        let raster = rasterize(&svg, w, h);
+        let raster = support::resvg_rgb(&svg, w, h);
         let inside = interior(&r);
-        let (mut checked, mut bad) = (0, 0);
-        for (k, c) in raster.iter().enumerate() {
-            if !inside[k] {
-                continue;
-            }
-            checked += 1;
-            let p = r.frame.color[k].map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as i32);
-            if (0..3).any(|i| (p[i] - c[i] as i32).abs() > 12) {
-                bad += 1;
-            }
-        }
+        let (checked, bad) = support::pixels_off(&raster, &r, &inside);
         eprintln!("{name}: {bad} of {checked} interior pixels differ by > 12 levels");
         if let Ok(dir) = std::env::var("VECTOR_DUMP") {
             let png: Vec<[u8; 3]> = r
@@ -202,7 +142,7 @@ fn sphere(extra: &str, kind: &str) -> Scene {
 /// sphere in the PNG) deviating by more than 12 levels from its colour.
 fn seam_share(svg: &[u8], r: &Rendered) -> (usize, usize) {
     let (w, h) = (r.frame.width as i64, r.frame.height as i64);
-    let raster = rasterize(svg, w as u32, h as u32);
+    let raster = support::resvg_rgb(svg, w as u32, h as u32);
     let on = |x: i64, y: i64| r.frame.ids[(y * w + x) as usize] != 0;
     let (mut checked, mut bad) = (0, 0);
     for y in 2..h - 2 {
@@ -224,8 +164,8 @@ fn seam_share(svg: &[u8], r: &Rendered) -> (usize, usize) {
 #[test]
 fn a_one_colour_sphere_of_5120_triangles_has_no_seams() {
     let sc = one_colour_sphere("");
-    let r = png(&sc);
-    let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
+    let r = support::vector_png(&sc);
+    let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
     eprintln!("sphere records: {}", input.stream.records.len());
     assert!(input.stream.records.len() > 1500);
     let svg = vector::svg::to_svg(&vector::picture(&input, Style::Shaded));
@@ -256,7 +196,7 @@ fn a_one_colour_sphere_of_5120_triangles_has_no_seams() {
 #[test]
 fn pdf_is_one_upright_page_with_type_4_shadings_for_gouraud() {
     let sc = sphere("setmode v on", "curved");
-    let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
+    let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
     let pic = vector::picture(&input, Style::Shaded);
     assert!(
         pic.items
@@ -279,7 +219,7 @@ fn pdf_is_one_upright_page_with_type_4_shadings_for_gouraud() {
 #[test]
 fn tikz_is_one_picture_with_the_frame_as_bounding_box() {
     let sc = scene("cycles.des");
-    let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
+    let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
     let pic = vector::picture(&input, Style::Shaded);
     let tex = String::from_utf8(vector::tikz::to_tikz(&pic)).unwrap();
     assert_eq!(tex.matches("\\begin{tikzpicture}").count(), 1);
@@ -315,10 +255,10 @@ fn tikz_is_one_picture_with_the_frame_as_bounding_box() {
 #[test]
 fn gouraud_sphere_in_flat_pieces_matches_the_png() {
     let sc = sphere("setmode v on", "curved");
-    let r = png(&sc);
-    let input = plytrace::render::vector::prepare(&sc, &options()).unwrap();
+    let r = support::vector_png(&sc);
+    let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
     let svg = vector::svg::to_svg(&vector::picture(&input, Style::Shaded));
-    let raster = rasterize(&svg, r.frame.width, r.frame.height);
+    let raster = support::resvg_rgb(&svg, r.frame.width, r.frame.height);
     // Pixels with the sphere all over their 5 x 5 neighbourhood: the
     // seams between its triangles are inside.
     let w = r.frame.width as usize;

@@ -47,31 +47,12 @@
 
 mod support;
 
-use plytrace::render::{RenderOptions, Rendered, render};
+use plytrace::render::Rendered;
 use plytrace::scene::Scene;
 use plytrace::vector::{self, Item, Picture, Style};
-use plytrace::visibility::Algorithm;
 
 /// Share of interior pixels that may be off, per figure and rasterizer.
 const LIMIT: f64 = 0.0005;
-
-fn options() -> RenderOptions {
-    RenderOptions {
-        shadows: true,
-        ..RenderOptions::default()
-    }
-}
-
-fn png(scene: &Scene) -> Rendered {
-    render(
-        scene,
-        &RenderOptions {
-            visibility: Some(Algorithm::Nns),
-            ..options()
-        },
-    )
-    .unwrap()
-}
 
 /// A viridis-like colour map: 0 dark purple, 1 yellow.
 fn colormap(t: f64) -> [u8; 3] {
@@ -211,22 +192,6 @@ fn star(dir: &std::path::Path) -> Scene {
     )
 }
 
-/// An SVG rasterized by resvg: RGB per pixel, rows top first.
-fn resvg(svg: &[u8], w: u32, h: u32) -> Vec<[u8; 3]> {
-    let tree = resvg::usvg::Tree::from_data(svg, &resvg::usvg::Options::default()).unwrap();
-    let mut pixmap = resvg::tiny_skia::Pixmap::new(w, h).unwrap();
-    resvg::render(
-        &tree,
-        resvg::tiny_skia::Transform::default(),
-        &mut pixmap.as_mut(),
-    );
-    pixmap
-        .data()
-        .chunks(4)
-        .map(|p| [p[0], p[1], p[2]])
-        .collect()
-}
-
 fn run(program: &str, args: &[&std::ffi::OsStr], needs: &str) {
     let out = std::process::Command::new(program)
         .args(args)
@@ -353,22 +318,9 @@ fn pdftoppm(pdf: &[u8], w: u32, h: u32) -> Vec<[u8; 3]> {
         "poppler-utils",
     );
     let b = std::fs::read(dir.path().join("out.ppm")).unwrap();
-    let mut fields = Vec::new();
-    let mut at = 0;
-    while fields.len() < 4 {
-        while b[at].is_ascii_whitespace() {
-            at += 1;
-        }
-        let start = at;
-        while !b[at].is_ascii_whitespace() {
-            at += 1;
-        }
-        fields.push(String::from_utf8_lossy(&b[start..at]).into_owned());
-    }
-    assert_eq!(fields[0], "P6");
-    let size: (u32, u32) = (fields[1].parse().unwrap(), fields[2].parse().unwrap());
-    assert_eq!(size, (w, h), "one point per pixel");
-    b[at + 1..].chunks(3).map(|p| [p[0], p[1], p[2]]).collect()
+    let (rgb, pw, ph) = support::parse_ppm(&b);
+    assert_eq!((pw, ph), (w, h), "one point per pixel");
+    rgb
 }
 
 /// Writes an RGB raster as PNG when `VECTOR_DUMP` names a directory.
@@ -383,41 +335,6 @@ fn dump(name: &str, rgb: &[[u8; 3]], w: u32, h: u32) {
     wr.write_image_data(&rgb.concat()).unwrap();
 }
 
-/// Interior pixels: their 3 x 3 neighbourhood of pixel centres shows, in
-/// the PNG, polygons that are `together` with the centre's (one
-/// continuous piece of the figure: no silhouette against the background
-/// or against a farther part of the figure).
-fn interior(r: &Rendered, together: &dyn Fn(u32, u32) -> bool) -> Vec<bool> {
-    let (w, h) = (r.frame.width as i64, r.frame.height as i64);
-    let id = |x: i64, y: i64| r.frame.ids[(y * w + x) as usize];
-    (0..h)
-        .flat_map(|y| (0..w).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            x > 0
-                && y > 0
-                && x < w - 1
-                && y < h - 1
-                && (-1..=1).all(|dy| (-1..=1).all(|dx| together(id(x, y), id(x + dx, y + dy))))
-        })
-        .collect()
-}
-
-/// (interior pixels, those off by more than 12 levels from the PNG).
-fn off(raster: &[[u8; 3]], r: &Rendered, inside: &[bool]) -> (usize, usize) {
-    let (mut checked, mut bad) = (0, 0);
-    for (k, c) in raster.iter().enumerate() {
-        if !inside[k] {
-            continue;
-        }
-        checked += 1;
-        let p = r.frame.color[k].map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as i32);
-        if (0..3).any(|i| (p[i] - c[i] as i32).abs() > 12) {
-            bad += 1;
-        }
-    }
-    (checked, bad)
-}
-
 /// The figure in the three rasterizers: (rasterizer, interior pixels,
 /// off pixels).
 fn cracks(
@@ -425,28 +342,31 @@ fn cracks(
     scene: &Scene,
     together: &dyn Fn(&Rendered, u32, u32) -> bool,
 ) -> Vec<(&'static str, usize, usize)> {
-    let r = png(scene);
+    let r = support::vector_png(scene);
     let (w, h) = (r.frame.width, r.frame.height);
-    let input = plytrace::render::vector::prepare(scene, &options()).unwrap();
+    let input = plytrace::render::vector::prepare(scene, &support::vector_options()).unwrap();
     let pic = vector::picture(&input, Style::Shaded);
     let svg = vector::svg::to_svg(&pic);
     let pdf = vector::pdf::to_pdf(&pic);
     let tex = String::from_utf8(vector::tikz::to_tikz(&pic)).unwrap();
-    let inside = interior(&r, &|a, b| together(&r, a, b));
+    let inside = support::interior_pixels(&r, &|a, b| together(&r, a, b));
     // Pixels on the scene's polygons along a silhouette over a farther
     // polygon (a fold of the surface, or another object): not interior,
     // counted for the record.
-    let on = interior(&r, &|a, b| a != 0 && b != 0);
+    let on = support::interior_pixels(&r, &|a, b| a != 0 && b != 0);
     let folds: Vec<bool> = on.iter().zip(&inside).map(|(o, i)| *o && !i).collect();
     let mut out = Vec::new();
     for (rasterizer, raster) in [
-        ("resvg", resvg(&svg, w, h)),
+        ("resvg", support::resvg_rgb(&svg, w, h)),
         ("rsvg-convert", rsvg(&svg, w, h)),
         ("pdftoppm", pdftoppm(&pdf, w, h)),
-        ("TikZ in resvg", resvg(&tikz_as_svg(&tex, w, h), w, h)),
+        (
+            "TikZ in resvg",
+            support::resvg_rgb(&tikz_as_svg(&tex, w, h), w, h),
+        ),
     ] {
-        let (checked, bad) = off(&raster, &r, &inside);
-        let (fold, fold_bad) = off(&raster, &r, &folds);
+        let (checked, bad) = support::pixels_off(&raster, &r, &inside);
+        let (fold, fold_bad) = support::pixels_off(&raster, &r, &folds);
         eprintln!(
             "{name} in {rasterizer}: {bad} of {checked} interior pixels ({:.3} %) off by > 12 levels \
              ({fold_bad} of {fold} next to silhouettes over farther polygons; SVG {} bytes, PDF {} bytes)",
@@ -512,7 +432,7 @@ fn a_colormapped_surface_has_no_cracks() {
     check("surface", &figures, 60_000);
     // The same faces painted one path each, without caps, do crack: the
     // test can see cracks.
-    let input = plytrace::render::vector::prepare(&scene, &options()).unwrap();
+    let input = plytrace::render::vector::prepare(&scene, &support::vector_options()).unwrap();
     let mut unsealed = vector::picture(&input, Style::Shaded);
     unsealed.items = input
         .stream
@@ -527,9 +447,13 @@ fn a_colormapped_surface_has_no_cracks() {
             _ => None,
         })
         .collect();
-    let r = png(&scene);
-    let raster = resvg(&vector::svg::to_svg(&unsealed), 512, 512);
-    let (checked, bad) = off(&raster, &r, &interior(&r, &|a, b| a != 0 && b != 0));
+    let r = support::vector_png(&scene);
+    let raster = support::resvg_rgb(&vector::svg::to_svg(&unsealed), 512, 512);
+    let (checked, bad) = support::pixels_off(
+        &raster,
+        &r,
+        &support::interior_pixels(&r, &|a, b| a != 0 && b != 0),
+    );
     assert!(bad as f64 > 0.1 * checked as f64, "{bad} of {checked}");
 }
 
@@ -545,7 +469,7 @@ fn a_per_face_shaded_mesh_of_70k_triangles_has_no_cracks() {
 fn a_split_one_colour_star_has_no_seams() {
     let dir = tempfile::tempdir().unwrap();
     let scene = star(dir.path());
-    let r = png(&scene);
+    let r = support::vector_png(&scene);
     // The star's pixels: the polygons of object 0.
     let star_ids: Vec<bool> = std::iter::once(false)
         .chain(r.polygons.iter().map(|&(o, _)| o == 0))
@@ -582,7 +506,7 @@ fn silhouettes_grow_by_at_most_half_a_pixel() {
         ("mesh", mesh(dir.path())),
         ("star", star(dir.path())),
     ] {
-        let input = plytrace::render::vector::prepare(&scene, &options()).unwrap();
+        let input = plytrace::render::vector::prepare(&scene, &support::vector_options()).unwrap();
         let pic = vector::picture(&input, Style::Shaded);
         let (w, h) = (input.width, input.height);
         let test = white(&pic);
@@ -604,7 +528,9 @@ fn silhouettes_grow_by_at_most_half_a_pixel() {
         each.items = records.into_iter().map(|p| fill(vec![p])).collect();
         type Raster = fn(&Picture, u32, u32) -> Vec<[u8; 3]>;
         let rasterizers: [(&str, Raster); 2] = [
-            ("resvg", |p, w, h| resvg(&vector::svg::to_svg(p), w, h)),
+            ("resvg", |p, w, h| {
+                support::resvg_rgb(&vector::svg::to_svg(p), w, h)
+            }),
             ("pdftoppm", |p, w, h| {
                 pdftoppm(&vector::pdf::to_pdf(p), w, h)
             }),

@@ -233,3 +233,104 @@ pub fn copy_tree(from: &std::path::Path, to: &std::path::Path) {
         }
     }
 }
+
+/// The options the vector tests render with: shadows on.
+pub fn vector_options() -> plytrace::render::RenderOptions {
+    plytrace::render::RenderOptions {
+        shadows: true,
+        ..plytrace::render::RenderOptions::default()
+    }
+}
+
+/// The PNG's picture of `scene` as the vector output sees it: NNS
+/// visibility, shadows on, ids included.
+pub fn vector_png(scene: &Scene) -> plytrace::render::Rendered {
+    plytrace::render::render(
+        scene,
+        &plytrace::render::RenderOptions {
+            visibility: Some(plytrace::visibility::Algorithm::Nns),
+            ..vector_options()
+        },
+    )
+    .unwrap()
+}
+
+/// A binary PPM (P6, maxval 255): its RGB pixels, width and height.
+pub fn parse_ppm(b: &[u8]) -> (Vec<[u8; 3]>, u32, u32) {
+    let mut fields = Vec::new();
+    let mut at = 0;
+    while fields.len() < 4 {
+        while b[at].is_ascii_whitespace() {
+            at += 1;
+        }
+        let start = at;
+        while !b[at].is_ascii_whitespace() {
+            at += 1;
+        }
+        fields.push(String::from_utf8_lossy(&b[start..at]).into_owned());
+    }
+    assert_eq!(fields[0], "P6");
+    let (w, h): (u32, u32) = (fields[1].parse().unwrap(), fields[2].parse().unwrap());
+    let data = &b[at + 1..];
+    (data.chunks(3).map(|p| [p[0], p[1], p[2]]).collect(), w, h)
+}
+
+/// An SVG rasterized by resvg at `w x h`: RGB per pixel, rows top first
+/// (un-premultiplied; the background rectangle makes every pixel opaque).
+pub fn resvg_rgb(svg: &[u8], w: u32, h: u32) -> Vec<[u8; 3]> {
+    let tree = resvg::usvg::Tree::from_data(svg, &resvg::usvg::Options::default()).unwrap();
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(w, h).unwrap();
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::default(),
+        &mut pixmap.as_mut(),
+    );
+    pixmap
+        .data()
+        .chunks(4)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect()
+}
+
+/// Interior pixels of a rendered picture: their 3 x 3 neighbourhood of
+/// pixel centres shows, in the id frame, records `together` with the
+/// centre's (`together(centre, neighbour)`; the border pixels are never
+/// interior).
+pub fn interior_pixels(
+    r: &plytrace::render::Rendered,
+    together: &dyn Fn(u32, u32) -> bool,
+) -> Vec<bool> {
+    let (w, h) = (r.frame.width as i64, r.frame.height as i64);
+    let id = |x: i64, y: i64| r.frame.ids[(y * w + x) as usize];
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            x > 0
+                && y > 0
+                && x < w - 1
+                && y < h - 1
+                && (-1..=1).all(|dy| (-1..=1).all(|dx| together(id(x, y), id(x + dx, y + dy))))
+        })
+        .collect()
+}
+
+/// Of the `inside` pixels, (how many, how many of `raster` differ from
+/// the PNG `r` by more than 12 levels (of 255) in some channel).
+pub fn pixels_off(
+    raster: &[[u8; 3]],
+    r: &plytrace::render::Rendered,
+    inside: &[bool],
+) -> (usize, usize) {
+    let (mut checked, mut bad) = (0, 0);
+    for (k, c) in raster.iter().enumerate() {
+        if !inside[k] {
+            continue;
+        }
+        checked += 1;
+        let p = r.frame.color[k].map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as i32);
+        if (0..3).any(|i| (p[i] - c[i] as i32).abs() > 12) {
+            bad += 1;
+        }
+    }
+    (checked, bad)
+}
