@@ -111,6 +111,25 @@ pub struct VectorInput {
 /// A point in user units: `x` right, `y` down from the top left.
 pub type Pt = [f64; 2];
 
+/// The part of `poly` where `f >= 0` (Sutherland-Hodgman; for a
+/// non-convex `poly` the pieces are joined along the line by edges that
+/// enclose nothing).
+pub(crate) fn clip_half_plane(poly: &[Pt], f: impl Fn(Pt) -> f64) -> Vec<Pt> {
+    let mut out = Vec::with_capacity(poly.len() + 2);
+    for j in 0..poly.len() {
+        let (p, q) = (poly[j], poly[(j + 1) % poly.len()]);
+        let (fp, fq) = (f(p), f(q));
+        if fp >= 0.0 {
+            out.push(p);
+        }
+        if (fp >= 0.0) != (fq >= 0.0) {
+            let t = fp / (fp - fq);
+            out.push([p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t]);
+        }
+    }
+    out
+}
+
 /// A paint item, in painting order.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Item {

@@ -189,19 +189,7 @@ fn clip_convex(subject: &[[f32; 2]], clip: &[[f32; 2]]) -> Vec<[f32; 2]> {
         let (a, b) = ([a[0] as f64, a[1] as f64], [b[0] as f64, b[1] as f64]);
         let side =
             |p: [f64; 2]| sign * ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]));
-        let mut next = Vec::with_capacity(poly.len() + 2);
-        for j in 0..poly.len() {
-            let (p, q) = (poly[j], poly[(j + 1) % poly.len()]);
-            let (sp, sq) = (side(p), side(q));
-            if sp >= 0.0 {
-                next.push(p);
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                let t = sp / (sp - sq);
-                next.push([p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t]);
-            }
-        }
-        poly = next;
+        poly = super::clip_half_plane(&poly, side);
     }
     if area(
         &poly

@@ -52,7 +52,7 @@
 
 use rayon::prelude::*;
 
-use super::Pt;
+use super::{Pt, clip_half_plane as clip};
 
 /// A cap: a closed subpath, and the pieces of some records, whose
 /// nonzero fill lies within the union of `ring`, records painted after
@@ -685,25 +685,6 @@ struct Scratch {
 fn pseudo_angle(x: f64, y: f64) -> f64 {
     let p = x / (x.abs() + y.abs());
     if y < 0.0 { 3.0 + p } else { 1.0 - p }
-}
-
-/// The part of `poly` where `f >= 0` (Sutherland-Hodgman; for a
-/// non-convex `poly` the pieces are joined along the line by edges that
-/// enclose nothing).
-fn clip(poly: &[Pt], f: impl Fn(Pt) -> f64) -> Vec<Pt> {
-    let mut out = Vec::with_capacity(poly.len() + 2);
-    for j in 0..poly.len() {
-        let (p, q) = (poly[j], poly[(j + 1) % poly.len()]);
-        let (fp, fq) = (f(p), f(q));
-        if fp >= 0.0 {
-            out.push(p);
-        }
-        if (fp >= 0.0) != (fq >= 0.0) {
-            let t = fp / (fp - fq);
-            out.push([p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t]);
-        }
-    }
-    out
 }
 
 /// Along edge `a`-`b` of a positively oriented polygon: the distance
