@@ -744,32 +744,11 @@ pub fn run(program: Program, args: &Args) -> Result<Summary> {
     check_output_size(&largest, size)?;
     // The tree and what the scan converter makes of it share the memory
     // budget with the bands.
-    let (bands, _) = band_memory(program, args);
-    let limit = args.budgets.frame_memory.saturating_sub(bands) / TREE_MEMORY_PER_BYTE;
-    let bytes = read_input(&args.input, limit, |len| {
-        Budgets::exceeded(
-            &format!(
-                "a tree file of {len} bytes (about {TREE_MEMORY_PER_BYTE} bytes of memory \
-                 each, with the bands of act-lines rows)"
-            ),
-            format!("{} MiB", args.budgets.frame_memory >> 20),
-            "--max-frame-memory",
-        )
-    })?;
+    let bytes = read_tree_bytes(program, args)?;
     // Every output is opened (and so checked against the input read) before
     // the tree is even parsed.
     let mut outputs = Outputs::create(program, args)?;
-    let mut stream = RecordStream::from_bytes(&bytes, &args.input)?;
-    check_tree(program, &stream, &args.input)?;
-    // Accepted with the other blending mode only when one-level, where the
-    // modes agree (see `check_tree`): scan it as the mode the method wants.
-    stream.blended = program.wants_preblended();
-    if args.background && stream.background.is_none() {
-        return Err(Error::Invalid(format!(
-            "{}: -B paints the background record, and this file has none",
-            args.input.display()
-        )));
-    }
+    let stream = parse_tree(program, args, &bytes)?;
     crate::cancel::check()?;
     let options = ScanOptions {
         width: args.hres,
@@ -795,9 +774,15 @@ pub fn run(program: Program, args: &Args) -> Result<Summary> {
 /// Reads and checks the tree file of `args` for `program`, within the
 /// memory budget.
 fn read_tree(program: Program, args: &Args) -> Result<RecordStream> {
+    parse_tree(program, args, &read_tree_bytes(program, args)?)
+}
+
+/// The bytes of the tree file of `args`, refused past the memory the
+/// bands of `program` leave (about [`TREE_MEMORY_PER_BYTE`] bytes each).
+fn read_tree_bytes(program: Program, args: &Args) -> Result<Vec<u8>> {
     let (bands, _) = band_memory(program, args);
     let limit = args.budgets.frame_memory.saturating_sub(bands) / TREE_MEMORY_PER_BYTE;
-    let bytes = read_input(&args.input, limit, |len| {
+    read_input(&args.input, limit, |len| {
         Budgets::exceeded(
             &format!(
                 "a tree file of {len} bytes (about {TREE_MEMORY_PER_BYTE} bytes of memory \
@@ -806,9 +791,16 @@ fn read_tree(program: Program, args: &Args) -> Result<RecordStream> {
             format!("{} MiB", args.budgets.frame_memory >> 20),
             "--max-frame-memory",
         )
-    })?;
-    let mut stream = RecordStream::from_bytes(&bytes, &args.input)?;
+    })
+}
+
+/// The tree in `bytes`, checked for `program`, in the blending mode its
+/// method wants, with the background record `-B` needs.
+fn parse_tree(program: Program, args: &Args, bytes: &[u8]) -> Result<RecordStream> {
+    let mut stream = RecordStream::from_bytes(bytes, &args.input)?;
     check_tree(program, &stream, &args.input)?;
+    // Accepted with the other blending mode only when one-level, where the
+    // modes agree (see `check_tree`): scan it as the mode the method wants.
     stream.blended = program.wants_preblended();
     if args.background && stream.background.is_none() {
         return Err(Error::Invalid(format!(
