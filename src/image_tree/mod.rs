@@ -37,6 +37,8 @@
 //! linearized about the ray through the polygon's centre (004 section
 //! 6.4.3), or none on total internal reflection.
 
+mod fragments;
+
 use glam::{DVec3, DVec4};
 
 use crate::budget::Budgets;
@@ -48,6 +50,7 @@ use crate::model::{Color, SortOrder};
 use crate::profile::{Category, Profile};
 use crate::shading::{FacetTerms, Materials, ShadingModel};
 pub use crate::shadow::overlap::{ShadowRegion, intersect_in_plane, overlap_regions};
+pub use fragments::Fragments;
 use crate::visibility::{depth_sort, nns};
 use rayon::prelude::*;
 
@@ -147,7 +150,7 @@ pub struct VirtualSpace {
 #[derive(Debug, Clone, Default)]
 pub struct VirtualImageTree {
     /// All fragments; `roots` and `children` index this.
-    pub nodes: Vec<Fragment>,
+    pub nodes: Fragments,
     /// The levels' spaces; [`Fragment::space`] indexes this.
     pub spaces: Vec<VirtualSpace>,
     /// Level-1 fragments, back to front.
@@ -779,7 +782,6 @@ impl<'a> Builder<'a> {
             };
             PreparedChunk { terms, regions }
         };
-        self.tree.nodes.reserve(sorted.len());
         let chunks: Vec<&[Candidate]> = sorted.chunks(SHADOW_CHUNK).collect();
         let mut ready = prepare(chunks.first().copied());
         for (k, chunk) in chunks.iter().enumerate() {

@@ -1,0 +1,135 @@
+//! The store of the virtual image tree's fragments (004 section 3.2: the
+//! tree's nodes), in fixed-size chunks.
+//!
+//! A tree of ten million fragments is gigabytes. Grown as one `Vec`, it
+//! would be reallocated by doubling: up to half its capacity unused, and
+//! for the moment of each copy the old block and the new (1.5 times the
+//! final size at the last one). Chunks of [`CHUNK`] fragments are allocated
+//! whole and never moved, so the store holds at most one chunk more than
+//! its fragments, and indices stay what they were in a `Vec`.
+
+use super::Fragment;
+
+/// Fragments per chunk (160 bytes each: 640 KiB a chunk).
+const CHUNK: usize = 1 << 12;
+
+/// The fragments of a tree, indexed from 0 in the order they were added.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Fragments {
+    chunks: Vec<Vec<Fragment>>,
+    len: usize,
+}
+
+impl Fragments {
+    /// How many fragments there are.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether there is none.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Adds `f` as fragment [`Self::len`].
+    pub fn push(&mut self, f: Fragment) {
+        match self.chunks.last_mut() {
+            Some(chunk) if chunk.len() < CHUNK => chunk.push(f),
+            _ => {
+                let mut chunk = Vec::with_capacity(CHUNK);
+                chunk.push(f);
+                self.chunks.push(chunk);
+            }
+        }
+        self.len += 1;
+    }
+
+    /// The fragments in index order.
+    pub fn iter(&self) -> impl DoubleEndedIterator<Item = &Fragment> {
+        self.chunks.iter().flatten()
+    }
+
+    /// The fragments in index order, to change.
+    pub fn iter_mut(&mut self) -> impl DoubleEndedIterator<Item = &mut Fragment> {
+        self.chunks.iter_mut().flatten()
+    }
+}
+
+impl std::ops::Index<usize> for Fragments {
+    type Output = Fragment;
+
+    fn index(&self, i: usize) -> &Fragment {
+        &self.chunks[i / CHUNK][i % CHUNK]
+    }
+}
+
+impl std::ops::IndexMut<usize> for Fragments {
+    fn index_mut(&mut self, i: usize) -> &mut Fragment {
+        &mut self.chunks[i / CHUNK][i % CHUNK]
+    }
+}
+
+impl<'a> IntoIterator for &'a Fragments {
+    type Item = &'a Fragment;
+    type IntoIter = std::iter::Flatten<std::slice::Iter<'a, Vec<Fragment>>>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.chunks.iter().flatten()
+    }
+}
+
+impl FromIterator<Fragment> for Fragments {
+    fn from_iter<I: IntoIterator<Item = Fragment>>(iter: I) -> Fragments {
+        let mut out = Fragments::default();
+        for f in iter {
+            out.push(f);
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image_tree::{Branch, FragmentKind};
+
+    fn fragment(n: usize) -> Fragment {
+        Fragment {
+            level: 1,
+            kind: FragmentKind::Polygon,
+            branch: Branch::Direct,
+            object: n as u32,
+            polygon: 0,
+            virtual_points: Box::default(),
+            back_facing: false,
+            shade: Default::default(),
+            blended: Default::default(),
+            weight: 1.0,
+            parent: None,
+            space: 0,
+            children: Vec::new(),
+            shadowed_from: Box::default(),
+        }
+    }
+
+    /// Across chunk boundaries every index finds the fragment pushed as
+    /// it, and iteration visits them in that order.
+    #[test]
+    fn indices_are_push_order_across_chunks() {
+        let n = 2 * CHUNK + 3;
+        let mut store: Fragments = (0..n).map(fragment).collect();
+        assert_eq!(store.len(), n);
+        assert_eq!(store.chunks.len(), 3);
+        for i in [0, 1, CHUNK - 1, CHUNK, CHUNK + 1, 2 * CHUNK, n - 1] {
+            assert_eq!(store[i].object, i as u32);
+        }
+        store[CHUNK].polygon = 7;
+        assert_eq!(store.iter().nth(CHUNK).map(|f| f.polygon), Some(7));
+        let objects: Vec<u32> = store.iter().map(|f| f.object).collect();
+        assert_eq!(objects, (0..n as u32).collect::<Vec<_>>());
+        for f in store.iter_mut() {
+            f.level = 2;
+        }
+        assert!((&store).into_iter().all(|f| f.level == 2));
+    }
+}
