@@ -15,7 +15,7 @@ use std::path::Path;
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use plytrace::geometry::view::{View, towards_eye};
-use plytrace::render::{RenderOptions, plan, plan_with};
+use plytrace::render::{RenderOptions, Reuse, plan, plan_with};
 use plytrace::scene::{Interpreter, NoHost, Scene};
 use plytrace::visibility::Algorithm;
 use plytrace::visibility::brown::{PriorityCache, priority_order};
@@ -48,13 +48,13 @@ fn bench(c: &mut Criterion) {
     interp
         .execute_source(SCENE, Path::new("b.des"), Path::new("."), &mut NoHost)
         .expect("the scene");
-    let orders = PriorityCache::new();
+    let reuse = Reuse::default();
     let mut g = c.benchmark_group("frame");
     g.sample_size(20);
     g.bench_function("reused", |b| {
         b.iter(|| {
             let scene = step(&mut interp);
-            plan_with(&scene, &options(), &orders).expect("renders")
+            plan_with(&scene, &options(), &reuse).expect("renders")
         })
     });
     g.bench_function("resorted", |b| {

@@ -10,17 +10,18 @@ mod support;
 use std::path::Path;
 
 use plytrace::error::Result;
+use plytrace::render::Reuse;
 use plytrace::render::{Plan, RenderOptions, Rendered, plan, plan_with};
 use plytrace::scene::{Host, Interpreter, Scene};
 use plytrace::visibility::Algorithm;
-use plytrace::visibility::brown::{BrownStats, PriorityCache};
+use plytrace::visibility::brown::BrownStats;
 use plytrace::visibility::ray_cast::RayCaster;
 
 /// Renders every `run` twice: with the orders of the previous frame, and
 /// with a fresh sort.
 #[derive(Default)]
 struct Frames {
-    orders: PriorityCache,
+    reuse: Reuse,
     frames: Vec<(Scene, Rendered, Rendered)>,
 }
 
@@ -37,7 +38,7 @@ impl Host for Frames {
             visibility: Some(Algorithm::Brown),
             ..RenderOptions::default()
         };
-        let reused = painted(plan_with(scene, &options, &self.orders)?);
+        let reused = painted(plan_with(scene, &options, &self.reuse)?);
         let fresh = painted(plan(scene, &options)?);
         self.frames.push((scene.clone(), reused, fresh));
         Ok(())

@@ -7,9 +7,8 @@ mod support;
 
 use plytrace::display::{FrameObserver, PartialFrame, render_observed};
 use plytrace::raster::frame_buffer::FrameBuffer;
-use plytrace::render::{RenderOptions, render};
+use plytrace::render::{RenderOptions, Reuse, render};
 use plytrace::scene::Scene;
-use plytrace::visibility::brown::PriorityCache;
 
 fn scene(name: &str) -> Scene {
     plytrace::scene::load(&support::scene_fixture(name))
@@ -44,8 +43,7 @@ fn one_frame_per_level_the_last_is_the_final_image() {
     for (name, depth) in [("mirror.des", 2), ("underwater.des", 2), ("ccube.des", 1)] {
         let s = scene(name);
         let mut frames = Collect::default();
-        let shown =
-            render_observed(&s, &options(true), &PriorityCache::new(), &mut frames).unwrap();
+        let shown = render_observed(&s, &options(true), &Reuse::default(), &mut frames).unwrap();
         let levels: Vec<(u32, u32)> = frames.0.iter().map(|f| (f.0, f.1)).collect();
         let want: Vec<(u32, u32)> = (1..=depth).map(|k| (k, depth)).collect();
         assert_eq!(levels, want, "{name}");
@@ -77,7 +75,7 @@ fn the_frame_of_a_level_is_the_scene_rendered_to_that_depth() {
     for name in ["mirror.des", "underwater.des"] {
         let s = scene(name);
         let mut frames = Collect::default();
-        render_observed(&s, &options(false), &PriorityCache::new(), &mut frames).unwrap();
+        render_observed(&s, &options(false), &Reuse::default(), &mut frames).unwrap();
         for (level, _, frame) in &frames.0 {
             let mut cut = s.clone();
             cut.modes.max_level = *level;
@@ -105,7 +103,7 @@ fn a_closure_observes_a_painted_image_once() {
         aa: Some(plytrace::raster::scan::Method::Point),
         ..options(false)
     };
-    render_observed(&s, &o, &PriorityCache::new(), &mut observer).unwrap();
+    render_observed(&s, &o, &Reuse::default(), &mut observer).unwrap();
     assert_eq!(seen, vec![(1, 1, true)]);
 }
 

@@ -105,10 +105,10 @@ pub fn show_painted(rendered: &Rendered, observer: &mut dyn FrameObserver) {
 pub fn render_observed(
     scene: &crate::scene::Scene,
     options: &render::RenderOptions,
-    orders: &crate::visibility::brown::PriorityCache,
+    reuse: &render::Reuse,
     observer: &mut dyn FrameObserver,
 ) -> Result<Rendered> {
-    match render::plan_with(scene, options, orders)? {
+    match render::plan_with(scene, options, reuse)? {
         render::Plan::Tree(prepared) => scan_levels(*prepared, observer),
         render::Plan::Painted(r) => {
             show_painted(&r, observer);

@@ -49,9 +49,10 @@ use crate::math::{self, Matrix4};
 use crate::model::{Color, SortOrder};
 use crate::profile::{Category, Profile};
 use crate::shading::{FacetTerms, Materials, ShadingModel};
+pub use crate::shadow::CasterReuse;
 pub use crate::shadow::overlap::{ShadowRegion, intersect_in_plane, overlap_regions};
-pub use fragments::Fragments;
 use crate::visibility::{depth_sort, nns};
+pub use fragments::Fragments;
 use rayon::prelude::*;
 
 /// What a fragment of the tree is.
@@ -412,15 +413,24 @@ struct Candidate {
 /// Builds the virtual image tree of a scene, its polygons and
 /// `materials` resolved, seen through `view`.
 pub fn build(materials: &Materials<'_>, view: &View, options: TreeOptions) -> VirtualImageTree {
-    build_profiled(materials, view, options, &Profile::new(false))
+    build_profiled(
+        materials,
+        view,
+        options,
+        &Profile::new(false),
+        &CasterReuse::default(),
+    )
 }
 
-/// [`build`], timing its parts into `profile` (table 6.2).
+/// [`build`], timing its parts into `profile` (table 6.2), with the
+/// shadow casters (and the shadows on their polygons) of the previous
+/// frame in `casters`, used again if the world has not changed.
 pub fn build_profiled(
     materials: &Materials<'_>,
     view: &View,
     options: TreeOptions,
     profile: &Profile,
+    casters: &CasterReuse,
 ) -> VirtualImageTree {
     let p = &view.projection;
     let (c0, c1, c2, c3) = (p.column(0), p.column(1), p.column(2), p.column(3));
@@ -448,17 +458,14 @@ pub fn build_profiled(
         reserved: 0,
         first_fallback_splits: 0,
     };
-    // The casters' index does not depend on the view: it is built while
-    // this thread finds level 1.
+    // The casters' index does not depend on the view: it is built (or
+    // found unchanged) while this thread finds level 1.
     let (level1, casters) = rayon::join(
         || b.level_one(),
         || {
             options.shadows.then(|| {
                 let _t = profile.time(Category::Transform);
-                std::sync::Arc::new(crate::shadow::CasterIndex::new(
-                    materials.objects,
-                    materials.lights.len(),
-                ))
+                casters.index(materials.objects, materials.lights, materials.eps)
             })
         },
     );

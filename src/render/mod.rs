@@ -123,17 +123,31 @@ pub enum Plan {
 /// replaced by its bounding box and nothing is reflected or refracted
 /// (004 appendix, SETMODE COMMANDS).
 pub fn plan(scene: &Scene, options: &RenderOptions) -> Result<Plan> {
-    plan_with(scene, options, &brown::PriorityCache::new())
+    plan_with(scene, options, &Reuse::default())
 }
 
-/// [`plan`], with Brown's priority orders of the previous frame in
-/// `orders`: an animation's later frames reuse them with no re-sort when
-/// only the radii changed (003 sections 2-3).
-pub fn plan_with(
-    scene: &Scene,
-    options: &RenderOptions,
-    orders: &brown::PriorityCache,
-) -> Result<Plan> {
+/// What a frame of an animation leaves to the next: Brown's priority
+/// orders, used again with no re-sort when only the radii changed (003
+/// sections 2-3), and the shadow casters with the shadows cast on whole
+/// polygons, used again while no object or light changed (a camera
+/// moving through a still world). A frame is the same, byte for byte,
+/// with or without them.
+#[derive(Default)]
+pub struct Reuse {
+    orders: brown::PriorityCache,
+    casters: crate::image_tree::CasterReuse,
+}
+
+impl Reuse {
+    /// How many worlds' shadow casters were built: one per change of the
+    /// objects or lights, not one per frame.
+    pub fn worlds(&self) -> usize {
+        self.casters.built()
+    }
+}
+
+/// [`plan`], with what the previous frame left in `reuse`.
+pub fn plan_with(scene: &Scene, options: &RenderOptions, reuse: &Reuse) -> Result<Plan> {
     if scene.modes.boxes_only {
         let mut boxes = bounding_box_scene(scene);
         boxes.modes.boxes_only = false;
@@ -144,7 +158,7 @@ pub fn plan_with(
                 .size
                 .unwrap_or((scene.viewport.width(), scene.viewport.height())),
         );
-        return plan_with(&boxes, &plain, orders);
+        return plan_with(&boxes, &plain, reuse);
     }
     let view = View::for_scene(scene, options.size)?;
     let algorithm = chosen_algorithm(scene, options);
@@ -154,11 +168,11 @@ pub fn plan_with(
         ..RenderStats::default()
     };
     if matches!(algorithm, Algorithm::DepthSort | Algorithm::Nns) {
-        let prepared = prepare(scene, &view, algorithm, options, stats);
+        let prepared = prepare(scene, &view, algorithm, options, stats, &reuse.casters);
         crate::cancel::check()?;
         return Ok(Plan::Tree(Box::new(prepared)));
     }
-    let painted = image_space::paint(scene, &view, algorithm, options, orders, stats)?;
+    let painted = image_space::paint(scene, &view, algorithm, options, &reuse.orders, stats)?;
     Ok(Plan::Painted(Box::new(painted)))
 }
 

@@ -50,6 +50,7 @@ pub fn prepare(
     algorithm: Algorithm,
     options: &RenderOptions,
     mut stats: RenderStats,
+    casters: &crate::image_tree::CasterReuse,
 ) -> Prepared {
     let t = Instant::now();
     let profile = crate::profile::Profile::new(options.profile);
@@ -78,7 +79,7 @@ pub fn prepare(
         budgets: options.budgets,
     };
     let tree = within(&pool, || {
-        crate::image_tree::build_profiled(&materials, view, tree_options, &profile)
+        crate::image_tree::build_profiled(&materials, view, tree_options, &profile, casters)
     });
     stats.sort_time = t.elapsed();
     stats.geometry = tree.geometry;

@@ -13,17 +13,31 @@
 //! reused buffers ([`plane_clip`], stopping as soon as nothing is left) and
 //! projected from the light onto the target's plane. Nothing is allocated
 //! per caster except the shadow pieces that are kept.
+//!
+//! No view changes the shadows a light casts on a polygon: they are
+//! computed once per polygon and light, on the whole polygon in world
+//! coordinates, and kept in the index (Atherton, Weiler and Greenberg's
+//! shadows as surface detail, 1978). A fragment at any level (a piece of
+//! its polygon, mapped by the level's affine mapping) takes its polygon's
+//! pieces, mapped the same way, clipped to the fragment's own shadow
+//! volume: the planes through the light and its edges meet the target's
+//! plane in its outline. Fragments of one polygon seen directly, in
+//! mirrors or split by the sort share one casting, and an animation whose
+//! world does not change between frames ([`CasterReuse`]) keeps them all.
 
 pub mod overlap;
 
-use std::sync::OnceLock;
+use std::collections::HashMap;
+use std::hash::{BuildHasher, Hash, Hasher};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use glam::{DVec3, DVec4};
 
 use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::math::Matrix4;
-use crate::model::Object;
+use crate::model::{LightKind, Object};
 use crate::profile::{Category, Profile};
 
 /// A polygon that may cast a shadow, in world coordinates; identical
@@ -158,6 +172,8 @@ pub struct CasterIndex {
     shared: OnceLock<LightTree>,
     /// The bound: [`MAX_LIGHT_ITEMS`].
     max_light_items: usize,
+    /// The shadows on whole polygons, in world coordinates.
+    world: PieceCache,
 }
 
 impl CasterIndex {
@@ -216,6 +232,7 @@ impl CasterIndex {
             lights: (0..lights).map(|_| OnceLock::new()).collect(),
             shared: OnceLock::new(),
             max_light_items: MAX_LIGHT_ITEMS,
+            world: PieceCache::default(),
         }
     }
 
@@ -387,6 +404,126 @@ impl LightTree {
     }
 }
 
+/// The shadows on whole polygons in world coordinates, by (object,
+/// polygon, light), kept up to [`MAX_KEPT_BYTES`]; past it they are cast
+/// again for each fragment, the same.
+#[derive(Default)]
+struct PieceCache {
+    shards: [Mutex<HashMap<PieceKey, WholePieces>>; SHARDS],
+    bytes: AtomicUsize,
+}
+
+/// Object, polygon, light.
+type PieceKey = (u32, u32, u32);
+
+/// The shadows on a whole polygon (world coordinates); `None`: none.
+type WholePieces = Option<Arc<[Vec<DVec3>]>>;
+
+/// Locks the pieces are spread over (threads cast on different polygons).
+const SHARDS: usize = 16;
+
+/// The memory the kept shadows may take: ample for the pieces of a
+/// furnished room (office2's take 6 MB), and no second copy of the
+/// shadows of ten million polygons seen once each.
+const MAX_KEPT_BYTES: usize = 64 << 20;
+
+impl PieceCache {
+    fn shard(&self, key: PieceKey) -> &Mutex<HashMap<PieceKey, WholePieces>> {
+        let (o, p, j) = key;
+        let h = (o as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ (p as u64) ^ ((j as u64) << 40);
+        &self.shards[(h.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 60) as usize % SHARDS]
+    }
+
+    /// The kept shadows of `key`, if cast before (`Some(None)`: none).
+    fn get(&self, key: PieceKey) -> Option<WholePieces> {
+        let shard = self.shard(key).lock().unwrap_or_else(|e| e.into_inner());
+        shard.get(&key).cloned()
+    }
+
+    /// Keeps the shadows of `key`, within the memory bound.
+    fn put(&self, key: PieceKey, pieces: &WholePieces) {
+        let size = 64
+            + pieces.as_ref().map_or(0, |p| {
+                p.iter()
+                    .map(|q| 24 + q.len() * std::mem::size_of::<DVec3>())
+                    .sum()
+            });
+        if self.bytes.fetch_add(size, Ordering::Relaxed) + size > MAX_KEPT_BYTES {
+            self.bytes.fetch_sub(size, Ordering::Relaxed);
+            return;
+        }
+        let mut shard = self.shard(key).lock().unwrap_or_else(|e| e.into_inner());
+        shard.insert(key, pieces.clone());
+    }
+}
+
+/// The caster index of the last frame, kept for the next while the world
+/// it was built from does not change: an animation that only moves the
+/// camera casts each polygon's shadows once. The world is recognised by
+/// a keyed hash of everything the shadows depend on: every point, polygon
+/// and plane, which objects are hidden, open or concave, the Point
+/// lights' positions and the tolerance.
+#[derive(Default)]
+pub struct CasterReuse {
+    keys: std::hash::RandomState,
+    kept: Mutex<Option<(u64, Arc<CasterIndex>)>>,
+    built: AtomicUsize,
+}
+
+impl CasterReuse {
+    /// The index for `objects` and `lights` at tolerance `eps`: the kept
+    /// one if they are the last call's, else a new one, then kept.
+    pub fn index(
+        &self,
+        objects: &[Object],
+        lights: &[crate::model::Light],
+        eps: f64,
+    ) -> Arc<CasterIndex> {
+        let key = self.fingerprint(objects, lights, eps);
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((k, index)) = kept.as_ref()
+            && *k == key
+        {
+            return index.clone();
+        }
+        let index = Arc::new(CasterIndex::new(objects, lights.len()));
+        *kept = Some((key, index.clone()));
+        self.built.fetch_add(1, Ordering::Relaxed);
+        index
+    }
+
+    /// How many indexes were built: one per world seen.
+    pub fn built(&self) -> usize {
+        self.built.load(Ordering::Relaxed)
+    }
+
+    fn fingerprint(&self, objects: &[Object], lights: &[crate::model::Light], eps: f64) -> u64 {
+        let mut h = self.keys.build_hasher();
+        let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+        eps.to_bits().hash(&mut h);
+        objects.len().hash(&mut h);
+        for o in objects {
+            let st = &o.surface_type;
+            (st.hidden, st.open, st.concave).hash(&mut h);
+            o.vertices.len().hash(&mut h);
+            for v in &o.vertices {
+                bits(*v).hash(&mut h);
+            }
+            o.polygons.len().hash(&mut h);
+            for p in &o.polygons {
+                p.indices.hash(&mut h);
+                p.plane.to_array().map(f64::to_bits).hash(&mut h);
+            }
+        }
+        lights.len().hash(&mut h);
+        for l in lights {
+            (l.kind == LightKind::Point).hash(&mut h);
+            bits(l.position).hash(&mut h);
+        }
+        h.finish()
+    }
+}
+
 /// Buffers reused from one shadow volume to the next (one per thread).
 #[derive(Default)]
 pub struct Scratch {
@@ -396,6 +533,8 @@ pub struct Scratch {
     world_volume: Vec<DVec4>,
     clip: ClipScratch,
     many: Vec<Vec<DVec3>>,
+    /// A whole polygon's points, while its shadows are cast.
+    whole: Vec<DVec3>,
 }
 
 /// The target of a shadow query: a fragment in the virtual coordinates of
@@ -430,10 +569,11 @@ pub struct Casting<'a> {
 
 impl Casting<'_> {
     /// The shadows cast on `target` by Point light `j` at world position
-    /// `light`, projected from the light onto the target's plane (virtual
-    /// coordinates). Polygons back-facing to the light are never fetched
-    /// (unless `type open`); the fragment's own object casts nothing on it
-    /// unless it is `type concave`, and a polygon never on itself.
+    /// `light`, in the target's plane (virtual coordinates): the shadows on
+    /// its whole polygon in world coordinates ([`Self::on_polygon`]),
+    /// mapped by the level's mapping and clipped to the target's own
+    /// shadow volume. A level whose mapping is not affine casts on the
+    /// fragment directly ([`Self::cast`]).
     pub fn pieces(
         &self,
         target: &Target,
@@ -441,6 +581,100 @@ impl Casting<'_> {
         light: DVec3,
         s: &mut Scratch,
     ) -> Vec<Vec<DVec3>> {
+        let (t, plane, eps) = (target.t, target.plane, self.eps);
+        let lv = t.transform_point(light);
+        // The light must be on the viewer's side of the fragment.
+        if plane.truncate().dot(lv) + plane.w <= eps {
+            return Vec::new();
+        }
+        if !is_affine(t) {
+            return self.cast(target, j, light, s);
+        }
+        let Some(whole) = self.on_polygon(target.object, target.polygon, j, light, s) else {
+            return Vec::new();
+        };
+        volume(target.points, plane, lv, eps, &mut s.volume);
+        // The side planes: the pieces lie in the target's plane.
+        let sides = s.volume.len() - 2;
+        let identity = *t == Matrix4::IDENTITY;
+        let mut out = Vec::new();
+        for piece in whole.iter() {
+            s.points.clear();
+            if identity {
+                s.points.extend_from_slice(piece);
+            } else {
+                s.points.extend(piece.iter().map(|p| t.transform_point(*p)));
+            }
+            let clipped = {
+                let _t = self.profile.time(Category::Clipping);
+                plane_clip::clip_to_planes(
+                    &s.points,
+                    &s.volume[..sides],
+                    eps,
+                    &mut s.clip,
+                    &mut s.many,
+                )
+            };
+            match clipped {
+                Ok(Clipped::One) => push_kept(&mut out, s.clip.piece(), eps),
+                Ok(Clipped::Many) => {
+                    for piece in &s.many {
+                        push_kept(&mut out, piece, eps);
+                    }
+                }
+                Ok(Clipped::Empty) | Err(_) => {}
+            }
+        }
+        out
+    }
+
+    /// The shadows Point light `j` at `light` casts on the whole of
+    /// polygon `polygon` of object `object`, in world coordinates, on its
+    /// side facing the light; `None` when there are none. Computed once
+    /// and kept in the index while its memory bound allows.
+    pub fn on_polygon(
+        &self,
+        object: u32,
+        polygon: u32,
+        j: usize,
+        light: DVec3,
+        s: &mut Scratch,
+    ) -> WholePieces {
+        let key = (object, polygon, j as u32);
+        if let Some(kept) = self.index.world.get(key) {
+            return kept;
+        }
+        let o = &self.objects[object as usize];
+        let p = &o.polygons[polygon as usize];
+        let side = p.plane.truncate().dot(light) + p.plane.w;
+        let pieces = if side.abs() <= self.eps {
+            None
+        } else {
+            let mut whole = std::mem::take(&mut s.whole);
+            whole.clear();
+            whole.extend(p.indices.iter().map(|&i| o.vertices[i as usize]));
+            let target = Target {
+                object,
+                polygon,
+                points: &whole,
+                plane: if side > 0.0 { p.plane } else { -p.plane },
+                t: &Matrix4::IDENTITY,
+                convex: polygon::is_convex(&whole),
+            };
+            let pieces = self.cast(&target, j, light, s);
+            s.whole = whole;
+            (!pieces.is_empty()).then(|| Arc::from(pieces))
+        };
+        self.index.world.put(key, &pieces);
+        pieces
+    }
+
+    /// The shadows cast on `target` by Point light `j` at world position
+    /// `light`, projected from the light onto the target's plane (virtual
+    /// coordinates). Polygons back-facing to the light are never fetched
+    /// (unless `type open`); the fragment's own object casts nothing on it
+    /// unless it is `type concave`, and a polygon never on itself.
+    fn cast(&self, target: &Target, j: usize, light: DVec3, s: &mut Scratch) -> Vec<Vec<DVec3>> {
         let (objects, index, profile, eps) = (self.objects, self.index, self.profile, self.eps);
         let t = target.t;
         let plane = target.plane;
@@ -556,6 +790,22 @@ fn world_corners(target: &Target, identity: bool) -> Option<(DVec3, DVec3)> {
     let inverse = target.t.inverse()?;
     let b = crate::math::bounds(target.points.iter().map(|p| inverse.transform_point(*p)));
     (b.0.is_finite() && b.1.is_finite()).then_some(b)
+}
+
+/// `piece` kept if finite and of some area.
+fn push_kept(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], eps: f64) {
+    if piece.iter().all(|p| p.is_finite())
+        && polygon::newell_vector(piece.iter().copied()).length() > eps * eps
+    {
+        out.push(piece.to_vec());
+    }
+}
+
+/// Whether `t` is affine (its last column 0, 0, 0, 1): it maps the shadows
+/// on a polygon to the shadows on its image.
+fn is_affine(t: &Matrix4) -> bool {
+    let m = &t.m;
+    m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0
 }
 
 /// `piece` projected from the light `lv` onto the `target` plane, kept if

@@ -61,8 +61,9 @@ pub struct CliHost {
     pub runs: usize,
     /// `--hidden-line`.
     pub hidden_line: bool,
-    /// Brown's priority orders of the previous frame (003 sections 2-3).
-    pub orders: plytrace::visibility::brown::PriorityCache,
+    /// What the previous frame leaves to the next: Brown's priority orders
+    /// (003 sections 2-3), the shadows of an unchanged world.
+    pub reuse: render::Reuse,
     /// `--raytrace`.
     pub raytrace: bool,
     /// The live display (`disp on`).
@@ -359,7 +360,7 @@ impl CliHost {
         let plan = if self.raytrace {
             render::Plan::Painted(Box::new(self.ray_traced(scene, shadows)?))
         } else {
-            render::plan_with(scene, &options, &self.orders)?
+            render::plan_with(scene, &options, &self.reuse)?
         };
         let file = out.image.take().expect("created before the render");
         match plan {
@@ -539,7 +540,7 @@ impl CliHost {
         let flags = format!("{} shadows {shadows}", self.pixel_flags);
         self.warn_aspect(scene);
         self.say("Building image.");
-        let plan = render::plan_with(scene, &self.render_options(shadows), &self.orders)?;
+        let plan = render::plan_with(scene, &self.render_options(shadows), &self.reuse)?;
         let render::Plan::Tree(prepared) = plan else {
             return Err(Error::Invalid(format!(
                 "--part {spec}: the {} algorithm paints the image itself; parts are scan \
@@ -948,7 +949,7 @@ impl CliHost {
             written: Vec::new(),
             runs: 0,
             hidden_line: s.hidden_line,
-            orders: Default::default(),
+            reuse: Default::default(),
             raytrace: s.raytrace,
             live: Default::default(),
             part: s.part,

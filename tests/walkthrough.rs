@@ -1,0 +1,123 @@
+//! A camera moving through a still world: each frame keeps the shadow
+//! casters and the shadows cast on whole polygons of the frame before
+//! (`render::Reuse`). Every frame must equal a cold render of the same
+//! view, pixel for pixel, and the world's shadows must be cast once, not
+//! once per frame; when an object is added mid-path they are cast again.
+
+use std::path::Path;
+
+use plytrace::error::Result;
+use plytrace::render::{Plan, RenderOptions, Rendered, Reuse, plan_with, scan_into_frame};
+use plytrace::scene::{Host, Interpreter, Scene};
+
+/// Renders every `run` twice: with what the previous frame left, and cold.
+#[derive(Default)]
+struct Walk {
+    reuse: Reuse,
+    size: u32,
+    frames: usize,
+}
+
+fn picture(plan: Plan) -> Rendered {
+    match plan {
+        Plan::Tree(prepared) => scan_into_frame(*prepared).expect("scan converts"),
+        Plan::Painted(rendered) => *rendered,
+    }
+}
+
+impl Host for Walk {
+    fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
+        assert!(shadows, "the walk casts shadows");
+        let options = RenderOptions {
+            size: Some((self.size, self.size)),
+            shadows,
+            ..RenderOptions::default()
+        };
+        let warm = picture(plan_with(scene, &options, &self.reuse)?);
+        let cold = picture(plan_with(scene, &options, &Reuse::default())?);
+        let unlike = |a: &Rendered, b: &Rendered| {
+            let pairs = a.frame.color.iter().zip(&b.frame.color);
+            pairs.filter(|(p, q)| p != q).count()
+        };
+        let k = self.frames;
+        assert_eq!(
+            unlike(&warm, &cold),
+            0,
+            "frame {k}: pixels differ from its cold render"
+        );
+        if k == 0 {
+            // The walk must show shadows for the test to mean anything.
+            let unshadowed = RenderOptions {
+                shadows: false,
+                ..options
+            };
+            let plain = picture(plan_with(scene, &unshadowed, &Reuse::default())?);
+            assert!(unlike(&warm, &plain) > 20, "frame 0 shows no shadow");
+        }
+        self.frames += 1;
+        Ok(())
+    }
+}
+
+fn fixture(name: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/scenes")
+        .join(name);
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// `frames` views: the camera turns and moves forward a little each
+/// frame (the objects are placed in the eye space of the file's view, so
+/// only the projection changes); after `change` frames a box is added.
+fn path(scene: &str, fov: f64, frames: usize, change: usize) -> String {
+    let mut s = fixture(scene);
+    for k in 0..frames {
+        if k == change {
+            s.push_str("pushmatrix\nident\ndefobj cube\n color 0.9 0.2 0.2\n translate 0 0 -9\n scale 0.4 0.4 0.4\nendobj\npopmatrix\n");
+        }
+        let turn = -6.0 + 12.0 * k as f64 / frames as f64;
+        let ahead = 0.02 * k as f64;
+        s.push_str(&format!(
+            "ident\nperspective {fov} 1.0 0.01 1000.0\nrotate {turn} y\nrotate {} x\ntranslate 0 0 {ahead}\nrun y\n",
+            turn / 3.0
+        ));
+    }
+    s
+}
+
+fn walk(scene: &str, fov: f64, size: u32, frames: usize, change: usize) -> Walk {
+    let mut host = Walk {
+        size,
+        ..Walk::default()
+    };
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes");
+    Interpreter::new()
+        .execute_source(
+            &path(scene, fov, frames, change),
+            Path::new(scene),
+            &dir,
+            &mut host,
+        )
+        .expect("the walk renders");
+    host
+}
+
+/// 60 frames over a partly diffuse mirror floor with a Point light.
+#[test]
+fn a_walk_over_the_mirror_equals_cold_renders() {
+    let host = walk("mirror.des", 40.0, 64, 60, 40);
+    assert_eq!(host.frames, 60);
+    assert_eq!(
+        host.reuse.worlds(),
+        2,
+        "shadows cast once per world, and again after the box"
+    );
+}
+
+/// The gallery: mirrors to depth 14, four Point lights.
+#[test]
+fn a_walk_through_the_gallery_equals_cold_renders() {
+    let host = walk("gallery.des", 55.0, 40, 6, 3);
+    assert_eq!(host.frames, 6);
+    assert_eq!(host.reuse.worlds(), 2);
+}
