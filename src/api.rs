@@ -38,6 +38,24 @@ use crate::model::{ColorEntry, Mesh};
 use crate::render::{self, RenderOptions, RenderStats};
 use crate::scene::build::{ObjectParts, build_object};
 
+pub mod program;
+
+/// Limits on the work of a render (the program's `--max-*` flags): the
+/// image's pixels, polygons, tree nodes, splits, memory, rays. A render
+/// over one stops with an error that names the flag that raises it.
+///
+/// ```
+/// use plytrace::api::{render, Budgets, Camera, Options, Scene};
+///
+/// let scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 64, 64);
+/// let tight = Budgets { pixels: 1000, ..Budgets::default() };
+/// let e = render(&scene, &Options { budgets: tight, ..Options::default() }).unwrap_err();
+/// assert!(e.to_string().contains("--max-pixels"));
+/// assert!(Budgets::default().pixels >= 64 * 64);
+/// ```
+#[doc(inline)]
+pub use crate::budget::Budgets;
+
 /// The anti-aliasing methods of [`Options::antialiasing`] (the scan
 /// conversion methods of the virtual image tree).
 ///
@@ -760,7 +778,7 @@ pub struct Options {
     /// Worker threads; 0 is all cores. The image does not depend on it.
     pub threads: usize,
     /// Limits on the work, as the program's `--max-*` flags.
-    pub budgets: crate::budget::Budgets,
+    pub budgets: Budgets,
 }
 
 impl Default for Options {
@@ -770,7 +788,7 @@ impl Default for Options {
             antialiasing: None,
             shadows: true,
             threads: 0,
-            budgets: crate::budget::Budgets::default(),
+            budgets: Budgets::default(),
         }
     }
 }
@@ -908,7 +926,7 @@ pub fn render_rows(
     let model = scene.model()?;
     let (w, h) = options.size.unwrap_or(scene.size());
     if u64::from(w) * u64::from(h) > options.budgets.pixels {
-        return Err(Error::Invalid(crate::budget::Budgets::exceeded(
+        return Err(Error::Invalid(Budgets::exceeded(
             &format!("the image of {w} x {h} pixels"),
             options.budgets.pixels,
             "--max-pixels",

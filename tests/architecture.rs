@@ -54,12 +54,14 @@ const STAGES: &[(&str, u8)] = &[
     ("part", 9),
     // The pipeline run in order.
     ("render", 10),
-    // The front: the library API, the manual's programs, the display.
-    ("api", 11),
+    // The manual's programs, the display, signals.
     ("rftb", 11),
     ("convert", 11),
     ("display", 11),
     ("signals", 11),
+    // The front: the library API (with `api/program`, what the programs
+    // use), the last stage: nothing in the library imports it.
+    ("api", 12),
 ];
 
 fn stage(module: &str) -> u8 {

@@ -65,7 +65,7 @@ struct InFlight;
 impl InFlight {
     fn enter() -> InFlight {
         if IN_FLIGHT.fetch_add(1, Ordering::SeqCst) == 0 {
-            plytrace::cancel::reset();
+            plytrace::api::program::control::reset_cancel();
         }
         InFlight
     }
@@ -74,7 +74,7 @@ impl InFlight {
 impl Drop for InFlight {
     fn drop(&mut self) {
         if IN_FLIGHT.fetch_sub(1, Ordering::SeqCst) == 1 {
-            plytrace::cancel::reset();
+            plytrace::api::program::control::reset_cancel();
         }
     }
 }
@@ -82,7 +82,7 @@ impl Drop for InFlight {
 /// Runs `work` in a worker thread with the GIL released. The calling
 /// thread wakes every 50 ms to run Python's signal handlers: on
 /// `KeyboardInterrupt` (Ctrl-C) it asks the renderer to stop
-/// (`plytrace::cancel`), waits for the worker and raises it.
+/// (`plytrace::api::program::control`), waits for the worker and raises it.
 fn cancellable<T, F>(py: Python<'_>, work: F) -> PyResult<T>
 where
     T: Send,
@@ -113,7 +113,7 @@ where
             if interrupted.is_none()
                 && let Err(e) = py.check_signals()
             {
-                plytrace::cancel::request();
+                plytrace::api::program::control::request_cancel();
                 interrupted = Some(e);
             }
         }

@@ -1,7 +1,10 @@
 //! `mkdet <input_file> <output_file>`: the mkdet program of the manual
-//! (004 appendix B, the mkdet manual page); see [`plytrace::convert`].
+//! (004 appendix B, the mkdet manual page); see
+//! [`run_convert`].
+
+use plytrace::api::program::tools::{ConvertKind, run_convert};
 
 fn main() -> std::process::ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    plytrace::convert::main(plytrace::scene::object_file::ConvertKind::Det, &args)
+    run_convert(ConvertKind::Det, &args)
 }

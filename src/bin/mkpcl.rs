@@ -1,7 +1,10 @@
 //! `mkpcl <input_file> <output_file>`: the mkpcl program of the manual
-//! (004 appendix B, the mkdet manual page); see [`plytrace::convert`].
+//! (004 appendix B, the mkdet manual page); see
+//! [`run_convert`].
+
+use plytrace::api::program::tools::{ConvertKind, run_convert};
 
 fn main() -> std::process::ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    plytrace::convert::main(plytrace::scene::object_file::ConvertKind::Pcl, &args)
+    run_convert(ConvertKind::Pcl, &args)
 }

@@ -1,6 +1,9 @@
 //! rftb4, the anti-aliasing polygon tiler of method 4 (Garcia 1986, 004
-//! appendix, the rftb manual page; chapter 5). See [`plytrace::rftb`].
+//! appendix, the rftb manual page; chapter 5). See
+//! [`run_rftb`].
+
+use plytrace::api::program::tools::{Rftb, run_rftb};
 
 fn main() -> std::process::ExitCode {
-    plytrace::rftb::main(plytrace::rftb::Program::Rftb4)
+    run_rftb(Rftb::Rftb4)
 }

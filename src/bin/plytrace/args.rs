@@ -15,11 +15,11 @@ use std::ffi::OsString;
 use std::path::PathBuf;
 
 use clap::{ArgAction, CommandFactory, Parser, Subcommand, ValueEnum};
-use plytrace::budget::Budgets;
-use plytrace::image_tree::Refraction;
-use plytrace::raster::scan::Method;
-use plytrace::shading::ShadingModel;
-use plytrace::visibility::Algorithm;
+use plytrace::api::Antialiasing as Method;
+use plytrace::api::program::files::check_image_extension;
+use plytrace::api::program::parts::PartSpec;
+use plytrace::api::program::pipeline::{Algorithm, Refraction, ShadingModel};
+use plytrace::api::{Budgets, VectorFormat};
 
 const MANUAL: &str = "The manual's flags (the setmode letters; they override the scene)";
 const OUTPUT: &str = "Output";
@@ -153,7 +153,7 @@ pub struct Cli {
     /// file that -o names; `plytrace merge` joins the parts. On a scene
     /// with several `run`s the parts are its frames (without -o).
     #[arg(long, value_name = "I/N", value_parser = parse_part, help_heading = OUTPUT)]
-    pub part: Option<plytrace::part::PartSpec>,
+    pub part: Option<PartSpec>,
     /// Render only the frames (`run`s) A to B, counted from 0 over the
     /// whole scene: A..B, A.. or a single A.
     #[arg(long, value_name = "A..B", value_parser = parse_frames, help_heading = OUTPUT)]
@@ -396,7 +396,7 @@ pub struct Settings {
     pub shadows: bool,
     pub check: bool,
     pub stats: Option<StatsTarget>,
-    pub part: Option<plytrace::part::PartSpec>,
+    pub part: Option<PartSpec>,
     pub frames: Option<(u32, u32)>,
 }
 
@@ -684,10 +684,10 @@ fn output_flags(values: &[String]) -> Result<(Option<String>, Option<PathBuf>), 
 /// An output image named on the command line: its format must be one
 /// that is written.
 fn image_path(p: PathBuf) -> Result<PathBuf, String> {
-    if plytrace::vector::Format::from_path(&p).is_some() {
+    if VectorFormat::from_path(&p).is_some() {
         return Ok(p);
     }
-    plytrace::output::check_image_extension(&p)
+    check_image_extension(&p)
         .map_err(|e| format!("{e}, and the vector formats .svg, .pdf and .tex"))?;
     Ok(p)
 }
@@ -703,7 +703,7 @@ fn check_id_image(id: &std::path::Path, image: &Image, hidden_line: bool) -> Res
         ));
     }
     let vector = match image {
-        Image::File(p) => plytrace::vector::Format::from_path(p).is_some(),
+        Image::File(p) => VectorFormat::from_path(p).is_some(),
         Image::Stdout(f) => matches!(f, StdoutFormat::Svg | StdoutFormat::Pdf | StdoutFormat::Tex),
         Image::Default => false,
     };
@@ -746,7 +746,7 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 /// `--part`: what a part needs, checked with the other flags.
-fn check_part(spec: plytrace::part::PartSpec, image: &Image, cli: &Cli) -> Result<(), String> {
+fn check_part(spec: PartSpec, image: &Image, cli: &Cli) -> Result<(), String> {
     // Without -o: an animation's parts are frames, named by their runs;
     // a one-run scene is told to name its part file once it is read.
     let named = match image {
@@ -776,7 +776,7 @@ fn check_part(spec: plytrace::part::PartSpec, image: &Image, cli: &Cli) -> Resul
 }
 
 /// `--part I/N`.
-fn parse_part(v: &str) -> Result<plytrace::part::PartSpec, String> {
+fn parse_part(v: &str) -> Result<PartSpec, String> {
     v.parse()
 }
 

@@ -1,9 +1,9 @@
 //! The help texts that are not made by clap: the long help's closing
 //! sections and the command table of the scene language, which `--help`,
 //! the man page and the prompt's `help [CMD]` all print from
-//! [`plytrace::scene::commands::COMMANDS`]. Every line fits 80 columns.
+//! [`COMMANDS`]. Every line fits 80 columns.
 
-use plytrace::scene::commands::COMMANDS;
+use plytrace::api::program::session::{COMMANDS, printable};
 
 /// The widest line of any help text.
 pub const WIDTH: usize = 80;
@@ -53,7 +53,7 @@ pub fn command_help(topic: Option<&str>) -> String {
     match (entries.is_empty(), topic) {
         (true, Some(t)) => format!(
             "no command `{}`; `help` lists them all\n",
-            plytrace::error::printable(&t, 40)
+            printable(&t, 40)
         ),
         _ => entries.concat(),
     }
@@ -134,7 +134,7 @@ mod tests {
     #[test]
     fn every_command_has_help_in_every_place() {
         let all = after_help();
-        let interp = plytrace::scene::Interpreter::new();
+        let interp = plytrace::api::program::session::Interpreter::new();
         for c in COMMANDS {
             if let Err(e) = interp.check_source(c.name, std::path::Path::new("help")) {
                 let e = e.to_string();

@@ -8,14 +8,14 @@ use std::io::{BufRead, IsTerminal, Write};
 use std::path::{Component, Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use plytrace::budget::Budgets;
-use plytrace::error::{Error, Result, printable};
-use plytrace::output::{self, AtomicFile};
-use plytrace::raster::frame_buffer::FrameBuffer;
-use plytrace::raster::scan::{Row, RowSink};
-use plytrace::render::{self, RenderOptions};
-use plytrace::scene::{Host, Scene};
-use plytrace::visibility::Algorithm;
+use plytrace::api::program::files::{self, AtomicFile};
+use plytrace::api::program::pipeline::{self, Algorithm, RenderOptions};
+use plytrace::api::program::rows::{FrameBuffer, Row, RowSink, part_rows};
+use plytrace::api::program::session::printable;
+use plytrace::api::program::session::{Host, Scene};
+use plytrace::api::program::{control, display, parts};
+use plytrace::api::{Antialiasing, Budgets, VectorFormat};
+use plytrace::{Error, Result};
 
 use crate::stats::RunStats;
 use crate::term::{err, out, out_text};
@@ -35,10 +35,10 @@ pub struct CliHost {
     pub id_image: Option<PathBuf>,
     pub visibility: Option<Algorithm>,
     pub profile: bool,
-    pub refraction: plytrace::image_tree::Refraction,
-    pub aa: Option<plytrace::raster::scan::Method>,
+    pub refraction: pipeline::Refraction,
+    pub aa: Option<Antialiasing>,
     pub threads: usize,
-    pub shading: plytrace::shading::ShadingModel,
+    pub shading: pipeline::ShadingModel,
     pub scene_stem: Option<String>,
     /// The scene file last read, for the log.
     pub scene_file: Option<PathBuf>,
@@ -63,13 +63,13 @@ pub struct CliHost {
     pub hidden_line: bool,
     /// What the previous frame leaves to the next: Brown's priority orders
     /// (003 sections 2-3), the shadows of an unchanged world.
-    pub reuse: render::Reuse,
+    pub reuse: pipeline::Reuse,
     /// `--raytrace`.
     pub raytrace: bool,
     /// The live display (`disp on`).
-    pub live: plytrace::display::LiveDisplay,
+    pub live: display::LiveDisplay,
     /// `--part I/N`: the run writes this part of its image.
-    pub part: Option<plytrace::part::PartSpec>,
+    pub part: Option<parts::PartSpec>,
     /// `--frames A..B`: the runs (from 0) rendered; the others are skipped.
     pub frames: Option<(u32, u32)>,
     /// Frames (`run`s) met so far, rendered or skipped.
@@ -149,7 +149,7 @@ impl<'a> ProgressSink<'a> {
 
 impl RowSink for ProgressSink<'_> {
     fn row(&mut self, row: &Row<'_>) -> Result<()> {
-        plytrace::cancel::check()?;
+        control::check_cancel()?;
         self.inner.row(row)?;
         if let Some(bar) = &self.bar {
             bar.inc(1);
@@ -160,7 +160,7 @@ impl RowSink for ProgressSink<'_> {
 
 /// The date and time now, UTC, as the logs of every program write it.
 fn utc_now() -> String {
-    plytrace::rftb::utc_timestamp(std::time::SystemTime::now())
+    files::utc_timestamp(std::time::SystemTime::now())
 }
 
 /// Appends `line` to `plytrace.log` in the working directory (the manual's
@@ -237,12 +237,12 @@ impl CliHost {
 
 impl CliHost {
     /// The `--raytrace` render: N x N rays per pixel with `--supersample N`.
-    fn ray_traced(&self, scene: &Scene, shadows: bool) -> Result<render::Rendered> {
+    fn ray_traced(&self, scene: &Scene, shadows: bool) -> Result<pipeline::Rendered> {
         let samples = match self.aa {
-            Some(plytrace::raster::scan::Method::Supersample(n)) => n,
+            Some(Antialiasing::Supersample(n)) => n,
             _ => 1,
         };
-        let options = plytrace::raytrace::RayTraceOptions {
+        let options = pipeline::RayTraceOptions {
             size: self.size,
             samples,
             shadows,
@@ -250,18 +250,18 @@ impl CliHost {
             threads: self.threads,
             max_rays: self.budgets.rays,
         };
-        let (frame, rays) = plytrace::raytrace::render(scene, &options)?;
-        Ok(render::Rendered {
+        let (frame, rays) = pipeline::ray_trace(scene, &options)?;
+        Ok(pipeline::Rendered {
             frame,
             polygons: Vec::new(),
             shadows: Vec::new(),
             tree: None,
             profile: None,
-            stats: render::RenderStats {
+            stats: pipeline::RenderStats {
                 max_depth: scene.modes.max_level,
                 paint_time: rays.trace_time,
                 raytrace: Some(rays),
-                ..render::RenderStats::default()
+                ..pipeline::RenderStats::default()
             },
         })
     }
@@ -324,23 +324,19 @@ impl CliHost {
         scene: &Scene,
         shadows: bool,
         out: &mut RunOutputs,
-        staged: &mut Vec<output::Staged>,
-    ) -> Result<(render::Rendered, (u32, u32))> {
+        staged: &mut Vec<files::Staged>,
+    ) -> Result<(pipeline::Rendered, (u32, u32))> {
         let options = self.render_options(shadows);
         let (w, h) = self
             .size
             .unwrap_or((scene.viewport.width(), scene.viewport.height()));
-        if plytrace::vector::Format::from_path(&out.path).is_some() || self.hidden_line {
-            let run = plytrace::render::vector::render_run(
-                out.image.take(),
-                scene,
-                &options,
-                self.hidden_line,
-            )?;
+        if VectorFormat::from_path(&out.path).is_some() || self.hidden_line {
+            let run =
+                pipeline::render_vector_run(out.image.take(), scene, &options, self.hidden_line)?;
             staged.extend(run.0);
-            let rendered = render::Rendered {
+            let rendered = pipeline::Rendered {
                 tree: run.2,
-                ..render::Rendered::empty(run.1)
+                ..pipeline::Rendered::empty(run.1)
             };
             return Ok((rendered, (w, h)));
         }
@@ -354,24 +350,24 @@ impl CliHost {
             // The whole frame is kept; the image-space algorithms check
             // their larger need themselves.
             self.budgets
-                .check_frame(w, h, render::FRAME_BYTES_PER_PIXEL)
+                .check_frame(w, h, pipeline::FRAME_BYTES_PER_PIXEL)
                 .map_err(Error::Invalid)?;
         }
         let plan = if self.raytrace {
-            render::Plan::Painted(Box::new(self.ray_traced(scene, shadows)?))
+            pipeline::Plan::Painted(Box::new(self.ray_traced(scene, shadows)?))
         } else {
-            render::plan_with(scene, &options, &self.reuse)?
+            pipeline::plan_with(scene, &options, &self.reuse)?
         };
         let file = out.image.take().expect("created before the render");
         match plan {
-            render::Plan::Tree(prepared) if streamed => {
+            pipeline::Plan::Tree(prepared) if streamed => {
                 let (w, h) = (prepared.scan.width, prepared.scan.height);
                 let rendered = self.streamed(*prepared, file, scene, staged)?;
                 Ok((rendered, (w, h)))
             }
             plan => {
                 let rendered = self.whole_frame(plan, w, h)?;
-                staged.push(output::stage_image(file, &rendered.frame, scene.outmode)?);
+                staged.push(files::stage_image(file, &rendered.frame, scene.outmode)?);
                 let size = (rendered.frame.width, rendered.frame.height);
                 Ok((rendered, size))
             }
@@ -382,16 +378,16 @@ impl CliHost {
     /// finished; the whole image is never in memory.
     fn streamed(
         &self,
-        mut prepared: render::Prepared,
+        mut prepared: pipeline::Prepared,
         file: AtomicFile,
         scene: &Scene,
-        staged: &mut Vec<output::Staged>,
-    ) -> Result<render::Rendered> {
+        staged: &mut Vec<files::Staged>,
+    ) -> Result<pipeline::Rendered> {
         prepared.scan.ids = false;
         let (w, h) = (prepared.scan.width, prepared.scan.height);
-        let mut sink = output::PngSink::from_file(file, w, h, scene.outmode.into())?;
+        let mut sink = files::PngSink::from_file(file, w, h, scene.outmode.into())?;
         let mut progress = ProgressSink::new(&mut sink, h, self.progress);
-        let rendered = render::scan_into(prepared, &mut progress);
+        let rendered = pipeline::scan_into(prepared, &mut progress);
         progress.finish();
         let rendered = rendered?;
         let (file, note) = sink.finish()?;
@@ -404,7 +400,7 @@ impl CliHost {
 
     /// A render kept whole in memory, shown level by level in the live
     /// display when `disp on` opened one.
-    fn whole_frame(&mut self, plan: render::Plan, w: u32, h: u32) -> Result<render::Rendered> {
+    fn whole_frame(&mut self, plan: pipeline::Plan, w: u32, h: u32) -> Result<pipeline::Rendered> {
         let progress = self.progress;
         let live = match self.live.observer(w, h) {
             Ok(o) => o,
@@ -414,34 +410,34 @@ impl CliHost {
             }
         };
         Ok(match (plan, live) {
-            (render::Plan::Tree(prepared), Some(window)) => {
-                plytrace::display::scan_levels(*prepared, window)?
+            (pipeline::Plan::Tree(prepared), Some(window)) => {
+                display::scan_levels(*prepared, window)?
             }
-            (render::Plan::Painted(r), Some(window)) => {
-                plytrace::display::show_painted(&r, window);
+            (pipeline::Plan::Painted(r), Some(window)) => {
+                display::show_painted(&r, window);
                 *r
             }
-            (render::Plan::Tree(prepared), None) => {
+            (pipeline::Plan::Tree(prepared), None) => {
                 let (w, h) = (prepared.scan.width, prepared.scan.height);
                 let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
 
                 let mut bar = ProgressSink::new(&mut frame, h, progress);
-                let rendered = render::scan_into(*prepared, &mut bar);
+                let rendered = pipeline::scan_into(*prepared, &mut bar);
                 bar.finish();
                 let mut rendered = rendered?;
                 rendered.frame = frame;
                 rendered
             }
-            (render::Plan::Painted(r), None) => *r,
+            (pipeline::Plan::Painted(r), None) => *r,
         })
     }
 
     /// Stages the tree files (`setmode o`); the message to print once
     /// they are committed.
     fn stage_tree(
-        tree: Option<&plytrace::tree::RecordStream>,
+        tree: Option<&pipeline::RecordStream>,
         files: Option<(AtomicFile, AtomicFile)>,
-        staged: &mut Vec<output::Staged>,
+        staged: &mut Vec<files::Staged>,
     ) -> Result<Option<String>> {
         let (Some(tree), Some((mut bin, mut txt))) = (tree, files) else {
             return Ok(None);
@@ -487,14 +483,14 @@ impl CliHost {
         let (rendered, (w, h)) = self.picture(scene, shadows, &mut out, &mut staged)?;
         let tree_message = Self::stage_tree(rendered.tree.as_ref(), out.tree, &mut staged)?;
         if let Some(file) = out.id {
-            staged.push(output::stage_id_png(
+            staged.push(files::stage_id_png(
                 file,
                 &rendered.frame,
                 &rendered.polygons,
             )?);
         }
         let paths: Vec<PathBuf> = staged.iter().map(|s| s.path().to_path_buf()).collect();
-        output::commit_all(staged)?;
+        files::commit_all(staged)?;
         let shown = if self.to_stdout {
             crate::stdout_image::send(&out.path)?;
             PathBuf::from("<stdout>")
@@ -518,12 +514,7 @@ impl CliHost {
 
     /// One `run` with `--part I/N`: only the part's rows of the image
     /// are scan converted, into the part file that `-o` names.
-    fn render_part(
-        &mut self,
-        scene: &Scene,
-        shadows: bool,
-        spec: plytrace::part::PartSpec,
-    ) -> Result<()> {
+    fn render_part(&mut self, scene: &Scene, shadows: bool, spec: parts::PartSpec) -> Result<()> {
         self.runs += 1;
         let start = Instant::now();
         let path = self.output.clone().expect("--part is checked to have -o");
@@ -535,43 +526,38 @@ impl CliHost {
             )));
         }
         self.run_size(scene)?;
-        output::check_target(&path)?;
+        files::check_target(&path)?;
         let whole = PathBuf::from(format!("{}.png", self.stem(scene)?));
         let flags = format!("{} shadows {shadows}", self.pixel_flags);
         self.warn_aspect(scene);
         self.say("Building image.");
-        let plan = render::plan_with(scene, &self.render_options(shadows), &self.reuse)?;
-        let render::Plan::Tree(prepared) = plan else {
+        let plan = pipeline::plan_with(scene, &self.render_options(shadows), &self.reuse)?;
+        let pipeline::Plan::Tree(prepared) = plan else {
             return Err(Error::Invalid(format!(
                 "--part {spec}: the {} algorithm paints the image itself; parts are scan \
                  conversions of the virtual image tree (--visibility depth-sort or nns)",
-                render::chosen_algorithm(scene, &self.render_options(shadows))
+                pipeline::chosen_algorithm(scene, &self.render_options(shadows))
             )));
         };
         let mut prepared = *prepared;
         prepared.scan.ids = false;
         let (w, h) = (prepared.scan.width, prepared.scan.height);
-        let rows = plytrace::raster::scan::part_rows(
-            &prepared.picture,
-            &prepared.scan,
-            spec.index,
-            spec.count,
-        );
-        let info = plytrace::part::PartInfo {
+        let rows = part_rows(&prepared.picture, &prepared.scan, spec.index, spec.count);
+        let info = parts::PartInfo {
             part: spec,
             image: (w, h),
             first: rows.start,
             rows: rows.len() as u32,
             output: whole.display().to_string(),
-            fingerprint: plytrace::part::fingerprint("plytrace", &flags),
+            fingerprint: parts::fingerprint("plytrace", &flags),
         };
-        let mut sink = plytrace::part::PartSink::create(&path, info, scene.outmode.into())?;
+        let mut sink = parts::PartSink::create(&path, info, scene.outmode.into())?;
         let mut progress = ProgressSink::new(&mut sink, rows.len() as u32, self.progress);
-        let rendered = render::scan_rows_into(prepared, rows.clone(), &mut progress);
+        let rendered = pipeline::scan_rows_into(prepared, rows.clone(), &mut progress);
         progress.finish();
         let rendered = rendered?;
         let staged = sink.finish()?;
-        output::commit_all(vec![staged])?;
+        files::commit_all(vec![staged])?;
         self.written.push(path.clone());
         self.say(&format!(
             "Wrote part {spec} of {} ({w} x {h}): rows {} to {} in {}",
@@ -592,7 +578,7 @@ impl CliHost {
         &mut self,
         image: &Path,
         (w, h): (u32, u32),
-        s: &render::RenderStats,
+        s: &pipeline::RenderStats,
         elapsed: Duration,
     ) {
         let field = |p: &Path| printable(&p.display().to_string(), 300).replace(' ', "\\x20");
@@ -626,7 +612,7 @@ impl CliHost {
         outputs.extend(self.id_image.iter().cloned());
         for p in &outputs {
             if !self.to_stdout || p != &image {
-                output::check_target(p)?;
+                files::check_target(p)?;
             }
         }
         self.warn_aspect(scene);
@@ -640,7 +626,7 @@ impl CliHost {
     }
 
     /// The manual's statistics of a run, and this program's own figures.
-    fn report_stats(&self, scene: &Scene, rendered: &render::Rendered) {
+    fn report_stats(&self, scene: &Scene, rendered: &pipeline::Rendered) {
         let s = &rendered.stats;
         if s.raytrace.is_some() {
             // Rays, not polygons: the ray tracer's line below says what it did.
@@ -705,7 +691,7 @@ impl CliHost {
 /// vector painter builds its tree, then paints; the image-space
 /// algorithms have their own stages. Stages a path does not have are left
 /// out rather than shown as zero.
-fn debug_timings(s: &render::RenderStats) -> String {
+fn debug_timings(s: &pipeline::RenderStats) -> String {
     let names = if s.method.is_some() {
         [
             "geometry",
@@ -727,7 +713,7 @@ fn debug_timings(s: &render::RenderStats) -> String {
 }
 
 /// The NNS statistics line.
-fn nns_line(n: &plytrace::visibility::nns::NnsStats) -> String {
+fn nns_line(n: &pipeline::NnsStats) -> String {
     format!(
         "NNS: {} faces in, {} out, {} splits ({} cycles of two, {} longer){}",
         n.faces_in,
@@ -770,14 +756,14 @@ impl Host for CliHost {
         if self.check {
             return self.check_run(scene);
         }
-        plytrace::cancel::reset();
-        plytrace::signals::rendering(true);
+        control::reset_cancel();
+        control::rendering(true);
         let result = match self.part {
             Some(spec) => self.render_part(scene, shadows, spec),
             None => self.render(scene, shadows),
         };
-        plytrace::signals::rendering(false);
-        plytrace::cancel::reset();
+        control::rendering(false);
+        control::reset_cancel();
         result
     }
     /// The manual's `clear` empties the display to the background; here
@@ -792,18 +778,18 @@ impl Host for CliHost {
             return Err(Error::Invalid(pixels_exceeded(w, h, self.budgets.pixels)));
         }
         self.budgets
-            .check_frame(w, h, render::FRAME_BYTES_PER_PIXEL)
+            .check_frame(w, h, pipeline::FRAME_BYTES_PER_PIXEL)
             .map_err(Error::Invalid)?;
         let file = AtomicFile::create(&path)?;
         let bg = scene.background;
         let frame = FrameBuffer::new(w, h, [bg.x as f32, bg.y as f32, bg.z as f32]);
-        output::commit_all(vec![output::stage_image(file, &frame, scene.outmode)?])?;
+        files::commit_all(vec![files::stage_image(file, &frame, scene.outmode)?])?;
         if let Ok(Some(window)) = self.live.observer(w, h) {
-            let cleared = render::Rendered {
+            let cleared = pipeline::Rendered {
                 frame,
-                ..render::Rendered::empty(render::RenderStats::default())
+                ..pipeline::Rendered::empty(pipeline::RenderStats::default())
             };
-            plytrace::display::show_painted(&cleared, window);
+            display::show_painted(&cleared, window);
         }
         self.say(&format!(
             "Cleared {} to the background ({w} x {h})",
@@ -886,8 +872,8 @@ fn significant(x: f64) -> String {
 }
 
 /// The scan conversion method in words.
-pub fn method_name(m: plytrace::raster::scan::Method) -> String {
-    use plytrace::raster::scan::Method;
+pub fn method_name(m: Antialiasing) -> String {
+    use Antialiasing as Method;
     match m {
         Method::Point => "point sampled (--aa none)".into(),
         Method::Area => "method 1, area coverage".into(),

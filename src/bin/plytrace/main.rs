@@ -17,6 +17,8 @@ mod term;
 mod tools;
 
 use args::{Image, Request};
+use plytrace::api::program::control::{Policy, install_signals};
+use plytrace::api::program::files::check_target;
 use term::{err, print_document, report};
 
 /// jemalloc: the tree and the records are hundreds of thousands of small
@@ -72,18 +74,18 @@ fn main() -> ExitCode {
         _ => None,
     };
     for p in named.into_iter().chain(&settings.id_image) {
-        if let Err(e) = plytrace::output::check_target(p) {
+        if let Err(e) = check_target(p) {
             report(&e);
             return ExitCode::FAILURE;
         }
     }
-    let policy = plytrace::signals::Policy {
+    let policy = Policy {
         grace: std::time::Duration::from_secs(2),
         sigint_ends: false,
         sigint_message: "^C: cancelling the render (press Ctrl-C again to quit)",
         cleanup: stdout_image::cleanup,
     };
-    if let Err(e) = plytrace::signals::install(policy) {
+    if let Err(e) = install_signals(policy) {
         err(&format!("warning: signals cannot cancel a render: {e}"));
     }
     let output = match &settings.image {

@@ -5,7 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
-use plytrace::scene::commands::COMMANDS;
+use plytrace::api::program::files::AtomicFile;
+use plytrace::api::program::session::{COMMANDS, read_regular};
 use rustyline::completion::{Completer, FilenameCompleter, Pair};
 use rustyline::highlight::Highlighter;
 use rustyline::hint::Hinter;
@@ -122,8 +123,7 @@ pub fn load_history(history: &mut impl History, path: &Path) -> Result<(), Strin
     if std::fs::symlink_metadata(path).is_err() {
         return Ok(());
     }
-    let bytes = plytrace::scene::object_file::read_regular(path, MAX_HISTORY_BYTES)
-        .map_err(|e| e.to_string())?;
+    let bytes = read_regular(path, MAX_HISTORY_BYTES).map_err(|e| e.to_string())?;
     let mut lines = bytes.split(|b| *b == b'\n').peekable();
     let v2 = lines.next_if(|l| *l == HISTORY_V2.as_bytes()).is_some();
     for line in lines.filter(|l| !l.is_empty()) {
@@ -169,7 +169,7 @@ pub fn save_history(history: &FileHistory, path: &Path) -> Result<(), String> {
         text.push_str(&entry.replace('\\', "\\\\").replace('\n', "\\n"));
         text.push('\n');
     }
-    let mut file = plytrace::output::AtomicFile::create(path).map_err(|e| e.to_string())?;
+    let mut file = AtomicFile::create(path).map_err(|e| e.to_string())?;
     file.write_all(text.as_bytes()).map_err(|e| e.to_string())?;
     let staged = file.finish().map_err(|e| e.to_string())?;
     staged.commit().map_err(|e| e.to_string())

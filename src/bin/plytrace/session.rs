@@ -9,8 +9,11 @@ use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use plytrace::error::{Error, Result};
-use plytrace::scene::{Flow, Host, Interpreter};
+use plytrace::api::program::control;
+use plytrace::api::program::files::AtomicFile;
+use plytrace::api::program::parts::note_input;
+use plytrace::api::program::session::{Flow, Host, Interpreter, MAX_SCENE_BYTES, Scene};
+use plytrace::{Error, Result};
 
 use crate::args::{SceneSource, Settings, StatsTarget};
 use crate::help::help_request;
@@ -41,7 +44,7 @@ fn report_written(host: &CliHost) {
 fn failed(e: &Error, host: &CliHost) -> ExitCode {
     report(e);
     report_written(host);
-    match (e, plytrace::signals::ending()) {
+    match (e, control::ending()) {
         (Error::Cancelled, Some(code)) => ExitCode::from(code),
         (Error::Cancelled, None) => ExitCode::from(130),
         _ => ExitCode::FAILURE,
@@ -137,7 +140,7 @@ pub fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
                     line_no += 1;
                     let _ = editor.add_history_entry(line.as_str());
                     if execute(interp, host, &line, line_no) == Flow::Quit
-                        || plytrace::signals::ending().is_some()
+                        || control::ending().is_some()
                     {
                         break;
                     }
@@ -170,14 +173,12 @@ pub fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
                 }
             };
             line_no += 1;
-            if execute(interp, host, &line, line_no) == Flow::Quit
-                || plytrace::signals::ending().is_some()
-            {
+            if execute(interp, host, &line, line_no) == Flow::Quit || control::ending().is_some() {
                 break;
             }
         }
     }
-    if let Some(code) = plytrace::signals::ending() {
+    if let Some(code) = control::ending() {
         ExitCode::from(code)
     } else if failed && !on_terminal {
         ExitCode::FAILURE
@@ -189,7 +190,7 @@ pub fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
 /// A scene from standard input (`plytrace -`), as much as a scene file may
 /// hold.
 fn read_stdin() -> Result<String> {
-    let limit = plytrace::scene::interpreter::MAX_SCENE_BYTES;
+    let limit = MAX_SCENE_BYTES;
     let mut bytes = Vec::new();
     std::io::stdin()
         .lock()
@@ -201,7 +202,7 @@ fn read_stdin() -> Result<String> {
             "<stdin>: the scene is longer than {limit} bytes, the most a scene file may hold"
         )));
     }
-    plytrace::part::note_input(&bytes);
+    note_input(&bytes);
     String::from_utf8(bytes)
         .map_err(|_| Error::Invalid("<stdin>: the scene is not UTF-8 text".into()))
 }
@@ -295,7 +296,7 @@ fn plan_part(settings: &Settings, host: &mut CliHost) -> std::result::Result<boo
 fn count_runs(settings: &Settings, path: &Path) -> Result<u32> {
     struct Runs(u32);
     impl Host for Runs {
-        fn run(&mut self, _scene: &plytrace::scene::Scene, _shadows: bool) -> Result<()> {
+        fn run(&mut self, _scene: &Scene, _shadows: bool) -> Result<()> {
             self.0 = self.0.saturating_add(1);
             Ok(())
         }
@@ -358,7 +359,7 @@ fn write_stats(target: &StatsTarget, doc: &str) {
             let _ = std::io::Write::write_all(&mut std::io::stderr().lock(), doc.as_bytes());
         }
         StatsTarget::File(p) => {
-            let written = plytrace::output::AtomicFile::create(p)
+            let written = AtomicFile::create(p)
                 .and_then(|mut f| f.write_all(doc.as_bytes()).map(|()| f))
                 .and_then(|f| f.finish())
                 .and_then(|staged| staged.commit());

@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::time::Duration;
 
-use plytrace::render::RenderStats;
+use plytrace::api::program::pipeline::RenderStats;
 use serde_json::{Value, json};
 
 /// The figures of one run.

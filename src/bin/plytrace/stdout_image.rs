@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use plytrace::error::{Error, Result};
+use plytrace::{Error, Result};
 
 /// The private folder, while the program has one.
 static FOLDER: Mutex<Option<PathBuf>> = Mutex::new(None);

@@ -5,7 +5,8 @@
 use std::io::Write;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use plytrace::error::{Error, printable};
+use plytrace::Error;
+use plytrace::api::program::session::printable;
 
 /// The longest line printed from input, in characters; the rest is cut
 /// (see [`printable`]).

@@ -6,31 +6,29 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use plytrace::scene::object_file;
+use plytrace::api::program::{parts, tools};
 
 use crate::args::Tool;
 use crate::term::{err, out, print_document, report};
 
 /// Runs a tool.
 pub fn run(tool: Tool) -> ExitCode {
-    use plytrace::scene::object_file::ConvertKind;
+    use tools::ConvertKind;
     match tool {
-        Tool::Mkdet { args } => plytrace::convert::main(ConvertKind::Det, &args),
-        Tool::Mkpcl { args } => plytrace::convert::main(ConvertKind::Pcl, &args),
-        Tool::Mkvcl { args } => plytrace::convert::main(ConvertKind::Vcl, &args),
+        Tool::Mkdet { args } => tools::run_convert(ConvertKind::Det, &args),
+        Tool::Mkpcl { args } => tools::run_convert(ConvertKind::Pcl, &args),
+        Tool::Mkvcl { args } => tools::run_convert(ConvertKind::Vcl, &args),
         Tool::Tessellation { file } => check_tessellation(&file),
-        Tool::Continuity { file, form } => {
-            match plytrace::modeling::patch::continuity_report(&file, form.as_deref()) {
-                Ok(text) => {
-                    out(&text);
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    report(&e);
-                    ExitCode::FAILURE
-                }
+        Tool::Continuity { file, form } => match tools::continuity_report(&file, form.as_deref()) {
+            Ok(text) => {
+                out(&text);
+                ExitCode::SUCCESS
             }
-        }
+            Err(e) => {
+                report(&e);
+                ExitCode::FAILURE
+            }
+        },
         Tool::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut crate::args::command(), "plytrace", &mut script);
@@ -69,9 +67,9 @@ fn check_tessellation(path: &Path) -> ExitCode {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("det"));
     let mesh = if is_det {
-        object_file::read_det(path)
+        tools::read_det(path)
     } else {
-        plytrace::scene::mesh_import::read_mesh(path)
+        tools::read_mesh(path)
     };
     let mesh = match mesh {
         Ok(m) => m,
@@ -80,7 +78,7 @@ fn check_tessellation(path: &Path) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    match plytrace::modeling::geodesic::check_tessellation(&mesh, glam::DVec3::ZERO) {
+    match tools::check_tessellation(&mesh, glam::DVec3::ZERO) {
         Ok(r) => {
             let yes = |b: bool| if b { "met" } else { "NOT met" };
             out(&format!(
@@ -113,13 +111,13 @@ fn check_tessellation(path: &Path) -> ExitCode {
 
 /// `plytrace merge PARTS -o OUT`: the parts checked, then joined.
 fn merge(parts: &[std::path::PathBuf], output: Option<&Path>, separations: bool) -> ExitCode {
-    use plytrace::part::MergeFormat;
+    use parts::MergeFormat;
     if separations && output.is_none() {
         err("error: merge --separations needs -o SEED (the separations are SEED.r, .g, .b)");
         return ExitCode::from(2);
     }
     let format = separations.then_some(MergeFormat::Separations);
-    match plytrace::part::merge(parts, output, format) {
+    match parts::merge(parts, output, format) {
         Ok(m) => {
             let names: Vec<String> = m.written.iter().map(|p| p.display().to_string()).collect();
             out(&format!(
@@ -142,7 +140,7 @@ fn merge(parts: &[std::path::PathBuf], output: Option<&Path>, separations: bool)
 /// render, comma-separated on standard output (nothing when all are
 /// there).
 fn list_missing(parts: &[std::path::PathBuf], count: Option<u32>) -> ExitCode {
-    match plytrace::part::missing(parts, count) {
+    match parts::missing(parts, count) {
         Ok((missing, warnings)) => {
             for w in warnings {
                 err(&format!("warning: {w}"));
