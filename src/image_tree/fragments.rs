@@ -10,8 +10,12 @@
 
 use super::Fragment;
 
-/// Fragments per chunk (160 bytes each: 640 KiB a chunk).
-const CHUNK: usize = 1 << 12;
+/// Fragments per chunk (160 bytes each: 10 MiB a chunk, pages touched as
+/// they fill). Chunks this large are returned to the system as soon as
+/// the tree is dropped (jemalloc serves blocks of 8 MiB or more from an
+/// arena that purges at once); with chunks of 640 KiB the freed tree of
+/// office2 stayed resident through the scan conversion, 12 MB more peak.
+const CHUNK: usize = 1 << 16;
 
 /// The fragments of a tree, indexed from 0 in the order they were added.
 #[derive(Debug, Clone, Default, PartialEq)]

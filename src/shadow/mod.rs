@@ -405,19 +405,65 @@ impl LightTree {
 }
 
 /// The shadows on whole polygons in world coordinates, by (object,
-/// polygon, light), kept up to [`MAX_KEPT_BYTES`]; past it they are cast
-/// again for each fragment, the same.
+/// polygon, light). A polygon's shadows are kept the second time they
+/// are asked for: a still's polygons seen once (most of them) keep
+/// nothing, those seen again (split by the sort, seen in a mirror, or in
+/// the next frame of an animation) are cast at most twice. Kept up to
+/// [`MAX_KEPT_BYTES`]; past it they are cast again when asked, the same.
 #[derive(Default)]
 struct PieceCache {
-    shards: [Mutex<HashMap<PieceKey, WholePieces>>; SHARDS],
+    shards: [Mutex<HashMap<PieceKey, Kept>>; SHARDS],
     bytes: AtomicUsize,
 }
 
 /// Object, polygon, light.
 type PieceKey = (u32, u32, u32);
 
+/// A polygon's shadows as the cache holds them.
+enum Kept {
+    /// Asked for once, not kept.
+    Seen,
+    /// Kept.
+    Shadows(WholePieces),
+}
+
 /// The shadows on a whole polygon (world coordinates); `None`: none.
-type WholePieces = Option<Arc<[Vec<DVec3>]>>;
+pub type WholePieces = Option<Arc<WholeShadows>>;
+
+/// The shadow pieces on a whole polygon, their points in one list.
+pub struct WholeShadows {
+    points: Box<[DVec3]>,
+    /// Where each piece ends in `points`.
+    ends: Box<[u32]>,
+}
+
+impl WholeShadows {
+    fn new(pieces: &[Vec<DVec3>]) -> WholeShadows {
+        let mut ends = Vec::with_capacity(pieces.len());
+        let mut points = Vec::with_capacity(pieces.iter().map(Vec::len).sum());
+        for p in pieces {
+            points.extend_from_slice(p);
+            ends.push(points.len() as u32);
+        }
+        WholeShadows {
+            points: points.into_boxed_slice(),
+            ends: ends.into_boxed_slice(),
+        }
+    }
+
+    /// The pieces, in order.
+    pub fn pieces(&self) -> impl Iterator<Item = &[DVec3]> {
+        let starts = std::iter::once(0).chain(self.ends.iter().copied());
+        starts
+            .zip(self.ends.iter().copied())
+            .map(|(a, b)| &self.points[a as usize..b as usize])
+    }
+
+    /// The memory it takes, roughly.
+    fn bytes(&self) -> usize {
+        64 + self.points.len() * std::mem::size_of::<DVec3>() + self.ends.len() * 4
+    }
+}
 
 /// Locks the pieces are spread over (threads cast on different polygons).
 const SHARDS: usize = 16;
@@ -427,33 +473,49 @@ const SHARDS: usize = 16;
 /// shadows of ten million polygons seen once each.
 const MAX_KEPT_BYTES: usize = 64 << 20;
 
+/// What the cache says of a polygon asked for.
+enum Found {
+    /// Its kept shadows.
+    Kept(WholePieces),
+    /// Asked for before: keep them this time.
+    Again,
+    /// Never asked for.
+    First,
+}
+
 impl PieceCache {
-    fn shard(&self, key: PieceKey) -> &Mutex<HashMap<PieceKey, WholePieces>> {
+    fn shard(&self, key: PieceKey) -> std::sync::MutexGuard<'_, HashMap<PieceKey, Kept>> {
         let (o, p, j) = key;
         let h = (o as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ (p as u64) ^ ((j as u64) << 40);
-        &self.shards[(h.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 60) as usize % SHARDS]
+        let shard = &self.shards[(h.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 60) as usize % SHARDS];
+        shard.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// The kept shadows of `key`, if cast before (`Some(None)`: none).
-    fn get(&self, key: PieceKey) -> Option<WholePieces> {
-        let shard = self.shard(key).lock().unwrap_or_else(|e| e.into_inner());
-        shard.get(&key).cloned()
+    /// What is known of `key`; a first request is noted.
+    fn get(&self, key: PieceKey) -> Found {
+        let mut shard = self.shard(key);
+        match shard.get(&key) {
+            Some(Kept::Shadows(s)) => Found::Kept(s.clone()),
+            Some(Kept::Seen) => Found::Again,
+            None => {
+                if self.bytes.fetch_add(24, Ordering::Relaxed) + 24 > MAX_KEPT_BYTES {
+                    self.bytes.fetch_sub(24, Ordering::Relaxed);
+                } else {
+                    shard.insert(key, Kept::Seen);
+                }
+                Found::First
+            }
+        }
     }
 
     /// Keeps the shadows of `key`, within the memory bound.
     fn put(&self, key: PieceKey, pieces: &WholePieces) {
-        let size = 64
-            + pieces.as_ref().map_or(0, |p| {
-                p.iter()
-                    .map(|q| 24 + q.len() * std::mem::size_of::<DVec3>())
-                    .sum()
-            });
+        let size = pieces.as_ref().map_or(0, |p| p.bytes());
         if self.bytes.fetch_add(size, Ordering::Relaxed) + size > MAX_KEPT_BYTES {
             self.bytes.fetch_sub(size, Ordering::Relaxed);
             return;
         }
-        let mut shard = self.shard(key).lock().unwrap_or_else(|e| e.into_inner());
-        shard.insert(key, pieces.clone());
+        self.shard(key).insert(key, Kept::Shadows(pieces.clone()));
     }
 }
 
@@ -598,7 +660,7 @@ impl Casting<'_> {
         let sides = s.volume.len() - 2;
         let identity = *t == Matrix4::IDENTITY;
         let mut out = Vec::new();
-        for piece in whole.iter() {
+        for piece in whole.pieces() {
             s.points.clear();
             if identity {
                 s.points.extend_from_slice(piece);
@@ -641,9 +703,11 @@ impl Casting<'_> {
         s: &mut Scratch,
     ) -> WholePieces {
         let key = (object, polygon, j as u32);
-        if let Some(kept) = self.index.world.get(key) {
-            return kept;
-        }
+        let again = match self.index.world.get(key) {
+            Found::Kept(kept) => return kept,
+            Found::Again => true,
+            Found::First => false,
+        };
         let o = &self.objects[object as usize];
         let p = &o.polygons[polygon as usize];
         let side = p.plane.truncate().dot(light) + p.plane.w;
@@ -663,9 +727,11 @@ impl Casting<'_> {
             };
             let pieces = self.cast(&target, j, light, s);
             s.whole = whole;
-            (!pieces.is_empty()).then(|| Arc::from(pieces))
+            (!pieces.is_empty()).then(|| Arc::new(WholeShadows::new(&pieces)))
         };
-        self.index.world.put(key, &pieces);
+        if again {
+            self.index.world.put(key, &pieces);
+        }
         pieces
     }
 

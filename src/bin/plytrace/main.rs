@@ -6,6 +6,7 @@
 
 use std::process::ExitCode;
 
+mod allocator;
 mod args;
 mod help;
 mod host;
@@ -20,36 +21,6 @@ use args::{Image, Request};
 use plytrace::api::program::control::{Policy, install_signals};
 use plytrace::api::program::files::check_target;
 use term::{err, print_document, report};
-
-/// jemalloc: the tree and the records are hundreds of thousands of small
-/// blocks made and freed by several threads, where glibc's allocator spent
-/// 15-25 % of the cycles (consolidating its fast bins on every large free).
-#[global_allocator]
-static ALLOCATOR: tikv_jemallocator::Jemalloc = tikv_jemallocator::Jemalloc;
-
-/// jemalloc's options (its `malloc_conf`; `_RJEM_MALLOC_CONF` in the
-/// environment still overrides them), chosen for peak memory (issue 10's
-/// 64 MiB for office2), measured on office2 at 512x512:
-/// - `dirty_decay_ms:10,muzzy_decay_ms:0`: pages freed for 10 ms go back
-///   to the system. With the default 10 s, what the tree builder frees
-///   stays resident to the end: 72 MB peak, against 58 MB.
-/// - `thp:never`: huge pages cut the page faults (and a tenth of the
-///   time) but hold 2 MB wherever any of it is used: 74-86 MB.
-///
-/// Not `percpu_arena:percpu` (one arena per CPU, 57 MB instead of 60): when
-/// the process may run on fewer CPUs than the machine has (`taskset`, a
-/// Slurm or Kubernetes cpuset), jemalloc then prints a warning on every
-/// run.
-#[unsafe(export_name = "_rjem_malloc_conf")]
-static MALLOC_CONF: MallocConf =
-    MallocConf(c"thp:never,dirty_decay_ms:10,muzzy_decay_ms:0".as_ptr());
-
-/// A C string pointer jemalloc reads once at start-up.
-#[repr(transparent)]
-struct MallocConf(*const std::ffi::c_char);
-
-// SAFETY: the pointer is to a string literal, never written.
-unsafe impl Sync for MallocConf {}
 
 fn main() -> ExitCode {
     let settings = match args::parse(std::env::args_os().skip(1).collect()) {
