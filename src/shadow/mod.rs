@@ -519,6 +519,12 @@ impl PieceCache {
     }
 }
 
+/// The largest world whose caster index is kept for the next frame. A
+/// bigger one (ten million triangles: 0.7 GB of casters and hierarchy) is
+/// freed with its tree, before the records are made, and is built again
+/// for each frame.
+const MAX_KEPT_POLYGONS: usize = 1 << 20;
+
 /// The caster index of the last frame, kept for the next while the world
 /// it was built from does not change: an animation that only moves the
 /// camera casts each polygon's shadows once. The world is recognised by
@@ -534,22 +540,24 @@ pub struct CasterReuse {
 
 impl CasterReuse {
     /// The index for `objects` and `lights` at tolerance `eps`: the kept
-    /// one if they are the last call's, else a new one, then kept.
+    /// one if they are the last call's, else a new one, then kept if the
+    /// world has at most [`MAX_KEPT_POLYGONS`] polygons.
     pub fn index(
         &self,
         objects: &[Object],
         lights: &[crate::model::Light],
         eps: f64,
     ) -> Arc<CasterIndex> {
-        let key = self.fingerprint(objects, lights, eps);
+        let polygons: usize = objects.iter().map(|o| o.polygons.len()).sum();
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some((k, index)) = kept.as_ref()
+        let key = (polygons <= MAX_KEPT_POLYGONS).then(|| self.fingerprint(objects, lights, eps));
+        if let (Some(key), Some((k, index))) = (key, kept.as_ref())
             && *k == key
         {
             return index.clone();
         }
         let index = Arc::new(CasterIndex::new(objects, lights.len()));
-        *kept = Some((key, index.clone()));
+        *kept = key.map(|key| (key, index.clone()));
         self.built.fetch_add(1, Ordering::Relaxed);
         index
     }
