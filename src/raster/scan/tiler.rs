@@ -223,8 +223,10 @@ impl Tiler {
     /// columns it crosses (a running sum then gives the coverage).
     fn accumulate(&mut self, x0: f64, x1: f64, d: f64, dirty: bool) {
         let (xl, xr) = if x0 < x1 { (x0, x1) } else { (x1, x0) };
-        let c0 = xl.floor() as usize;
-        let c1 = (xr.ceil() as usize).max(c0 + 1);
+        // `xl`, `xr` are clamped to the image (0..=width): truncation is
+        // `floor` there.
+        let c0 = xl as usize;
+        let c1 = ceil_index(xr).max(c0 + 1);
         if c1 == c0 + 1 {
             let xmf = 0.5 * (x0 + x1) - c0 as f64;
             self.add(c0, d * (1.0 - xmf));
@@ -335,8 +337,8 @@ impl Tiler {
         self.xs.sort_by(f64::total_cmp);
         let total = (self.width * m) as f64;
         for pair in self.xs.chunks_exact(2) {
-            let s0 = (pair[0] * m as f64 - 0.5).ceil().clamp(0.0, total) as u32;
-            let s1 = (pair[1] * m as f64 - 0.5).ceil().clamp(0.0, total) as u32;
+            let s0 = sample_at_or_after(pair[0] * m as f64 - 0.5, total);
+            let s1 = sample_at_or_after(pair[1] * m as f64 - 0.5, total);
             if s1 <= s0 {
                 continue;
             }
@@ -350,11 +352,62 @@ impl Tiler {
     }
 }
 
+/// `x.ceil() as usize` for `x >= 0`. The row loops round several times
+/// per edge and pixel: `f64::ceil` is a call into libm on the baseline
+/// x86-64 target (no SSE4.1 rounding), 4 % of a walkthrough's cycles.
+#[inline]
+fn ceil_index(x: f64) -> usize {
+    let t = x as usize;
+    if (t as f64) < x { t + 1 } else { t }
+}
+
+/// `x.ceil().clamp(0.0, total) as u32` without libm: the first sample at
+/// or after sample coordinate `x`, within `0..=total` (`NaN` gives 0).
+#[inline]
+fn sample_at_or_after(x: f64, total: f64) -> u32 {
+    if x.is_nan() || x <= 0.0 {
+        return 0;
+    }
+    if x >= total {
+        return total as u32;
+    }
+    ceil_index(x) as u32
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::raster::scan::shade::Shading;
     use proptest::prelude::*;
+
+    /// The rounding without libm equals `ceil` and `clamp`, at integers,
+    /// halves, signed zeros, tiny steps either side, the ends and NaN.
+    #[test]
+    fn rounding_equals_ceil() {
+        let total = 2048.0;
+        let mut xs = vec![
+            f64::NAN,
+            -0.0,
+            0.0,
+            -1.5,
+            -1e-300,
+            1e-300,
+            total,
+            total + 0.5,
+            1e30,
+        ];
+        for k in 0..=64 {
+            let x = k as f64 * 0.5;
+            xs.extend([x, x.next_up(), x.next_down()]);
+        }
+        for x in xs {
+            let want = x.ceil().clamp(0.0, total) as u32;
+            assert_eq!(sample_at_or_after(x, total), want, "x = {x:e}");
+            if x >= 0.0 && x <= total {
+                assert_eq!(ceil_index(x), x.ceil() as usize, "x = {x:e}");
+            }
+        }
+    }
 
     fn poly(points: Vec<DVec2>) -> Prepared {
         let (ymin, ymax) = points
