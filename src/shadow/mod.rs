@@ -430,6 +430,14 @@ enum Kept {
 /// The shadows on a whole polygon (world coordinates); `None`: none.
 pub type WholePieces = Option<Arc<WholeShadows>>;
 
+/// A polygon's shadows as [`Casting::on_polygon`] gives them.
+pub enum OnPolygon {
+    /// Kept in the index.
+    Kept(Arc<WholeShadows>),
+    /// Just cast, not kept.
+    Cast(Vec<Vec<DVec3>>),
+}
+
 /// The shadow pieces on a whole polygon, their points in one list.
 pub struct WholeShadows {
     points: Box<[DVec3]>,
@@ -663,45 +671,83 @@ impl Casting<'_> {
         let Some(whole) = self.on_polygon(target.object, target.polygon, j, light, s) else {
             return Vec::new();
         };
-        volume(target.points, plane, lv, eps, &mut s.volume);
-        // The side planes: the pieces lie in the target's plane.
-        let sides = s.volume.len() - 2;
+        // A fragment that is its whole polygon, seen directly, takes the
+        // pieces as cast (a ten-million-piece floor is not copied).
         let identity = *t == Matrix4::IDENTITY;
-        let mut out = Vec::new();
-        for piece in whole.pieces() {
-            s.points.clear();
-            if identity {
-                s.points.extend_from_slice(piece);
-            } else {
-                s.points.extend(piece.iter().map(|p| t.transform_point(*p)));
-            }
-            let clipped = {
-                let _t = self.profile.time(Category::Clipping);
-                plane_clip::clip_to_planes(
-                    &s.points,
-                    &s.volume[..sides],
-                    eps,
-                    &mut s.clip,
-                    &mut s.many,
-                )
+        if identity && self.is_whole(target) {
+            return match whole {
+                OnPolygon::Cast(pieces) => pieces,
+                OnPolygon::Kept(kept) => kept.pieces().map(<[DVec3]>::to_vec).collect(),
             };
-            match clipped {
-                Ok(Clipped::One) => push_kept(&mut out, s.clip.piece(), eps),
-                Ok(Clipped::Many) => {
-                    for piece in &s.many {
-                        push_kept(&mut out, piece, eps);
-                    }
+        }
+        volume(target.points, plane, lv, eps, &mut s.volume);
+        let mut out = Vec::new();
+        match whole {
+            OnPolygon::Cast(pieces) => {
+                for piece in pieces {
+                    self.clip_piece(&piece, t, identity, s, &mut out);
                 }
-                Ok(Clipped::Empty) | Err(_) => {}
+            }
+            OnPolygon::Kept(kept) => {
+                for piece in kept.pieces() {
+                    self.clip_piece(piece, t, identity, s, &mut out);
+                }
             }
         }
         out
     }
 
+    /// Whether `target` has its polygon's points (world coordinates), in
+    /// order.
+    fn is_whole(&self, target: &Target) -> bool {
+        let o = &self.objects[target.object as usize];
+        let p = &o.polygons[target.polygon as usize];
+        p.indices.len() == target.points.len()
+            && p.indices
+                .iter()
+                .zip(target.points)
+                .all(|(&i, q)| o.vertices[i as usize] == *q)
+    }
+
+    /// `piece` (world coordinates) mapped by `t` and clipped to the side
+    /// planes of the target's shadow volume (in `s.volume`: the pieces lie
+    /// in the target's plane), into `out`.
+    fn clip_piece(
+        &self,
+        piece: &[DVec3],
+        t: &Matrix4,
+        identity: bool,
+        s: &mut Scratch,
+        out: &mut Vec<Vec<DVec3>>,
+    ) {
+        let eps = self.eps;
+        let sides = s.volume.len() - 2;
+        s.points.clear();
+        if identity {
+            s.points.extend_from_slice(piece);
+        } else {
+            s.points.extend(piece.iter().map(|p| t.transform_point(*p)));
+        }
+        let clipped = {
+            let _t = self.profile.time(Category::Clipping);
+            plane_clip::clip_to_planes(&s.points, &s.volume[..sides], eps, &mut s.clip, &mut s.many)
+        };
+        match clipped {
+            Ok(Clipped::One) => push_kept(out, s.clip.piece(), eps),
+            Ok(Clipped::Many) => {
+                for piece in &s.many {
+                    push_kept(out, piece, eps);
+                }
+            }
+            Ok(Clipped::Empty) | Err(_) => {}
+        }
+    }
+
     /// The shadows Point light `j` at `light` casts on the whole of
     /// polygon `polygon` of object `object`, in world coordinates, on its
-    /// side facing the light; `None` when there are none. Computed once
-    /// and kept in the index while its memory bound allows.
+    /// side facing the light; `None` when there are none. Kept in the
+    /// index the second time they are asked for, while its memory bound
+    /// allows; given as cast otherwise.
     pub fn on_polygon(
         &self,
         object: u32,
@@ -709,10 +755,10 @@ impl Casting<'_> {
         j: usize,
         light: DVec3,
         s: &mut Scratch,
-    ) -> WholePieces {
+    ) -> Option<OnPolygon> {
         let key = (object, polygon, j as u32);
         let again = match self.index.world.get(key) {
-            Found::Kept(kept) => return kept,
+            Found::Kept(kept) => return kept.map(OnPolygon::Kept),
             Found::Again => true,
             Found::First => false,
         };
@@ -720,7 +766,7 @@ impl Casting<'_> {
         let p = &o.polygons[polygon as usize];
         let side = p.plane.truncate().dot(light) + p.plane.w;
         let pieces = if side.abs() <= self.eps {
-            None
+            Vec::new()
         } else {
             let mut whole = std::mem::take(&mut s.whole);
             whole.clear();
@@ -735,12 +781,14 @@ impl Casting<'_> {
             };
             let pieces = self.cast(&target, j, light, s);
             s.whole = whole;
-            (!pieces.is_empty()).then(|| Arc::new(WholeShadows::new(&pieces)))
+            pieces
         };
-        if again {
-            self.index.world.put(key, &pieces);
+        if !again {
+            return (!pieces.is_empty()).then_some(OnPolygon::Cast(pieces));
         }
-        pieces
+        let kept = (!pieces.is_empty()).then(|| Arc::new(WholeShadows::new(&pieces)));
+        self.index.world.put(key, &kept);
+        kept.map(OnPolygon::Kept)
     }
 
     /// The shadows cast on `target` by Point light `j` at world position
