@@ -139,8 +139,9 @@ pub struct Reuse {
 }
 
 impl Reuse {
-    /// How many worlds' shadow casters were built: one per change of the
-    /// objects or lights, not one per frame.
+    /// How many times a world's shadow casters were built: twice per
+    /// world shown in several frames (the first frame keeps none, so a
+    /// still holds nothing past its tree), not once per frame.
     pub fn worlds(&self) -> usize {
         self.casters.built()
     }
