@@ -344,7 +344,8 @@ impl Default for TreeOptions {
 struct Builder<'a> {
     profile: &'a Profile,
     /// Every polygon in world coordinates, for shadow casting at any level
-    /// (built on the first shadow).
+    /// (with shadows on: built, or found unchanged from the last frame,
+    /// while level 1 is found).
     casters: Option<std::sync::Arc<crate::shadow::CasterIndex>>,
     materials: &'a Materials<'a>,
     view: &'a View,
@@ -986,24 +987,10 @@ impl<'a> Builder<'a> {
         }
     }
 
-    /// The shadow caster of the scene, `None` without `run y`; its index
-    /// of casters is built on the first call.
-    fn caster(&mut self) -> Option<ShadowCaster<'a>> {
-        if !self.options.shadows {
-            return None;
-        }
-        let index = match &self.casters {
-            Some(i) => i.clone(),
-            None => {
-                let _t = self.profile.time(Category::Transform);
-                let i = std::sync::Arc::new(crate::shadow::CasterIndex::new(
-                    self.materials.objects,
-                    self.materials.lights.len(),
-                ));
-                self.casters = Some(i.clone());
-                i
-            }
-        };
+    /// The shadow caster of the scene, `None` without `run y` (the index
+    /// of casters is set by [`build_profiled`] with shadows on).
+    fn caster(&self) -> Option<ShadowCaster<'a>> {
+        let index = self.casters.clone()?;
         Some(ShadowCaster {
             materials: self.materials,
             view: self.view,

@@ -362,8 +362,6 @@ fn box_outside(planes: &[DVec4], lo: DVec3, hi: DVec3) -> bool {
 }
 
 impl LightTree {
-    /// The casters whose boxes are not wholly outside one of `planes`, in
-    /// increasing order, into `out`.
     /// The casters whose boxes may meet the volume `planes` within
     /// `bounds`, in caster order, leaving out those that stand only for
     /// polygons of object `skip` (none when it is [`NONE`]).
@@ -707,13 +705,9 @@ impl Casting<'_> {
     /// Whether `target` has its polygon's points (world coordinates), in
     /// order.
     fn is_whole(&self, target: &Target) -> bool {
-        let o = &self.objects[target.object as usize];
-        let p = &o.polygons[target.polygon as usize];
-        p.indices.len() == target.points.len()
-            && p.indices
-                .iter()
-                .zip(target.points)
-                .all(|(&i, q)| o.vertices[i as usize] == *q)
+        let polygon = CasterRef::new(self.objects, target.object, target.polygon);
+        polygon.polygon.indices.len() == target.points.len()
+            && polygon.points().zip(target.points).all(|(p, q)| p == *q)
     }
 
     /// `piece` (world coordinates) mapped by `t` and clipped to the side
@@ -777,7 +771,7 @@ impl Casting<'_> {
         } else {
             let mut whole = std::mem::take(&mut s.whole);
             whole.clear();
-            whole.extend(p.indices.iter().map(|&i| o.vertices[i as usize]));
+            whole.extend(CasterRef::new(self.objects, object, polygon).points());
             let target = Target {
                 object,
                 polygon,
@@ -912,8 +906,7 @@ fn world_corners(target: &Target, identity: bool) -> Option<(DVec3, DVec3)> {
     if identity {
         return Some(bounds(target.points));
     }
-    let m = &target.t.m;
-    if m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0 {
+    if !is_affine(target.t) {
         return None;
     }
     let inverse = target.t.inverse()?;
@@ -921,11 +914,15 @@ fn world_corners(target: &Target, identity: bool) -> Option<(DVec3, DVec3)> {
     (b.0.is_finite() && b.1.is_finite()).then_some(b)
 }
 
-/// `piece` kept if finite and of some area.
-fn push_kept(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], eps: f64) {
-    if piece.iter().all(|p| p.is_finite())
+/// Whether a shadow piece is worth keeping: finite and of some area.
+fn worth_keeping(piece: &[DVec3], eps: f64) -> bool {
+    piece.iter().all(|p| p.is_finite())
         && polygon::newell_vector(piece.iter().copied()).length() > eps * eps
-    {
+}
+
+/// `piece` kept if [`worth_keeping`].
+fn push_kept(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], eps: f64) {
+    if worth_keeping(piece, eps) {
         out.push(piece.to_vec());
     }
 }
@@ -949,9 +946,7 @@ fn push_projected(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], target: DVec4, lv:
             lv + d * s
         })
         .collect();
-    if projected.iter().all(|p| p.is_finite())
-        && polygon::newell_vector(projected.iter().copied()).length() > eps * eps
-    {
+    if worth_keeping(&projected, eps) {
         out.push(projected);
     }
 }
