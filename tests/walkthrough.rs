@@ -4,6 +4,8 @@
 //! view, pixel for pixel, and the world's shadows must be cast once, not
 //! once per frame; when an object is added mid-path they are cast again.
 
+mod support;
+
 use std::path::Path;
 
 use plytrace::error::Result;
@@ -59,18 +61,11 @@ impl Host for Walk {
     }
 }
 
-fn fixture(name: &str) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/scenes")
-        .join(name);
-    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
 /// `frames` views: the camera turns and moves forward a little each
 /// frame (the objects are placed in the eye space of the file's view, so
 /// only the projection changes); after `change` frames a box is added.
-fn path(scene: &str, fov: f64, frames: usize, change: usize) -> String {
-    let mut s = fixture(scene);
+fn path(file: &Path, fov: f64, frames: usize, change: usize) -> String {
+    let mut s = std::fs::read_to_string(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
     for k in 0..frames {
         if k == change {
             s.push_str("pushmatrix\nident\ndefobj cube\n color 0.9 0.2 0.2\n translate 0 0 -9\n scale 0.4 0.4 0.4\nendobj\npopmatrix\n");
@@ -90,12 +85,13 @@ fn walk(scene: &str, fov: f64, size: u32, frames: usize, change: usize) -> Walk 
         size,
         ..Walk::default()
     };
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes");
+    let file = support::scene_fixture(scene);
+    let dir = file.parent().expect("the scenes' folder");
     Interpreter::new()
         .execute_source(
-            &path(scene, fov, frames, change),
+            &path(&file, fov, frames, change),
             Path::new(scene),
-            &dir,
+            dir,
             &mut host,
         )
         .expect("the walk renders");
