@@ -98,6 +98,12 @@ impl<'a> Materials<'a> {
         (&self.objects[o as usize], &self.resolved[o as usize])
     }
 
+    /// Whether object `o` is `transparency`-transparent (004 section 4.9):
+    /// what lies behind it shows through.
+    pub fn is_transparent(&self, o: u32) -> bool {
+        self.resolved[o as usize].transparency.0 > 0.0
+    }
+
     /// The material of polygon `polygon` of object `object`.
     pub fn material(&self, object: u32, polygon: u32) -> Material {
         self.resolved[object as usize].material(polygon as usize)

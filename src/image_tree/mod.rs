@@ -39,7 +39,7 @@
 
 mod fragments;
 
-use glam::{DVec3, DVec4};
+use glam::{DVec2, DVec3, DVec4};
 
 use crate::budget::Budgets;
 use crate::geometry::face_splitter;
@@ -51,6 +51,7 @@ use crate::profile::{Category, Profile};
 use crate::shading::{FacetTerms, Materials, ShadingModel};
 pub use crate::shadow::CasterReuse;
 pub use crate::shadow::overlap::{ShadowRegion, intersect_in_plane, overlap_regions};
+use crate::visibility::occlusion::CoverMask;
 use crate::visibility::{depth_sort, nns};
 pub use fragments::Fragments;
 use rayon::prelude::*;
@@ -171,6 +172,8 @@ pub struct VirtualImageTree {
     /// tree reached its node budget ([`Budgets::tree_nodes`]): the
     /// lightest ones, after the `threshold` cut.
     pub pruned: usize,
+    /// Level-1 polygons left out as hidden ([`TreeOptions::cull_samples`]).
+    pub hidden: usize,
 }
 
 impl VirtualImageTree {
@@ -321,6 +324,13 @@ pub struct TreeOptions {
     /// The limits: tree fragments ([`Budgets::tree_nodes`]) and NNS splits
     /// per level ([`Budgets::splits`]).
     pub budgets: Budgets,
+    /// With `Some(n)`, leave out the level-1 polygons whose every sample
+    /// of the image's `n x n` grid per pixel is covered by opaque polygons
+    /// later in the order ([`crate::visibility::occlusion`]): right for a
+    /// picture made from those samples only, not for exact areas, tree
+    /// files or vector output, where what lies behind shows through the
+    /// seams of a mesh.
+    pub cull_samples: Option<u32>,
 }
 
 impl Default for TreeOptions {
@@ -337,6 +347,7 @@ impl Default for TreeOptions {
             explicit_shadow_shades: false,
             shading: ShadingModel::default(),
             budgets: Budgets::default(),
+            cull_samples: None,
         }
     }
 }
@@ -738,7 +749,12 @@ impl<'a> Builder<'a> {
         parent: Option<usize>,
         reserve: usize,
     ) -> Option<Vec<usize>> {
-        let sorted = self.sort(candidates);
+        let mut sorted = self.sort(candidates);
+        if level == 1
+            && let Some(n) = self.options.cull_samples
+        {
+            sorted = self.visible(sorted, n);
+        }
         // Below level 1 the node budget is checked before anything is
         // added; `reserve` more nodes (a restore copy) must fit as well.
         if level > 1
@@ -806,6 +822,33 @@ impl<'a> Builder<'a> {
             ready = next;
         }
         Some(at.ids)
+    }
+
+    /// The level-1 `sorted` polygons (back to front) less those hidden at
+    /// every sample (`n x n` per pixel) under opaque ones later in the
+    /// order; counts them in [`VirtualImageTree::hidden`].
+    fn visible(&mut self, sorted: Vec<Candidate>, n: u32) -> Vec<Candidate> {
+        let view = self.view;
+        let mut mask = CoverMask::new(view.width as u32, view.height as u32, n);
+        let mut keep = vec![true; sorted.len()];
+        for (k, c) in sorted.iter().enumerate().rev() {
+            let screen: Vec<DVec2> = c
+                .points
+                .iter()
+                .map(|p| view.project(*p).truncate())
+                .collect();
+            if mask.hides(&screen) {
+                keep[k] = false;
+            } else if !self.materials.is_transparent(c.object) {
+                mask.cover(&screen);
+            }
+        }
+        self.tree.hidden = keep.iter().filter(|k| !**k).count();
+        sorted
+            .into_iter()
+            .zip(keep)
+            .filter_map(|(c, k)| k.then_some(c))
+            .collect()
     }
 
     /// Whether the tree has reached its node budget.

@@ -68,6 +68,12 @@ pub fn prepare(
     let materials = Materials::new(scene);
     let (refraction, said) = refraction_model(scene, &materials, view, options.refraction);
     stats.refraction = said;
+    let method = best_method(options);
+    let scan = scan_options(view, options, method);
+    // Hidden polygons are left out only of a picture made from samples:
+    // not of the tree file (another method may read it), nor where exact
+    // refraction paints its layer over the tree's fragments.
+    let cull = !scene.modes.output_tree && refraction != Refraction::Exact;
     let tree_options = TreeOptions {
         max_level: scene.modes.max_level,
         threshold: scene.threshold,
@@ -77,6 +83,7 @@ pub fn prepare(
         explicit_shadow_shades: scene.modes.shadow_shades,
         shading: options.shading,
         budgets: options.budgets,
+        cull_samples: scan.sample_grid().filter(|_| cull),
     };
     let tree = within(&pool, || {
         crate::image_tree::build_profiled(&materials, view, tree_options, &profile, casters)
@@ -88,7 +95,6 @@ pub fn prepare(
     stats.pruned = tree.pruned;
     stats.warnings = tree.warnings.clone();
     let t = Instant::now();
-    let method = best_method(options);
     let keep = refraction == Refraction::Exact;
     // `setmode o`: the tree file in the scene's order and blending.
     let file_how = (scene.modes.output_tree).then_some((scene.sort_order, scene.modes.blend));
@@ -99,7 +105,6 @@ pub fn prepare(
     profile.add(crate::profile::Category::Shading, t.elapsed());
     stats.polygons_listed = picture.records.len();
     stats.method = Some(method);
-    let scan = scan_options(view, options, method);
     let exact = tree.and_then(|tree| exact_layer(scene, view, &tree, &scan, options, &mut stats));
     stats.raytrace = exact.as_ref().map(|l| l.stats);
     Prepared {

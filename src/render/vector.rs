@@ -51,6 +51,7 @@ fn prepared(
             explicit_shadow_shades: scene.modes.shadow_shades,
             shading: options.shading,
             budgets: options.budgets,
+            cull_samples: None,
         },
     );
     // The tree builder stops early on a stop request.

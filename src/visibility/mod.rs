@@ -11,6 +11,7 @@ use std::str::FromStr;
 pub mod brown;
 pub mod depth_sort;
 pub mod nns;
+pub mod occlusion;
 pub mod ray_cast;
 pub mod scan_line;
 pub mod warnock;

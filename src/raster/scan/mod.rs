@@ -117,6 +117,23 @@ pub struct ScanOptions {
     pub max_overdraw: u64,
 }
 
+impl ScanOptions {
+    /// The `n x n` grid of samples per pixel that alone decides what is
+    /// seen (the pixel mask, the centre, supersampling; with Donovan's
+    /// rule every method paints at samples), or `None` for the methods
+    /// that also weigh exact areas (1 and 3), where a sliver between
+    /// samples counts.
+    pub fn sample_grid(&self) -> Option<u32> {
+        match (self.method, self.transparency) {
+            (Method::Supersample(n), _) => Some(n),
+            (Method::Point, _) => Some(1),
+            (_, TransparencyRule::Donovan) => Some(4),
+            (Method::Mask | Method::Multilevel, _) => Some(4),
+            (Method::Area | Method::Hybrid, _) => None,
+        }
+    }
+}
+
 /// Figures of one scan conversion.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ScanStats {
