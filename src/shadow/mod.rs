@@ -25,6 +25,7 @@
 //! mirrors or split by the sort share one casting, and an animation whose
 //! world does not change between frames ([`CasterReuse`]) keeps them all.
 
+pub mod merge;
 pub mod overlap;
 
 use std::collections::HashMap;
@@ -780,7 +781,8 @@ impl Casting<'_> {
                 t: &Matrix4::IDENTITY,
                 convex: polygon::is_convex(&whole),
             };
-            let pieces = self.cast(&target, j, light, s);
+            let pieces =
+                merge::merge_adjacent(self.cast(&target, j, light, s), target.plane.truncate());
             s.whole = whole;
             pieces
         };
