@@ -25,8 +25,23 @@ use crate::precision;
 pub struct Mesh {
     /// Vertex coordinates.
     pub vertices: Vec<DVec3>,
-    /// Polygons: 0-based indices into `vertices`, clockwise from outside.
-    pub polygons: Vec<Vec<u32>>,
+    /// Polygons: 0-based indices into `vertices`, clockwise from outside
+    /// (a triangle's or a quad's held in place, no allocation of its own).
+    pub polygons: Vec<IndexList>,
+}
+
+impl Mesh {
+    /// A mesh of `vertices` and `polygons` (each a list of indices into
+    /// `vertices`, clockwise from outside).
+    pub fn new<P: Into<IndexList>>(
+        vertices: Vec<DVec3>,
+        polygons: impl IntoIterator<Item = P>,
+    ) -> Mesh {
+        Mesh {
+            vertices,
+            polygons: polygons.into_iter().map(Into::into).collect(),
+        }
+    }
 }
 
 /// One entry of a polygon or vertex colour file: `r g b dif ref trn`.

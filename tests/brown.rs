@@ -88,7 +88,7 @@ fn opaque_geodesics_agree_with_the_oracle() {
 #[test]
 fn general_surface_agrees_with_the_oracle() {
     let mesh = geodesic(4, Division::EqualAngle, Radial::Bumps(0.25, 2.0)).unwrap();
-    let keep: Vec<Vec<u32>> = mesh
+    let keep: Vec<plytrace::model::IndexList> = mesh
         .polygons
         .iter()
         .filter(|p| p.iter().all(|&i| mesh.vertices[i as usize].z < 0.45))
