@@ -26,7 +26,7 @@ pub struct Mesh {
     /// Vertex coordinates.
     pub vertices: Vec<DVec3>,
     /// Polygons: 0-based indices into `vertices`, clockwise from outside
-    /// (a triangle's or a quad's held in place, no allocation of its own).
+    /// (a triangle's held in place, no allocation of its own).
     pub polygons: Vec<IndexList>,
 }
 
@@ -148,7 +148,7 @@ pub struct SurfaceType {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Polygon {
     /// 0-based indices into the object's vertices, clockwise from outside
-    /// (a triangle's or a quad's held in place, no allocation of its own).
+    /// (a triangle's held in place, no allocation of its own).
     pub indices: IndexList,
     /// Plane `[A B C D]` with the unit normal `(A,B,C)` pointing outward:
     /// a point `p` is in front when `A x + B y + C z + D > 0`.
