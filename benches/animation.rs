@@ -67,7 +67,7 @@ fn bench(c: &mut Criterion) {
 
     let scene = interp.scene();
     let o = &scene.objects[0];
-    let faces: Vec<Vec<u32>> = o.polygons.iter().map(|p| p.indices.clone()).collect();
+    let faces: Vec<Vec<u32>> = o.polygons.iter().map(|p| p.indices.to_vec()).collect();
     let view = View::new(&scene, 256, 256).expect("a view");
     let centre = o.transform.transform_point(DVec3::ZERO);
     let axis = towards_eye(view.eye, centre);

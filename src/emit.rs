@@ -360,7 +360,7 @@ fn blended_vertex_shades(
             f.back_facing,
             &tree.world(f),
         );
-        let parent = f.parent.and_then(|p| out[p].as_ref().map(|vs| (p, vs)));
+        let parent = f.parent().and_then(|p| out[p].as_ref().map(|vs| (p, vs)));
         let blended = match parent {
             Some((p, parent_shades)) => {
                 let outline = tree.nodes[p].screen(view);

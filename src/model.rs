@@ -7,9 +7,13 @@
 //! object's CTM at `endobj` produced. The CTM left when the scene ends is the
 //! projection used to render ([`Scene::projection`]).
 
+mod index_list;
+
 use std::sync::Arc;
 
 use glam::{DVec3, DVec4};
+
+pub use index_list::IndexList;
 
 use crate::math::Matrix4;
 use crate::precision;
@@ -21,8 +25,23 @@ use crate::precision;
 pub struct Mesh {
     /// Vertex coordinates.
     pub vertices: Vec<DVec3>,
-    /// Polygons: 0-based indices into `vertices`, clockwise from outside.
-    pub polygons: Vec<Vec<u32>>,
+    /// Polygons: 0-based indices into `vertices`, clockwise from outside
+    /// (a triangle's held in place, no allocation of its own).
+    pub polygons: Vec<IndexList>,
+}
+
+impl Mesh {
+    /// A mesh of `vertices` and `polygons` (each a list of indices into
+    /// `vertices`, clockwise from outside).
+    pub fn new<P: Into<IndexList>>(
+        vertices: Vec<DVec3>,
+        polygons: impl IntoIterator<Item = P>,
+    ) -> Mesh {
+        Mesh {
+            vertices,
+            polygons: polygons.into_iter().map(Into::into).collect(),
+        }
+    }
 }
 
 /// One entry of a polygon or vertex colour file: `r g b dif ref trn`.
@@ -128,8 +147,9 @@ pub struct SurfaceType {
 /// A polygon of an object, in world coordinates.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Polygon {
-    /// 0-based indices into the object's vertices, clockwise from outside.
-    pub indices: Vec<u32>,
+    /// 0-based indices into the object's vertices, clockwise from outside
+    /// (a triangle's held in place, no allocation of its own).
+    pub indices: IndexList,
     /// Plane `[A B C D]` with the unit normal `(A,B,C)` pointing outward:
     /// a point `p` is in front when `A x + B y + C z + D > 0`.
     pub plane: DVec4,

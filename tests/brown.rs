@@ -88,7 +88,7 @@ fn opaque_geodesics_agree_with_the_oracle() {
 #[test]
 fn general_surface_agrees_with_the_oracle() {
     let mesh = geodesic(4, Division::EqualAngle, Radial::Bumps(0.25, 2.0)).unwrap();
-    let keep: Vec<Vec<u32>> = mesh
+    let keep: Vec<plytrace::model::IndexList> = mesh
         .polygons
         .iter()
         .filter(|p| p.iter().all(|&i| mesh.vertices[i as usize].z < 0.45))
@@ -116,7 +116,7 @@ fn general_surface_agrees_with_the_oracle() {
 fn stored_rank(reverse: bool) -> Vec<usize> {
     let first = sphere_scene(4, "angle", "sphere", 6.0);
     let object = &first.objects[0];
-    let faces: Vec<Vec<u32>> = object.polygons.iter().map(|p| p.indices.clone()).collect();
+    let faces: Vec<Vec<u32>> = object.polygons.iter().map(|p| p.indices.to_vec()).collect();
     let v = View::new(&first, 128, 128).unwrap();
     let centre = object.transform.transform_point(DVec3::ZERO);
     let axis = v.eye.truncate() / v.eye.w - centre;

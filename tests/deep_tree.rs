@@ -144,7 +144,7 @@ fn painted(tree: &VirtualImageTree, view: &View, size: u32) -> Vec<Option<Painte
                 let f = &tree.nodes[n];
                 let shadow = matches!(f.kind, FragmentKind::Shadow { .. });
                 let target = if shadow {
-                    &tree.nodes[f.parent.unwrap()]
+                    &tree.nodes[f.parent().unwrap()]
                 } else {
                     f
                 };
@@ -303,7 +303,7 @@ fn overlapping_shadows_of_two_lights() {
         },
     );
     let both: Vec<usize> = (0..tree.nodes.len())
-        .filter(|&n| *tree.nodes[n].shadowed_from == [0, 1])
+        .filter(|&n| *tree.nodes[n].shadowed_from() == [0, 1])
         .collect();
     assert!(!both.is_empty(), "no overlap region");
     for &n in &both {
@@ -346,7 +346,7 @@ fn overlapping_shadows_of_two_lights() {
         },
     );
     let mut count = 0;
-    for f in tree.nodes.iter().filter(|f| *f.shadowed_from == [0, 1]) {
+    for f in tree.nodes.iter().filter(|f| *f.shadowed_from() == [0, 1]) {
         count += 1;
         let at = f.virtual_points.iter().copied().sum::<DVec3>() / f.virtual_points.len() as f64;
         let want = plytrace::shading::facet_shade_with(
@@ -370,9 +370,9 @@ fn assert_overlap_order(tree: &VirtualImageTree, both: &[usize]) {
         let seq = tree.output_order(order);
         let at = |n: usize| seq.iter().position(|&m| m == n).unwrap();
         for &n in both {
-            let parent = tree.nodes[n].parent;
+            let parent = tree.nodes[n].parent();
             for (m, g) in tree.nodes.iter().enumerate() {
-                if g.parent == parent && g.shadowed_from.len() == 1 {
+                if g.parent() == parent && g.shadowed_from().len() == 1 {
                     let after = at(n) > at(m);
                     assert_eq!(after, order == SortOrder::BackToFront, "{order:?}");
                 }
@@ -424,7 +424,7 @@ fn assert_overlap_pixels(scene: &Scene, tree: &VirtualImageTree, view: &View, si
             }
             checked += 1;
             overlap += (w.len() == 2) as usize;
-            let g = got[k].map(|n| tree.nodes[n].shadowed_from.to_vec());
+            let g = got[k].map(|n| tree.nodes[n].shadowed_from().to_vec());
             if g.as_ref() != Some(w) {
                 bad.push((x, y, w.clone(), g));
             }
@@ -464,7 +464,7 @@ fn the_tree_shades_with_the_selected_model() {
         assert!(tree.nodes.iter().any(|f| f.level == 2));
         for f in &tree.nodes {
             let lights: Vec<_> = (0..scene.lights.len() as u32)
-                .filter(|j| !f.shadowed_from.contains(j))
+                .filter(|j| !f.shadowed_from().contains(j))
                 .map(|j| scene.lights[j as usize])
                 .collect();
             let shade = |m| {

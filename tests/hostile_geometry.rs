@@ -284,7 +284,7 @@ fn twenty_thousand_point_lights() {
     assert!(shadows.len() > 10_000, "{}", shadows.len());
     for f in shadows.iter().step_by(2_000) {
         let others: Vec<_> = (0..scene.lights.len() as u32)
-            .filter(|k| !f.shadowed_from.contains(k))
+            .filter(|k| !f.shadowed_from().contains(k))
             .map(|k| scene.lights[k as usize])
             .collect();
         let want = plytrace::shading::facet_shade_with(
@@ -476,8 +476,8 @@ fn twelve_glass_slabs_stay_within_the_node_budget() {
     assert!(lightest > 0.4f64.powi(14));
     // The tree is whole: every child's parent is the node that lists it.
     for (i, f) in tree.nodes.iter().enumerate() {
-        for &c in &f.children {
-            assert_eq!(tree.nodes[c].parent, Some(i));
+        for c in f.children() {
+            assert_eq!(tree.nodes[c].parent(), Some(i));
         }
     }
 }

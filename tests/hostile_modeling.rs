@@ -386,10 +386,8 @@ fn fan(n: usize, jitter: bool) -> plytrace::model::Mesh {
         }
         vertices.push(DVec3::new(0.5 * a.cos(), 0.5 * a.sin(), 0.8));
     }
-    let polygons = (0..n as u32)
-        .map(|i| vec![0, 1 + i, 1 + (i + 1) % n as u32])
-        .collect();
-    plytrace::model::Mesh { vertices, polygons }
+    let polygons = (0..n as u32).map(|i| [0, 1 + i, 1 + (i + 1) % n as u32]);
+    plytrace::model::Mesh::new(vertices, polygons)
 }
 
 #[test]

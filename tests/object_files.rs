@@ -335,12 +335,14 @@ fn arbitrary_mesh(coordinate: BoxedStrategy<f64>) -> impl Strategy<Value = Mesh>
             let polygon = prop::collection::vec(0..n, 3..7);
             (Just(points), prop::collection::vec(polygon, 0..10))
         })
-        .prop_map(|(points, polygons)| Mesh {
-            vertices: points
-                .into_iter()
-                .map(|(x, y, z)| DVec3::new(x, y, z))
-                .collect(),
-            polygons,
+        .prop_map(|(points, polygons)| {
+            Mesh::new(
+                points
+                    .into_iter()
+                    .map(|(x, y, z)| DVec3::new(x, y, z))
+                    .collect(),
+                polygons,
+            )
         })
 }
 

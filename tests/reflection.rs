@@ -148,7 +148,7 @@ fn cube_on_mirror_output_orders() {
     // The children are reflected, with shades pre-blended: I = I11 + kr I own.
     let mirror = tree.roots[0];
     let i11 = tree.nodes[mirror].shade;
-    for &c in &tree.nodes[mirror].children {
+    for c in tree.nodes[mirror].children() {
         let f = &tree.nodes[c];
         assert_eq!(f.branch, Branch::Reflected);
         assert!((f.blended - (i11 + f.shade * 0.5)).length() < 1e-12);
@@ -184,9 +184,8 @@ fn cube_on_mirror_output_orders() {
         .collect();
     want.sort_unstable();
     let mut reflected: Vec<u32> = tree.nodes[mirror]
-        .children
-        .iter()
-        .map(|&c| tree.nodes[c].polygon)
+        .children()
+        .map(|c| tree.nodes[c].polygon)
         .collect();
     reflected.sort_unstable();
     assert_eq!(reflected, want, "the cube faces seen in the mirror");
@@ -200,7 +199,7 @@ fn cube_on_mirror_output_orders() {
         .map(|i| turn(outline[0], outline[i], outline[(i + 1) % outline.len()]))
         .sum::<f64>()
         .signum();
-    for &c in &tree.nodes[mirror].children {
+    for c in tree.nodes[mirror].children() {
         let f = &tree.nodes[c];
         let face = &cube.polygons[f.polygon as usize];
         assert_eq!(f.virtual_points.len(), face.indices.len());
@@ -377,7 +376,7 @@ fn refraction_models_map_the_pool_floor() {
             "{model:?}: no floor"
         );
         for f in &refracted {
-            let parent = &tree.nodes[f.parent.unwrap()];
+            let parent = &tree.nodes[f.parent().unwrap()];
             assert!(
                 (f.object, f.polygon) != (parent.object, parent.polygon),
                 "{model:?}: the surface sees itself"

@@ -151,7 +151,7 @@ fn shadow_polygons_lie_in_their_target() {
     for f in &tree.nodes {
         if let FragmentKind::Shadow { .. } = f.kind {
             count += 1;
-            let parent = &tree.nodes[f.parent.unwrap()];
+            let parent = &tree.nodes[f.parent().unwrap()];
             let plane =
                 scene.objects[parent.object as usize].polygons[parent.polygon as usize].plane;
             // In the target's plane.

@@ -10,12 +10,12 @@
 
 use super::Fragment;
 
-/// Fragments per chunk (160 bytes each: 10 MiB a chunk, pages touched as
-/// they fill). Chunks this large are returned to the system as soon as
-/// the tree is dropped (jemalloc serves blocks of 8 MiB or more from an
-/// arena that purges at once); with chunks of 640 KiB the freed tree of
-/// office2 stayed resident through the scan conversion, 12 MB more peak.
-const CHUNK: usize = 1 << 16;
+/// Fragments per chunk: just over 8 MiB of them, pages touched as they
+/// fill. Chunks this large are returned to the system as soon as the tree
+/// is dropped (jemalloc serves blocks of 8 MiB or more from an arena that
+/// purges at once); with chunks of 640 KiB the freed tree of office2
+/// stayed resident through the scan conversion, 12 MB more peak.
+const CHUNK: usize = (8usize << 20).div_ceil(std::mem::size_of::<Fragment>());
 
 /// The fragments of a tree, indexed from 0 in the order they were added.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -109,10 +109,9 @@ mod tests {
             shade: Default::default(),
             blended: Default::default(),
             weight: 1.0,
-            parent: None,
+            parent: super::super::NO_PARENT,
             space: 0,
-            children: Vec::new(),
-            shadowed_from: Box::default(),
+            links: Box::default(),
         }
     }
 
@@ -135,5 +134,49 @@ mod tests {
             f.level = 2;
         }
         assert!((&store).into_iter().all(|f| f.level == 2));
+    }
+
+    /// A fragment is 120 bytes: the parent a `u32`, the children and a
+    /// shadow's lights one list.
+    #[test]
+    fn a_fragment_is_120_bytes() {
+        assert!(std::mem::size_of::<Fragment>() <= 120);
+        assert!(CHUNK * std::mem::size_of::<Fragment>() >= 8 << 20);
+    }
+
+    /// `parent` reads the sentinel as none; children keep the order they
+    /// were added in, over several additions, and a non-shadow fragment
+    /// is shadowed from no light.
+    #[test]
+    fn parent_and_children_round_trip() {
+        let mut f = fragment(0);
+        assert_eq!(f.parent(), None);
+        assert_eq!(f.children().len(), 0);
+        f.parent = super::super::link(7);
+        assert_eq!(f.parent(), Some(7));
+        f.add_children([3, 1]);
+        f.add_children([]);
+        f.add_children([9]);
+        assert_eq!(f.children().collect::<Vec<_>>(), [3, 1, 9]);
+        assert_eq!(f.children().next_back(), Some(9));
+        assert!(f.shadowed_from().is_empty());
+    }
+
+    /// A shadow polygon's list is its lights, and it has no children.
+    #[test]
+    fn a_shadow_lists_its_lights_not_children() {
+        let mut f = fragment(0);
+        f.kind = FragmentKind::Shadow { light: 2 };
+        f.branch = Branch::Shadow;
+        f.links = vec![2, 5].into_boxed_slice();
+        assert_eq!(f.shadowed_from(), [2, 5]);
+        assert_eq!(f.children().len(), 0);
+    }
+
+    /// No index reaches the sentinel.
+    #[test]
+    #[should_panic(expected = "fragments")]
+    fn the_sentinel_is_no_index() {
+        super::super::link(u32::MAX as usize);
     }
 }

@@ -109,22 +109,68 @@ pub struct Fragment {
     pub blended: Color,
     /// `k`: the product of the coefficients above it (1 at level 1).
     pub weight: f64,
-    /// Index of the parent fragment in [`VirtualImageTree::nodes`].
-    pub parent: Option<usize>,
+    /// Index of the parent fragment in [`VirtualImageTree::nodes`], or
+    /// [`NO_PARENT`] ([`Fragment::parent`] reads it): 4 bytes where an
+    /// `Option<usize>` took 16, for the tens of millions of fragments of
+    /// a big mesh's tree.
+    parent: u32,
     /// Index of its level's space in [`VirtualImageTree::spaces`]: its
     /// true world points ([`VirtualImageTree::world`]) and the eye that
     /// sees it ([`VirtualImageTree::eye`]).
     pub space: u32,
-    /// Children in back-to-front order: shadow polygons, the reflected
-    /// branch, then the refracted.
-    pub children: Vec<usize>,
-    /// For shadow polygons, every light (indices into `Scene::lights`,
-    /// increasing) the region is shadowed from; the first is the one in
-    /// [`FragmentKind::Shadow`]. Empty for other fragments.
-    pub shadowed_from: Box<[u32]>,
+    /// A shadow polygon's lights ([`Fragment::shadowed_from`]), any other
+    /// fragment's children ([`Fragment::children`]): a shadow polygon has
+    /// no children and no other fragment is shadowed, so one list serves
+    /// both.
+    links: Box<[u32]>,
+}
+
+/// [`Fragment::parent`] of a fragment with none (level 1).
+const NO_PARENT: u32 = u32::MAX;
+
+/// Fragment index `id` as a link (parent or child): below [`NO_PARENT`].
+/// A tree of 2^32 fragments would take over 500 GB, so none is that big.
+fn link(id: usize) -> u32 {
+    u32::try_from(id)
+        .ok()
+        .filter(|&v| v != NO_PARENT)
+        .expect("fewer than 2^32 - 1 fragments")
 }
 
 impl Fragment {
+    /// Index of the parent fragment in [`VirtualImageTree::nodes`];
+    /// `None` at level 1.
+    pub fn parent(&self) -> Option<usize> {
+        (self.parent != NO_PARENT).then_some(self.parent as usize)
+    }
+
+    /// Children (indices in [`VirtualImageTree::nodes`]) in back-to-front
+    /// order: shadow polygons, the reflected branch, then the refracted.
+    pub fn children(&self) -> impl DoubleEndedIterator<Item = usize> + ExactSizeIterator + '_ {
+        let kids: &[u32] = if self.is_shadow() { &[] } else { &self.links };
+        kids.iter().map(|&c| c as usize)
+    }
+
+    /// For shadow polygons, every light (indices into `Scene::lights`,
+    /// increasing) the region is shadowed from; the first is the one in
+    /// [`FragmentKind::Shadow`]. Empty for other fragments.
+    pub fn shadowed_from(&self) -> &[u32] {
+        if self.is_shadow() { &self.links } else { &[] }
+    }
+
+    /// Whether it is a shadow polygon.
+    fn is_shadow(&self) -> bool {
+        matches!(self.kind, FragmentKind::Shadow { .. })
+    }
+
+    /// Appends `ids` to its children (not for a shadow polygon).
+    fn add_children(&mut self, ids: impl IntoIterator<Item = usize>) {
+        debug_assert!(!self.is_shadow(), "a shadow polygon has no children");
+        let mut kids = std::mem::take(&mut self.links).into_vec();
+        kids.extend(ids.into_iter().map(link));
+        self.links = kids.into_boxed_slice();
+    }
+
     /// Its screen points (x, y in pixels, y up; z normalized depth): the
     /// projections of its virtual points by the real eye.
     pub fn screen(&self, view: &View) -> Vec<DVec3> {
@@ -218,7 +264,7 @@ impl VirtualImageTree {
     /// regions on top), then its reflected and refracted sub-trees.
     fn back_to_front(&self, n: usize, out: &mut Vec<usize>) {
         out.push(n);
-        for &c in &self.nodes[n].children {
+        for c in self.nodes[n].children() {
             self.back_to_front(c, out);
         }
     }
@@ -229,10 +275,9 @@ impl VirtualImageTree {
     /// (reversed: the most shadowed overlap regions first), then the
     /// polygon: `P12, P13, P14, P21, P22, P23, S1, S2, S3, P11`.
     fn front_to_back(&self, n: usize, out: &mut Vec<usize>) {
-        let kids = &self.nodes[n].children;
-        let (shadows, branches): (Vec<usize>, Vec<usize>) = kids
-            .iter()
-            .partition(|&&c| self.nodes[c].branch == Branch::Shadow);
+        let (shadows, branches): (Vec<usize>, Vec<usize>) = self.nodes[n]
+            .children()
+            .partition(|&c| self.nodes[c].branch == Branch::Shadow);
         for run in self.branch_runs(&branches) {
             for &c in run.iter().rev() {
                 self.front_to_back(c, out);
@@ -806,19 +851,17 @@ impl<'a> Builder<'a> {
             };
             PreparedChunk { terms, regions }
         };
-        let chunks: Vec<&[Candidate]> = sorted.chunks(SHADOW_CHUNK).collect();
-        let mut ready = prepare(chunks.first().copied());
-        for (k, chunk) in chunks.iter().enumerate() {
+        let mut chunks = into_chunks(sorted);
+        let mut ready = prepare(chunks.last().map(Vec::as_slice));
+        while let Some(chunk) = chunks.pop() {
             let mut now = std::mem::take(&mut ready);
             // A full tree takes no more shadows.
             if !now.regions.is_empty() && self.tree_full() {
                 self.tree.pruned += chunk.len();
                 now.regions.clear();
             }
-            let (next, ()) = rayon::join(
-                || prepare(chunks.get(k + 1).copied()),
-                || self.add_chunk(&mut at, chunk, now),
-            );
+            let next = chunks.last().map(Vec::as_slice);
+            let (next, ()) = rayon::join(|| prepare(next), || self.add_chunk(&mut at, chunk, now));
             ready = next;
         }
         Some(at.ids)
@@ -857,15 +900,17 @@ impl<'a> Builder<'a> {
     }
 
     /// Adds the fragments of `chunk` (with their shadow `regions`, if
-    /// any) at level `at`, and queues their branches.
+    /// any) at level `at`, and queues their branches. Each candidate's
+    /// points move into its fragment, and the chunk is freed: the level's
+    /// candidates are not held beside the tree they become.
     fn add_chunk(
         &mut self,
         at: &mut LevelState<'_>,
-        chunk: &[Candidate],
+        chunk: Vec<Candidate>,
         ready: PreparedChunk<'a>,
     ) {
         let mut regions = ready.regions.into_iter();
-        for (c, terms) in chunk.iter().zip(ready.terms) {
+        for (mut c, terms) in chunk.into_iter().zip(ready.terms) {
             let own = terms.shade();
             let blended = at.parent_blend + own * at.weight;
             let id = self.push(Fragment {
@@ -874,26 +919,27 @@ impl<'a> Builder<'a> {
                 branch: at.branch,
                 object: c.object,
                 polygon: c.polygon,
-                virtual_points: c.points.as_slice().into(),
+                // Set below, once the candidate's points are no more read.
+                virtual_points: Box::default(),
                 back_facing: c.back_facing,
                 shade: own,
                 blended,
                 weight: at.weight,
-                parent: at.parent,
+                parent: at.parent.map_or(NO_PARENT, link),
                 space: at.space,
-                children: Vec::new(),
-                shadowed_from: Box::default(),
+                links: Box::default(),
             });
             at.ids.push(id);
             if let Some(regions) = regions.next() {
                 let start = std::time::Instant::now();
-                let shadows = self.shadows_on(regions, c, &terms, at, id);
+                let shadows = self.shadows_on(regions, &c, &terms, at, id);
                 self.profile.add(Category::Shadows, start.elapsed());
-                self.tree.nodes[id].children.extend(shadows);
+                self.tree.nodes[id].add_children(shadows);
             }
             if at.level < self.options.max_level && !c.back_facing {
-                self.queue_branches(at, c, id, blended);
+                self.queue_branches(at, &c, id, blended);
             }
+            self.tree.nodes[id].virtual_points = std::mem::take(&mut c.points).into_boxed_slice();
         }
     }
 
@@ -1009,16 +1055,16 @@ impl<'a> Builder<'a> {
         for id in parents {
             let (reflected, refracted) = branches.remove(&id).expect("listed");
             let both = !reflected.is_empty() && !refracted.is_empty();
-            self.tree.nodes[id].children.extend(reflected);
+            self.tree.nodes[id].add_children(reflected);
             if both {
                 let mut restore = self.tree.nodes[id].clone();
                 restore.kind = FragmentKind::Restore;
-                restore.parent = Some(id);
-                restore.children.clear();
+                restore.parent = link(id);
+                restore.links = Box::default();
                 let r = self.push(restore);
-                self.tree.nodes[id].children.push(r);
+                self.tree.nodes[id].add_children([r]);
             }
-            self.tree.nodes[id].children.extend(refracted);
+            self.tree.nodes[id].add_children(refracted);
         }
         if self.tree.pruned > 0 {
             self.tree.warnings.push(format!(
@@ -1085,10 +1131,9 @@ impl<'a> Builder<'a> {
                 shade,
                 blended: at.parent_blend + shade * at.weight,
                 weight: at.weight,
-                parent: Some(parent),
+                parent: link(parent),
                 space: at.space,
-                children: Vec::new(),
-                shadowed_from: lights.into_boxed_slice(),
+                links: lights.into_boxed_slice(),
             }));
         }
         out
@@ -1272,6 +1317,22 @@ fn facet_terms<'a>(
         })
         .collect();
     slot.into_iter().map(|k| terms[k].clone()).collect()
+}
+
+/// A level's sorted candidates in chunks of [`SHADOW_CHUNK`], the last
+/// chunk first (popped in order, each freed once added to the tree).
+fn into_chunks(sorted: Vec<Candidate>) -> Vec<Vec<Candidate>> {
+    let mut chunks = Vec::with_capacity(sorted.len().div_ceil(SHADOW_CHUNK));
+    let mut rest = sorted.into_iter();
+    loop {
+        let chunk: Vec<Candidate> = rest.by_ref().take(SHADOW_CHUNK).collect();
+        if chunk.is_empty() {
+            break;
+        }
+        chunks.push(chunk);
+    }
+    chunks.reverse();
+    chunks
 }
 
 /// What a chunk of a level's fragments needs that does not depend on the

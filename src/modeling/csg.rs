@@ -977,7 +977,7 @@ pub fn to_mesh(faces: &[Face], with_normals: bool) -> (Mesh, Option<Vec<DVec3>>,
         attrs.push(f.attr);
     }
     (
-        Mesh { vertices, polygons },
+        Mesh::new(vertices, polygons),
         with_normals.then_some(normals),
         attrs,
     )

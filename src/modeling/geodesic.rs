@@ -308,7 +308,7 @@ pub fn geodesic_turned(n: usize, division: Division, f: &TurnedRadial) -> Result
         }
     }
     let vertices = place(&dirs, f)?;
-    Ok(Mesh { vertices, polygons })
+    Ok(Mesh::new(vertices, polygons))
 }
 
 /// Fans up to this degree compare every pair of their patch edges.
@@ -590,7 +590,7 @@ mod tests {
                 polygons.push(vec![at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)]);
             }
         }
-        let r = check_tessellation(&Mesh { vertices, polygons }, DVec3::ZERO).unwrap();
+        let r = check_tessellation(&Mesh::new(vertices, polygons), DVec3::ZERO).unwrap();
         assert!(!r.angle_condition, "{r:?}");
         assert_eq!(r.max_degree, 12);
     }

@@ -196,7 +196,7 @@ fn grid(
         }
     }
     Generated {
-        mesh: Mesh { vertices, polygons },
+        mesh: Mesh::new(vertices, polygons),
         normals: Some(normals),
         open: false,
     }
@@ -253,7 +253,7 @@ pub fn cylinder(nu: usize, capped: bool) -> Generated {
         polygons.push((0..n).rev().map(|i| base + n + i).collect());
     }
     Generated {
-        mesh: Mesh { vertices, polygons },
+        mesh: Mesh::new(vertices, polygons),
         normals: Some(normals),
         open: !capped,
     }

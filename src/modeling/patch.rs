@@ -338,7 +338,7 @@ pub fn tessellate(set: &PatchSet, nu: usize, nv: usize) -> Generated {
         .iter()
         .map(|n| n.normalize_or(DVec3::Z))
         .collect();
-    let mut mesh = Mesh { vertices, polygons };
+    let mut mesh = Mesh::new(vertices, polygons);
     let closed = solid::is_closed(&mesh);
     if closed {
         solid::orient_outward(&mut mesh, Some(&mut normals));

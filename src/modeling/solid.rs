@@ -13,9 +13,10 @@ use crate::model::Mesh;
 /// The volume enclosed by `polygons` over `vertices`, positive when they
 /// are clockwise seen from outside. Exact for closed meshes of planar
 /// polygons (any fan of a planar polygon has its area vector).
-pub fn signed_volume(vertices: &[DVec3], polygons: &[Vec<u32>]) -> f64 {
+pub fn signed_volume<P: AsRef<[u32]>>(vertices: &[DVec3], polygons: &[P]) -> f64 {
     let mut six = 0.0;
     for p in polygons {
+        let p = p.as_ref();
         if p.len() < 3 {
             continue;
         }
@@ -79,9 +80,10 @@ impl std::fmt::Display for NotClosed {
 
 /// Checks that every edge of `polygons` (vertices identified by `ids`) is
 /// shared by exactly two faces, in opposite directions.
-pub fn check_closed(ids: &[u32], polygons: &[Vec<u32>]) -> Result<(), NotClosed> {
+pub fn check_closed<P: AsRef<[u32]>>(ids: &[u32], polygons: &[P]) -> Result<(), NotClosed> {
     let mut edges: HashMap<(u32, u32), i32> = HashMap::new();
     for p in polygons {
+        let p = p.as_ref();
         let m = p.len();
         for k in 0..m {
             let (a, b) = (ids[p[k] as usize], ids[p[(k + 1) % m] as usize]);
@@ -151,7 +153,7 @@ mod tests {
             vec![0, 2, 6, 4],
             vec![1, 5, 7, 3],
         ];
-        Mesh { vertices, polygons }
+        Mesh::new(vertices, polygons)
     }
 
     #[test]

@@ -219,7 +219,7 @@ pub fn extrude(outline: &[DVec2], depth: f64) -> Generated {
     polygons.push((0..k).collect());
     polygons.push((0..k).rev().map(|i| k + i).collect());
     Generated {
-        mesh: Mesh { vertices, polygons },
+        mesh: Mesh::new(vertices, polygons),
         normals: None,
         open: false,
     }
@@ -453,7 +453,7 @@ pub fn lathe(profile: &Profile, n: usize) -> Generated {
         }
     }
     Generated {
-        mesh: Mesh { vertices, polygons },
+        mesh: Mesh::new(vertices, polygons),
         normals: Some(normals),
         open: false,
     }

@@ -104,14 +104,14 @@ pub fn layer(
     let shows_site = |n: usize| {
         sites[n]
             || (matches!(tree.nodes[n].kind, FragmentKind::Shadow { .. })
-                && tree.nodes[n].parent.is_some_and(|p| sites[p]))
+                && tree.nodes[n].parent().is_some_and(|p| sites[p]))
     };
     let on: Vec<bool> = (0..tree.nodes.len()).map(shows_site).collect();
     // Pre-blended, a fragment carries its parent's shade: below a site
     // (its reflection) the mask stays 1. Parents come before children.
     let mut under = vec![false; tree.nodes.len()];
     for n in 0..tree.nodes.len() {
-        under[n] = on[n] || tree.nodes[n].parent.is_some_and(|p| under[p]);
+        under[n] = on[n] || tree.nodes[n].parent().is_some_and(|p| under[p]);
     }
     for (n, f) in white.nodes.iter_mut().enumerate() {
         let on = on[n];
@@ -133,7 +133,7 @@ pub fn layer(
     let site_of = |id: u32| -> Option<usize> {
         let mut n = *order.get((id as usize).checked_sub(1)?)?;
         while !sites[n] {
-            n = tree.nodes[n].parent?;
+            n = tree.nodes[n].parent()?;
         }
         Some(n)
     };

@@ -162,7 +162,7 @@ pub fn bounding_box_scene(scene: &Scene) -> Scene {
                 if n.dot(fc - centre) > 0.0 {
                     f.iter().rev().copied().collect()
                 } else {
-                    f.to_vec()
+                    crate::model::IndexList::from(*f)
                 }
             })
             .collect();

@@ -231,7 +231,7 @@ fn brown_sorted(
     let object = &scene.objects[first.object as usize];
     let centre = object.transform.transform_point(DVec3::ZERO);
     let axis = crate::geometry::view::towards_eye(view.eye, centre);
-    let faces: Vec<Vec<u32>> = object.polygons.iter().map(|p| p.indices.clone()).collect();
+    let faces: Vec<Vec<u32>> = object.polygons.iter().map(|p| p.indices.to_vec()).collect();
     let (order, reused) = orders.order(
         object.number,
         &object.vertices,

@@ -88,7 +88,7 @@ fn prepared(
         .iter()
         .map(|&n| {
             tree.nodes[n]
-                .parent
+                .parent()
                 .map(|p| record_of[p])
                 .filter(|&k| k != usize::MAX)
         })

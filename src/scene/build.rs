@@ -12,7 +12,7 @@ use glam::{DVec3, DVec4};
 use crate::error::{MAX_SHOWN_TOKEN, printable};
 use crate::geometry::polygon::{self, PolygonDefect};
 use crate::math::Matrix4;
-use crate::model::{ColorEntry, Mesh};
+use crate::model::{ColorEntry, IndexList, Mesh};
 use crate::model::{Object, Polygon, Surface, SurfaceType};
 
 /// What `endobj` needs to build an [`Object`].
@@ -71,7 +71,7 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
     let vertex_normals = surface_type.curved.then(|| {
         let faces: Vec<(Vec<u32>, DVec3)> = polygons
             .iter()
-            .map(|p| (p.indices.clone(), p.normal()))
+            .map(|p| (p.indices.to_vec(), p.normal()))
             .collect();
         polygon::vertex_normals(vertices.len(), &faces)
     });
@@ -95,7 +95,7 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
 
 /// A polygon's vertex list (reversed when mirrored) and its plane or
 /// defect; `None` when an index is beyond the vertices.
-type Oriented = Option<(Vec<u32>, std::result::Result<DVec4, PolygonDefect>)>;
+type Oriented = Option<(IndexList, std::result::Result<DVec4, PolygonDefect>)>;
 
 /// Each polygon of `mesh` oriented and its plane computed, in parallel (a
 /// pure function of the polygon).
@@ -109,7 +109,7 @@ fn orient(mesh: &Mesh, vertices: &[DVec3], mirrored: bool) -> Vec<Oriented> {
             for &i in indices {
                 points.push(*vertices.get(i as usize)?);
             }
-            let mut indices = indices.clone();
+            let mut indices = IndexList::from(indices.as_slice());
             if mirrored {
                 points.reverse();
                 indices.reverse();
@@ -169,7 +169,7 @@ fn planes(
 fn fan(indices: &[u32], vertices: &[DVec3]) -> Vec<Polygon> {
     (1..indices.len() - 1)
         .filter_map(|k| {
-            let tri = vec![indices[0], indices[k], indices[k + 1]];
+            let tri = IndexList::from([indices[0], indices[k], indices[k + 1]]);
             let pts: Vec<DVec3> = tri
                 .iter()
                 .filter_map(|&i| vertices.get(i as usize).copied())

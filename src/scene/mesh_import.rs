@@ -19,7 +19,7 @@ use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{BeginList, Property, PropertyAccess, PropertyAccessResult};
 
 use crate::error::{Error, Location, Result};
-use crate::model::Mesh;
+use crate::model::{IndexList, Mesh};
 
 /// File extensions [`read_mesh`] understands, lower case.
 pub const MESH_EXTENSIONS: &[&str] = &["obj", "ply", "stl"];
@@ -323,7 +323,7 @@ fn append_obj_mesh(mesh: &mut Mesh, model: &tobj::Mesh, path: &Path) -> Result<(
             format_error(path, "Wavefront OBJ", "face sizes do not match the indices")
         })?;
         mesh.polygons
-            .push(clockwise(face.iter().map(|&i| i + offset).collect()));
+            .push(clockwise(face.iter().map(|&i| i + offset).collect()).into());
         rest = tail;
     }
     Ok(())
@@ -375,14 +375,14 @@ fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh> {
         .enumerate()
         .map(|(i, v)| v.point(i + 1, path))
         .collect::<Result<_>>()?;
-    let mut polygons: Vec<Vec<u32>> = faces
+    let mut polygons: Vec<IndexList> = faces
         .into_iter()
         .enumerate()
-        .map(|(i, f)| f.polygon(i + 1, path))
+        .map(|(i, f)| f.polygon(i + 1, path).map(IndexList::from))
         .collect::<Result<_>>()?;
     vertices.shrink_to_fit();
     polygons.shrink_to_fit();
-    Ok(Mesh { vertices, polygons })
+    Ok(Mesh::new(vertices, polygons))
 }
 
 /// An element read past.
@@ -551,18 +551,18 @@ fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh> {
         .iter()
         .map(|v| DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2])))
         .collect();
-    let polygons = stl
+    let polygons: Vec<IndexList> = stl
         .faces
         .iter()
         .map(|face| {
             let indices = face.vertices.iter().map(|&i| u32::try_from(i));
             indices
                 .collect::<std::result::Result<Vec<u32>, _>>()
-                .map(clockwise)
+                .map(|face| IndexList::from(clockwise(face)))
                 .map_err(|_| format_error(path, "STL", "too many vertices"))
         })
         .collect::<Result<_>>()?;
-    Ok(Mesh { vertices, polygons })
+    Ok(Mesh::new(vertices, polygons))
 }
 
 #[cfg(test)]
@@ -699,13 +699,13 @@ mod tests {
         let path = Path::new("m.stl");
         let mut mesh = Mesh {
             vertices: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
-            polygons: vec![vec![0, 1, 2]],
+            polygons: vec![vec![0, 1, 2].into()],
         };
         assert!(check_mesh(&mesh, path).is_ok());
         mesh.polygons[0][2] = 3;
         let err = check_mesh(&mesh, path).unwrap_err();
         assert!(err.to_string().contains("vertex index 3"), "{err}");
-        mesh.polygons[0] = vec![0, 1];
+        mesh.polygons[0] = vec![0, 1].into();
         assert!(check_mesh(&mesh, path).is_err());
         mesh.polygons.clear();
         mesh.vertices[1].y = f64::INFINITY;

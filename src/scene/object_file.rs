@@ -285,7 +285,7 @@ pub fn parse_det_ascii_within(text: &str, file: &Path, max_polygons: usize) -> R
     let vertices = read_vertices(&mut scanner, num_vtx)?;
     let polygons = read_polygons(&mut scanner, num_polys, num_vtx)?;
     scanner.expect_end("unexpected text after the last polygon")?;
-    Ok(Mesh { vertices, polygons })
+    Ok(Mesh::new(vertices, polygons))
 }
 
 fn read_vertices(scanner: &mut Scanner, count: u64) -> Result<Vec<DVec3>> {
@@ -572,7 +572,7 @@ pub fn parse_det_binary(bytes: &[u8], file: &Path) -> Result<Mesh> {
     let vertices = read_binary_vertices(&mut reader, num_vtx)?;
     let polygons = read_binary_polygons(&mut reader, num_polys, num_vtx)?;
     reader.expect_end("the last polygon")?;
-    Ok(Mesh { vertices, polygons })
+    Ok(Mesh::new(vertices, polygons))
 }
 
 fn read_binary_vertices(reader: &mut ByteReader, count: u16) -> Result<Vec<DVec3>> {
@@ -1161,7 +1161,7 @@ mod tests {
     fn binary_limits_are_named() {
         let mesh = Mesh {
             vertices: vec![DVec3::ZERO; 3],
-            polygons: vec![vec![0; 70_000]],
+            polygons: vec![vec![0; 70_000].into()],
         };
         let err = write_det_binary(&mesh).unwrap_err();
         assert!(err.to_string().contains("`nvtx`"), "{err}");

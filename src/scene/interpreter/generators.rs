@@ -305,7 +305,7 @@ impl Interpreter {
             ));
         };
         let o = &self.scene.objects[i];
-        let polys: Vec<Vec<u32>> = o.polygons.iter().map(|p| p.indices.clone()).collect();
+        let polys: Vec<Vec<u32>> = o.polygons.iter().map(|p| p.indices.to_vec()).collect();
         if o.surface_type.open || polys.is_empty() {
             return Err(Error::at(
                 loc.clone(),
