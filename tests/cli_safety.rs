@@ -586,7 +586,7 @@ fn unsupported_extension_is_refused() {
 #[test]
 fn stacked_transparent_squares_past_the_overdraw_budget_are_refused() {
     let mut scene = String::from(
-        "perspective 45 1 0.1 100\npushmatrix\nident\ntype polygon open\ntransmittance 0.9\n",
+        "perspective 45 1 0.1 100\npushmatrix\nident\ntype polygon open\ntransparency 0.9 0\n",
     );
     for _ in 0..60 {
         scene.push_str(
