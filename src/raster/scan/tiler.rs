@@ -189,6 +189,12 @@ impl Tiler {
     /// image's sides; parts outside become vertical at the side.
     fn clip_x(&mut self, x0: f64, x1: f64, d: f64) {
         let w = self.width as f64;
+        if (0.0..=w).contains(&x0) && (0.0..=w).contains(&x1) {
+            // No cut: the general path's one part, the same arithmetic.
+            let xb = x0 + (x1 - x0);
+            self.accumulate(x0, xb.clamp(0.0, w), d, true);
+            return;
+        }
         let mut cuts = [0.0; 4];
         let mut m = 1;
         for side in [0.0, w] {
@@ -342,7 +348,12 @@ impl Tiler {
             if s1 <= s0 {
                 continue;
             }
-            let (p0, p1) = (s0 / m, (s1 - 1) / m);
+            let (p0, p1) = if m.is_power_of_two() {
+                let shift = m.trailing_zeros();
+                (s0 >> shift, (s1 - 1) >> shift)
+            } else {
+                (s0 / m, (s1 - 1) / m)
+            };
             let from = self.partials.partition_point(|p| p.col < p0);
             for p in self.partials[from..].iter_mut().take_while(|p| p.col <= p1) {
                 let base = p.col * m;
