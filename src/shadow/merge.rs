@@ -12,6 +12,34 @@ use glam::DVec3;
 
 use crate::geometry::polygon::newell_vector;
 
+/// The most points a joined piece may have: joining is linear in the
+/// points of the two pieces, so without a bound a large flat region
+/// would be joined at a cost quadratic in its pieces.
+const MAX_JOINED: usize = 24;
+
+/// Directed edges by [`key`], to the piece each came from.
+type Edges = std::collections::HashMap<u64, u32, std::hash::BuildHasherDefault<KeyHasher>>;
+
+/// The hasher of keys that are hashes already.
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl std::hash::Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x517c_c1b7_2722_0a95);
+        }
+    }
+
+    fn write_u64(&mut self, k: u64) {
+        self.0 = k;
+    }
+}
+
 /// A directed edge by a hash of the bits of its end points; a match is
 /// confirmed point for point.
 fn key(a: DVec3, b: DVec3) -> u64 {
@@ -41,16 +69,18 @@ pub fn merge_adjacent(pieces: Vec<Vec<DVec3>>, normal: DVec3) -> Vec<Vec<DVec3>>
             if is_convex(p, normal * s) { s } else { 0.0 }
         })
         .collect();
-    // Every directed edge with the piece it came from, by key. A joined
+    // Every directed edge with the piece it came from, by key (the first
+    // piece, where two have the same edge the same way round). A joined
     // piece's edges are those of its parts, less the one they shared, so
-    // the list never changes: `owner` says which piece holds each part.
-    let mut edges: Vec<(u64, u32)> = pieces
-        .iter()
-        .enumerate()
-        .filter(|&(i, _)| side[i] != 0.0)
-        .flat_map(|(i, p)| ring(p).map(move |(a, b)| (key(a, b), i as u32)))
-        .collect();
-    edges.sort_unstable();
+    // the map never changes: `owner` says which piece holds each part.
+    let mut edges = Edges::with_capacity_and_hasher(pieces.len() * 4, Default::default());
+    for (i, p) in pieces.iter().enumerate() {
+        if side[i] != 0.0 {
+            for (a, b) in ring(p) {
+                edges.entry(key(a, b)).or_insert(i as u32);
+            }
+        }
+    }
     let mut owner: Vec<u32> = (0..pieces.len() as u32).collect();
     let mut alive: Vec<Option<Vec<DVec3>>> = pieces.into_iter().map(Some).collect();
     for i in 0..alive.len() {
@@ -76,7 +106,7 @@ fn holder(owner: &mut [u32], mut k: u32) -> u32 {
 /// The first piece that piece `i` can be joined with, and the union.
 fn partner(
     alive: &[Option<Vec<DVec3>>],
-    edges: &[(u64, u32)],
+    edges: &Edges,
     owner: &mut [u32],
     side: &[f64],
     i: usize,
@@ -87,13 +117,14 @@ fn partner(
         return None;
     }
     for (k, (a, b)) in ring(p).enumerate() {
-        let back = key(b, a);
-        let from = edges.partition_point(|e| e.0 < back);
-        for &(_, part) in edges[from..].iter().take_while(|e| e.0 == back) {
+        if let Some(&part) = edges.get(&key(b, a)) {
             let j = holder(owner, part) as usize;
             let Some(q) = alive[j].as_deref().filter(|_| j != i && side[j] == side[i]) else {
                 continue;
             };
+            if p.len() + q.len() - 2 > MAX_JOINED {
+                continue;
+            }
             let Some(m) = ring(q).position(|(c, d)| c == b && d == a) else {
                 continue;
             };
@@ -242,6 +273,26 @@ mod tests {
         let out = merge_adjacent(fan, DVec3::Z);
         assert_eq!(out.len(), 1, "{out:?}");
         assert!((area(&out[0]) - area(&h)).abs() < 1e-9);
+    }
+
+    /// A fan of a 60-gon is joined into pieces of at most
+    /// [`MAX_JOINED`] points, the area kept.
+    #[test]
+    fn joined_pieces_stay_small() {
+        let ring: Vec<DVec3> = (0..60)
+            .map(|k| {
+                let t = k as f64 * std::f64::consts::TAU / 60.0;
+                DVec3::new(t.cos(), t.sin(), 0.0)
+            })
+            .collect();
+        let fan: Vec<Vec<DVec3>> = (1..59)
+            .map(|k| vec![ring[0], ring[k], ring[k + 1]])
+            .collect();
+        let out = merge_adjacent(fan, DVec3::Z);
+        assert!((3..=10).contains(&out.len()), "{}", out.len());
+        assert!(out.iter().all(|p| p.len() <= MAX_JOINED));
+        let total: f64 = out.iter().map(|p| area(p)).sum();
+        assert!((total - area(&ring)).abs() < 1e-12);
     }
 
     fn inside_any(pieces: &[Vec<DVec3>], s: DVec2) -> bool {
