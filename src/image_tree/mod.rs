@@ -51,7 +51,7 @@ use crate::profile::{Category, Profile};
 use crate::shading::{FacetTerms, Materials, ShadingModel};
 pub use crate::shadow::CasterReuse;
 pub use crate::shadow::overlap::{ShadowRegion, intersect_in_plane, overlap_regions};
-use crate::visibility::occlusion::CoverMask;
+use crate::visibility::occlusion::{self, CoverMask};
 use crate::visibility::{depth_sort, nns};
 pub use fragments::Fragments;
 use rayon::prelude::*;
@@ -870,9 +870,16 @@ impl<'a> Builder<'a> {
     /// The level-1 `sorted` polygons (back to front) less those hidden at
     /// every sample (`n x n` per pixel) under opaque ones later in the
     /// order; counts them in [`VirtualImageTree::hidden`].
+    ///
+    /// A picture whose mask would pass [`occlusion::MAX_BYTES`] keeps
+    /// them all.
     fn visible(&mut self, sorted: Vec<Candidate>, n: u32) -> Vec<Candidate> {
         let view = self.view;
-        let mut mask = CoverMask::new(view.width as u32, view.height as u32, n);
+        let (w, h) = (view.width as u32, view.height as u32);
+        if CoverMask::bytes(w, h, n) > occlusion::MAX_BYTES {
+            return sorted;
+        }
+        let mut mask = CoverMask::new(w, h, n);
         let mut keep = vec![true; sorted.len()];
         for (k, c) in sorted.iter().enumerate().rev() {
             let screen: Vec<DVec2> = c

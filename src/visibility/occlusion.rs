@@ -34,7 +34,18 @@ pub struct CoverMask {
     bits: Vec<u64>,
 }
 
+/// The largest mask made ([`CoverMask::bytes`]): 16384 x 16384 pixels
+/// with 4 x 4 samples would take 512 MiB, more than the whole render.
+pub const MAX_BYTES: u64 = 64 << 20;
+
 impl CoverMask {
+    /// The bytes of a mask for `width x height` pixels of `n x n`
+    /// samples.
+    pub fn bytes(width: u32, height: u32, n: u32) -> u64 {
+        let words = (u64::from(width) * u64::from(n)).div_ceil(64);
+        words * 8 * u64::from(height) * u64::from(n)
+    }
+
     /// An image with nothing covered.
     pub fn new(width: u32, height: u32, n: u32) -> CoverMask {
         let (columns, rows) = (width * n, height * n);
@@ -231,6 +242,15 @@ mod tests {
             assert!(!mask.hides(&square(-5.0, 3.0, 13.0, 13.0)));
             assert!(!mask.hides(&square(3.0, 3.0, 13.0, 50.0)));
         }
+    }
+
+    #[test]
+    fn the_mask_of_a_big_picture_is_too_big() {
+        assert_eq!(CoverMask::bytes(512, 512, 4), 512 * 512 * 2);
+        assert_eq!(CoverMask::bytes(65, 1, 1), 16);
+        assert!(CoverMask::bytes(4096, 4096, 4) <= MAX_BYTES);
+        assert!(CoverMask::bytes(16384, 16384, 4) > MAX_BYTES);
+        assert!(CoverMask::bytes(u32::MAX, u32::MAX, 16) > MAX_BYTES);
     }
 
     /// A sample line the polygon only touches within the margin counts
