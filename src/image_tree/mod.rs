@@ -880,25 +880,22 @@ impl<'a> Builder<'a> {
             return sorted;
         }
         let mut mask = CoverMask::new(w, h, n);
-        let mut keep = vec![true; sorted.len()];
-        for (k, c) in sorted.iter().enumerate().rev() {
-            let screen: Vec<DVec2> = c
-                .points
-                .iter()
-                .map(|p| view.project(*p).truncate())
-                .collect();
+        let mut screen: Vec<DVec2> = Vec::new();
+        let mut kept: Vec<Candidate> = Vec::with_capacity(sorted.len());
+        for c in sorted.into_iter().rev() {
+            screen.clear();
+            screen.extend(c.points.iter().map(|p| view.project(*p).truncate()));
             if mask.hides(&screen) {
-                keep[k] = false;
-            } else if !self.materials.is_transparent(c.object) {
+                self.tree.hidden += 1;
+                continue;
+            }
+            if !self.materials.is_transparent(c.object) {
                 mask.cover(&screen);
             }
+            kept.push(c);
         }
-        self.tree.hidden = keep.iter().filter(|k| !**k).count();
-        sorted
-            .into_iter()
-            .zip(keep)
-            .filter_map(|(c, k)| k.then_some(c))
-            .collect()
+        kept.reverse();
+        kept
     }
 
     /// Whether the tree has reached its node budget.
