@@ -2,6 +2,7 @@
 //! bounding-box tests against the view volume, back-face removal, clipping
 //! in homogeneous coordinates, perspective division and viewport mapping.
 
+pub mod boolean;
 pub mod bvh;
 pub mod clip;
 pub mod face_splitter;

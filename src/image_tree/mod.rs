@@ -50,7 +50,7 @@ use crate::model::{Color, SortOrder};
 use crate::profile::{Category, Profile};
 use crate::shading::{FacetTerms, Materials, ShadingModel};
 pub use crate::shadow::CasterReuse;
-pub use crate::shadow::overlap::{ShadowRegion, intersect_in_plane, overlap_regions};
+pub use crate::shadow::overlap::{ShadowRegion, overlap_regions};
 use crate::visibility::occlusion::{self, CoverMask};
 use crate::visibility::{depth_sort, nns};
 pub use fragments::Fragments;
@@ -1274,8 +1274,7 @@ impl ShadowCaster<'_> {
             }
         }
         let rest = per_light.split_off(per_light.len().min(MAX_COMBINED_LIGHTS));
-        let mut regions =
-            overlap_regions(per_light, plane.truncate(), self.eps, MAX_OVERLAP_PIECES);
+        let mut regions = overlap_regions(per_light, plane, self.eps, MAX_OVERLAP_PIECES);
         for (j, pieces) in rest {
             regions.extend(pieces.into_iter().map(|p| (p, vec![j])));
         }

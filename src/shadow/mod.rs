@@ -25,8 +25,8 @@
 //! mirrors or split by the sort share one casting, and an animation whose
 //! world does not change between frames ([`CasterReuse`]) keeps them all.
 
-pub mod merge;
 pub mod overlap;
+pub mod union;
 
 use std::collections::HashMap;
 use std::hash::{BuildHasher, Hash, Hasher};
@@ -715,12 +715,12 @@ impl Casting<'_> {
         match whole {
             OnPolygon::Cast(pieces) => {
                 for piece in pieces {
-                    self.clip_piece(&piece, t, identity, s, &mut out);
+                    self.clip_piece(&piece, target, t, identity, s, &mut out);
                 }
             }
             OnPolygon::Kept(kept) => {
                 for piece in kept.pieces() {
-                    self.clip_piece(piece, t, identity, s, &mut out);
+                    self.clip_piece(piece, target, t, identity, s, &mut out);
                 }
             }
         }
@@ -741,6 +741,7 @@ impl Casting<'_> {
     fn clip_piece(
         &self,
         piece: &[DVec3],
+        target: &Target,
         t: &Matrix4,
         identity: bool,
         s: &mut Scratch,
@@ -765,7 +766,15 @@ impl Casting<'_> {
                     push_kept(out, piece, eps);
                 }
             }
-            Ok(Clipped::Empty) | Err(_) => {}
+            Ok(Clipped::Empty) => {}
+            // A piece the splitter cannot cut (a union touching itself at
+            // a point): the same region by the boolean engine, since the
+            // side planes meet the target's plane in its outline.
+            Err(_) => {
+                for piece in union::intersection(&s.points, target.points, target.plane) {
+                    push_kept(out, &piece, eps);
+                }
+            }
         }
     }
 
@@ -805,8 +814,7 @@ impl Casting<'_> {
                 t: &Matrix4::IDENTITY,
                 convex: polygon::is_convex(&whole),
             };
-            let pieces =
-                merge::merge_adjacent(self.cast(&target, j, light, s), target.plane.truncate());
+            let pieces = union::union(self.cast(&target, j, light, s), target.plane);
             s.whole = whole;
             pieces
         };

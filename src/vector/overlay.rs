@@ -8,14 +8,17 @@
 //! shadowed `I_S`. To paint the same, every faceted child is followed by
 //! its intersection with each shadow polygon of each of its ancestors,
 //! in the shade `I_S + (I_C - I_P)` (a shadow on the child likewise, from
-//! the ancestors above the child). Shadow polygons and tree pieces are
-//! convex (clipped convex polygons), so the intersection is
-//! Sutherland-Hodgman clipping of the child by the shadow's edges.
+//! the ancestors above the child). Tree pieces are convex (clipped convex
+//! polygons), and so are most shadow polygons: the intersection is then
+//! Sutherland-Hodgman clipping of the child by the shadow's edges. A
+//! shadow that is the union of several pieces may not be convex; it is
+//! clipped by the boolean engine.
 //! The price is size: office1.des gets 245,000 patches over its 39,727
 //! records (SVG 16.5 MB instead of 2.2 MB); pieces under 0.1 pixel and
 //! shadows within a level of their target are left out.
 
 use super::VectorInput;
+use crate::geometry::boolean;
 use crate::tree::{Record, Shades};
 
 /// The stream's records with the shadow patches inserted after each
@@ -76,16 +79,17 @@ pub fn with_shadow_patches(input: &VectorInput) -> std::borrow::Cow<'_, [Record]
                 if !darker || !meets(k, s) {
                     continue;
                 }
-                let piece = clip_convex(&c.points, &records[s].points);
-                if piece.len() >= 3 && area(&piece).abs() * pixel_area >= 2.0 * MIN_PIXELS {
-                    let shade = std::array::from_fn(|ch| {
-                        (shadow[ch] as i32 + own[ch] as i32 - parent[ch] as i32).clamp(0, 255) as u8
-                    });
-                    out.push(Record {
-                        level: c.level,
-                        points: piece,
-                        shades: Shades::Faceted(shade),
-                    });
+                let shade = std::array::from_fn(|ch| {
+                    (shadow[ch] as i32 + own[ch] as i32 - parent[ch] as i32).clamp(0, 255) as u8
+                });
+                for piece in clip(&c.points, &records[s].points) {
+                    if piece.len() >= 3 && area(&piece).abs() * pixel_area >= 2.0 * MIN_PIXELS {
+                        out.push(Record {
+                            level: c.level,
+                            points: piece,
+                            shades: Shades::Faceted(shade),
+                        });
+                    }
                 }
             }
             a = input.parents[p];
@@ -171,6 +175,37 @@ fn area(p: &[[f32; 2]]) -> f64 {
             a[0] as f64 * b[1] as f64 - b[0] as f64 * a[1] as f64
         })
         .sum()
+}
+
+/// `subject` (convex) clipped to the polygon `clip`: by Sutherland-Hodgman
+/// when `clip` is convex, by the boolean engine when it is not (the
+/// union of a light's shadow pieces on a polygon).
+fn clip(subject: &[[f32; 2]], clip: &[[f32; 2]]) -> Vec<Vec<[f32; 2]>> {
+    if is_convex(clip) {
+        return vec![clip_convex(subject, clip)];
+    }
+    let flat = |p: &[[f32; 2]]| {
+        boolean::counter_clockwise(p.iter().map(|q| [q[0] as f64, q[1] as f64]).collect())
+    };
+    boolean::without_holes(boolean::intersection(&[flat(subject)], &[flat(clip)]))
+        .unwrap_or_default()
+        .into_iter()
+        .map(|r| r.into_iter().map(|q| [q[0] as f32, q[1] as f32]).collect())
+        .collect()
+}
+
+/// Whether a ring never turns both ways.
+fn is_convex(p: &[[f32; 2]]) -> bool {
+    let n = p.len();
+    let (mut left, mut right) = (false, false);
+    for i in 0..n {
+        let (a, b, c) = (p[i], p[(i + 1) % n], p[(i + 2) % n]);
+        let turn = (b[0] as f64 - a[0] as f64) * (c[1] as f64 - b[1] as f64)
+            - (b[1] as f64 - a[1] as f64) * (c[0] as f64 - b[0] as f64);
+        left |= turn > 0.0;
+        right |= turn < 0.0;
+    }
+    !(left && right)
 }
 
 /// `subject` clipped to the convex polygon `clip` (Sutherland-Hodgman).
