@@ -11,7 +11,8 @@
 //! its normal shows best ([`PlaneFrame`]), by [`boolean`], and comes back
 //! as simple polygons without holes. A union that would have more than
 //! [`MAX_GROWTH`] times the points of its pieces (a pathological overlay),
-//! or that keeps a degenerate hole, is not used: the pieces are kept.
+//! or that keeps a degenerate hole, is not used: the pieces are kept (as
+//! flattened and lifted back into the plane).
 
 use glam::{DVec3, DVec4};
 
@@ -81,16 +82,22 @@ pub fn union(pieces: Vec<Vec<DVec3>>, plane: DVec4) -> Vec<Vec<DVec3>> {
         return pieces;
     }
     let frame = PlaneFrame::new(plane);
-    let rings: Vec<Vec<Flat>> = pieces.iter().map(|p| frame.counter_clockwise(p)).collect();
-    let Some(rings) = boolean::without_holes(boolean::union(&rings)) else {
-        return pieces;
-    };
-    let before: usize = pieces.iter().map(Vec::len).sum();
-    let after: usize = rings.iter().map(Vec::len).sum();
-    if after > MAX_GROWTH * before {
-        return pieces;
+    // Each piece is freed as it is flattened: a ten-million-triangle
+    // mesh casts five million pieces on its floor.
+    let flat: Vec<Vec<Flat>> = pieces
+        .into_iter()
+        .map(|p| frame.counter_clockwise(&p))
+        .collect();
+    let lifted = |rings: Vec<Vec<Flat>>| rings.into_iter().map(|r| frame.lift_ring(r)).collect();
+    match boolean::without_holes(boolean::union(&flat)) {
+        Some(rings)
+            if rings.iter().map(Vec::len).sum::<usize>()
+                <= MAX_GROWTH * flat.iter().map(Vec::len).sum::<usize>() =>
+        {
+            lifted(rings)
+        }
+        _ => lifted(flat),
     }
-    rings.into_iter().map(|r| frame.lift_ring(r)).collect()
 }
 
 /// The intersection of `a` and `b`, simple polygons in the plane

@@ -243,13 +243,7 @@ pub fn user_points(r: &Record, w: f64, h: f64) -> Vec<Pt> {
 
 /// Twice the signed area of a closed polygon.
 pub fn signed_area(p: &[Pt]) -> f64 {
-    let n = p.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (p[i], p[(i + 1) % n]);
-            a[0] * b[1] - b[0] * a[1]
-        })
-        .sum()
+    crate::geometry::boolean::twice_area(p)
 }
 
 /// The record's colour per vertex and its opacity for painting over what
