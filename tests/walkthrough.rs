@@ -119,3 +119,36 @@ fn a_walk_through_the_gallery_equals_cold_renders() {
     assert_eq!(host.frames, 6);
     assert_eq!(host.reuse.worlds(), 4);
 }
+
+/// An open square between two lights, a cube over it and a cube under
+/// it: seen from above it shows the upper cube's shadow, from below the
+/// lower's. The shadows kept on the whole square for one side must not
+/// be shown on the other: the camera orbits across its plane.
+#[test]
+fn a_walk_across_an_open_square_equals_cold_renders() {
+    let mut des = String::from(
+        "ident\nperspective 50 1.0 0.01 1000.0\npushmatrix\nident\npolarview 8 20 30 0\n\
+         light 0.3 0.2 4 1 1 1 100 Point\nlight -0.2 0.3 -4 1 1 1 100 Point\n\
+         defobj square\n type polygon open\n scale 2 2 1\nendobj\n\
+         defobj cube\n translate 0.2 0 1\n scale 0.3 0.3 0.3\nendobj\n\
+         defobj cube\n translate -0.3 0.2 -1\n scale 0.3 0.3 0.3\nendobj\npopmatrix\n",
+    );
+    // About the point the eye looks at: 0 to 60 degrees above the
+    // square's plane, then 100 to 180 below it.
+    for turn in [0, 20, 40, 60, 100, 130, 150, 180] {
+        des.push_str(&format!(
+            "ident\nperspective 50 1.0 0.01 1000.0\ntranslate 0 0 -8\nrotate {turn} x\n\
+             translate 0 0 8\nrun y\n"
+        ));
+    }
+    let mut host = Walk {
+        size: 64,
+        ..Walk::default()
+    };
+    let file = support::scene_fixture("mirror.des");
+    let dir = file.parent().expect("the scenes' folder");
+    Interpreter::new()
+        .execute_source(&des, Path::new("square.des"), dir, &mut host)
+        .expect("the walk renders");
+    assert_eq!(host.frames, 8);
+}

@@ -1263,22 +1263,24 @@ impl ShadowCaster<'_> {
             profile: self.profile,
             eps: self.eps,
         };
-        let mut per_light = Vec::new();
-        for (j, light) in self.materials.lights.iter().enumerate() {
-            if light.kind != crate::model::LightKind::Point {
-                continue;
+        casting.whole_regions(&target, || {
+            let mut per_light = Vec::new();
+            for (j, light) in self.materials.lights.iter().enumerate() {
+                if light.kind != crate::model::LightKind::Point {
+                    continue;
+                }
+                let pieces = casting.pieces(&target, j, light.position, scratch);
+                if !pieces.is_empty() {
+                    per_light.push((j as u32, pieces));
+                }
             }
-            let pieces = casting.pieces(&target, j, light.position, scratch);
-            if !pieces.is_empty() {
-                per_light.push((j as u32, pieces));
+            let rest = per_light.split_off(per_light.len().min(MAX_COMBINED_LIGHTS));
+            let mut regions = overlap_regions(per_light, plane, self.eps, MAX_OVERLAP_PIECES);
+            for (j, pieces) in rest {
+                regions.extend(pieces.into_iter().map(|p| (p, vec![j])));
             }
-        }
-        let rest = per_light.split_off(per_light.len().min(MAX_COMBINED_LIGHTS));
-        let mut regions = overlap_regions(per_light, plane, self.eps, MAX_OVERLAP_PIECES);
-        for (j, pieces) in rest {
-            regions.extend(pieces.into_iter().map(|p| (p, vec![j])));
-        }
-        regions
+            regions
+        })
     }
 }
 

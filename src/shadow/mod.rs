@@ -40,6 +40,7 @@ use crate::geometry::polygon;
 use crate::math::Matrix4;
 use crate::model::{LightKind, Object};
 use crate::profile::{Category, Profile};
+use overlap::ShadowRegion;
 
 /// A polygon that may cast a shadow, in world coordinates; identical
 /// polygons (the same vertices from the same start, the same `type open`)
@@ -181,7 +182,10 @@ pub struct CasterIndex {
     /// The bound: [`MAX_LIGHT_ITEMS`].
     max_light_items: usize,
     /// The shadows on whole polygons, in world coordinates.
-    world: PieceCache,
+    world: PieceCache<WholePieces>,
+    /// The overlap regions of all lights on whole polygons seen directly,
+    /// by the side they are seen from.
+    regions: PieceCache<Arc<[ShadowRegion]>>,
 }
 
 impl CasterIndex {
@@ -241,6 +245,7 @@ impl CasterIndex {
             shared: OnceLock::new(),
             max_light_items: MAX_LIGHT_ITEMS,
             world: PieceCache::default(),
+            regions: PieceCache::default(),
         }
     }
 
@@ -433,21 +438,29 @@ impl LightTree {
 /// nothing, those seen again (split by the sort, seen in a mirror, or in
 /// the next frame of an animation) are cast at most twice. Kept up to
 /// [`MAX_KEPT_BYTES`]; past it they are cast again when asked, the same.
-#[derive(Default)]
-struct PieceCache {
-    shards: [Mutex<HashMap<PieceKey, Kept>>; SHARDS],
+struct PieceCache<V> {
+    shards: [Mutex<HashMap<PieceKey, Kept<V>>>; SHARDS],
     bytes: AtomicUsize,
+}
+
+impl<V> Default for PieceCache<V> {
+    fn default() -> Self {
+        PieceCache {
+            shards: std::array::from_fn(|_| Mutex::default()),
+            bytes: AtomicUsize::new(0),
+        }
+    }
 }
 
 /// Object, polygon, light.
 type PieceKey = (u32, u32, u32);
 
 /// A polygon's shadows as the cache holds them.
-enum Kept {
+enum Kept<V> {
     /// Asked for once, not kept.
     Seen,
     /// Kept.
-    Shadows(WholePieces),
+    Shadows(V),
 }
 
 /// The shadows on a whole polygon (world coordinates); `None`: none.
@@ -505,17 +518,17 @@ const SHARDS: usize = 16;
 const MAX_KEPT_BYTES: usize = 64 << 20;
 
 /// What the cache says of a polygon asked for.
-enum Found {
+enum Found<V> {
     /// Its kept shadows.
-    Kept(WholePieces),
+    Kept(V),
     /// Asked for before: keep them this time.
     Again,
     /// Never asked for.
     First,
 }
 
-impl PieceCache {
-    fn shard(&self, key: PieceKey) -> std::sync::MutexGuard<'_, HashMap<PieceKey, Kept>> {
+impl<V: Clone> PieceCache<V> {
+    fn shard(&self, key: PieceKey) -> std::sync::MutexGuard<'_, HashMap<PieceKey, Kept<V>>> {
         let (o, p, j) = key;
         let h = (o as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ (p as u64) ^ ((j as u64) << 40);
         let shard = &self.shards[(h.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 60) as usize % SHARDS];
@@ -523,7 +536,7 @@ impl PieceCache {
     }
 
     /// What is known of `key`; a first request is noted.
-    fn get(&self, key: PieceKey) -> Found {
+    fn get(&self, key: PieceKey) -> Found<V> {
         let mut shard = self.shard(key);
         match shard.get(&key) {
             Some(Kept::Shadows(s)) => Found::Kept(s.clone()),
@@ -539,9 +552,9 @@ impl PieceCache {
         }
     }
 
-    /// Keeps the shadows of `key`, within the memory bound.
-    fn put(&self, key: PieceKey, pieces: &WholePieces) {
-        let size = pieces.as_ref().map_or(0, |p| p.bytes());
+    /// Keeps the shadows of `key` (`size` bytes), within the memory
+    /// bound.
+    fn put(&self, key: PieceKey, pieces: &V, size: usize) {
         if self.bytes.fetch_add(size, Ordering::Relaxed) + size > MAX_KEPT_BYTES {
             self.bytes.fetch_sub(size, Ordering::Relaxed);
             return;
@@ -727,6 +740,42 @@ impl Casting<'_> {
         out
     }
 
+    /// The shadow regions of every light on `target` (see
+    /// [`overlap::overlap_regions`]) as `compute` makes them, kept the
+    /// second time they are asked for when the target is its whole
+    /// polygon seen directly: they then depend only on the polygon, the
+    /// side it is seen from and the world, so the frames of a walk through
+    /// an unchanged world make them once.
+    pub fn whole_regions(
+        &self,
+        target: &Target,
+        compute: impl FnOnce() -> Vec<ShadowRegion>,
+    ) -> Vec<ShadowRegion> {
+        if *target.t != Matrix4::IDENTITY || !self.is_whole(target) {
+            return compute();
+        }
+        let own = self.objects[target.object as usize].polygons[target.polygon as usize].plane;
+        let front = own.truncate().dot(target.plane.truncate()) > 0.0;
+        let key = (target.object, target.polygon, u32::from(front));
+        let again = match self.index.regions.get(key) {
+            Found::Kept(kept) => return kept.to_vec(),
+            Found::Again => true,
+            Found::First => false,
+        };
+        let regions = compute();
+        if again {
+            let size = 64
+                + regions
+                    .iter()
+                    .map(|(p, l)| 48 + p.len() * 24 + l.len() * 4)
+                    .sum::<usize>();
+            self.index
+                .regions
+                .put(key, &Arc::from(regions.as_slice()), size);
+        }
+        regions
+    }
+
     /// Whether `target` has its polygon's points (world coordinates), in
     /// order.
     fn is_whole(&self, target: &Target) -> bool {
@@ -822,7 +871,8 @@ impl Casting<'_> {
             return (!pieces.is_empty()).then_some(OnPolygon::Cast(pieces));
         }
         let kept = (!pieces.is_empty()).then(|| Arc::new(WholeShadows::new(&pieces)));
-        self.index.world.put(key, &kept);
+        let size = kept.as_ref().map_or(0, |p| p.bytes());
+        self.index.world.put(key, &kept, size);
         kept.map(OnPolygon::Kept)
     }
 
