@@ -403,6 +403,24 @@ pub fn refraction(plane: DVec4, view: DVec3, eta: f64) -> Option<Matrix4> {
     Some(m)
 }
 
+/// Calls `f(word, mask)` for each 64-bit word of a bit set that holds bits
+/// `i0..i1`, with the mask of those bits in it: the one walk of the
+/// scan converter's sample masks and the hidden-polygon cull's.
+pub fn for_bit_words(i0: u32, i1: u32, mut f: impl FnMut(usize, u64)) {
+    let mut i = i0;
+    while i < i1 {
+        let (w, b) = ((i / 64) as usize, i % 64);
+        let n = (i1 - i).min(64 - b);
+        let m = if n == 64 {
+            u64::MAX
+        } else {
+            ((1u64 << n) - 1) << b
+        };
+        f(w, m);
+        i += n;
+    }
+}
+
 /// The box around `points`: its lowest and highest corners (infinite and
 /// inverted when there are none).
 pub fn bounds(points: impl IntoIterator<Item = DVec3>) -> (DVec3, DVec3) {

@@ -71,7 +71,7 @@ impl CoverMask {
                 && let Some((c0, c1)) = self.sample_columns(xl + MARGIN, xr - MARGIN)
             {
                 let line = &mut self.bits[row as usize * self.words..][..self.words];
-                for_words(c0, c1, |w, m| line[w] |= m);
+                crate::math::for_bit_words(c0, c1, |w, m| line[w] |= m);
             }
         }
     }
@@ -90,7 +90,7 @@ impl CoverMask {
             };
             let line = &self.bits[row as usize * self.words..][..self.words];
             let mut all = true;
-            for_words(c0, c1, |w, m| all &= line[w] & m == m);
+            crate::math::for_bit_words(c0, c1, |w, m| all &= line[w] & m == m);
             all
         })
     }
@@ -125,22 +125,6 @@ impl CoverMask {
         let k0 = (lo * self.n - 0.5).ceil().max(0.0);
         let k1 = ((hi * self.n - 0.5).floor() + 1.0).min(count as f64);
         (k1 > k0).then_some((k0 as u32, k1 as u32))
-    }
-}
-
-/// Calls `f(word, mask)` for the 64-bit words covering bits `[i0, i1)`.
-fn for_words(i0: u32, i1: u32, mut f: impl FnMut(usize, u64)) {
-    let mut i = i0;
-    while i < i1 {
-        let (w, b) = ((i / 64) as usize, i % 64);
-        let n = (i1 - i).min(64 - b);
-        let m = if n == 64 {
-            u64::MAX
-        } else {
-            ((1u64 << n) - 1) << b
-        };
-        f(w, m);
-        i += n;
     }
 }
 

@@ -20,18 +20,7 @@ impl SampleMask {
 
     /// Sets bits `lo..hi`.
     pub fn set_range(&mut self, lo: u32, hi: u32) {
-        let mut b = lo;
-        while b < hi {
-            let (w, s) = ((b / 64) as usize, b % 64);
-            let take = (hi - b).min(64 - s);
-            let bits = if take == 64 {
-                u64::MAX
-            } else {
-                ((1u64 << take) - 1) << s
-            };
-            self.0[w] |= bits;
-            b += take;
-        }
+        crate::math::for_bit_words(lo, hi, |w, bits| self.0[w] |= bits);
     }
 
     /// Bits in `self` and not in `other`.
