@@ -186,6 +186,10 @@ pub struct CasterIndex {
     /// The overlap regions of all lights on whole polygons seen directly,
     /// by the side they are seen from.
     regions: PieceCache<Arc<[ShadowRegion]>>,
+    /// Whether shadows are kept the first time they are asked for, not
+    /// the second: an index kept for the next frames of an animation
+    /// (every polygon a moving camera uncovers would else be cast twice).
+    keep_first: bool,
 }
 
 impl CasterIndex {
@@ -246,6 +250,7 @@ impl CasterIndex {
             max_light_items: MAX_LIGHT_ITEMS,
             world: PieceCache::default(),
             regions: PieceCache::default(),
+            keep_first: false,
         }
     }
 
@@ -605,7 +610,10 @@ impl CasterReuse {
         if seen && let Some((_, Some(index))) = kept.as_ref() {
             return index.clone();
         }
-        let index = Arc::new(CasterIndex::new(objects, lights.len()));
+        let index = Arc::new(CasterIndex {
+            keep_first: seen,
+            ..CasterIndex::new(objects, lights.len())
+        });
         *kept = key.map(|key| (key, seen.then(|| index.clone())));
         self.built.fetch_add(1, Ordering::Relaxed);
         index
@@ -760,7 +768,7 @@ impl Casting<'_> {
         let again = match self.index.regions.get(key) {
             Found::Kept(kept) => return kept.to_vec(),
             Found::Again => true,
-            Found::First => false,
+            Found::First => self.index.keep_first,
         };
         let regions = compute();
         if again {
@@ -844,7 +852,7 @@ impl Casting<'_> {
         let again = match self.index.world.get(key) {
             Found::Kept(kept) => return kept.map(OnPolygon::Kept),
             Found::Again => true,
-            Found::First => false,
+            Found::First => self.index.keep_first,
         };
         let o = &self.objects[object as usize];
         let p = &o.polygons[polygon as usize];
