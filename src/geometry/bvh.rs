@@ -253,14 +253,8 @@ impl WorldPolygons {
                     .map(|&i| object.vertices[i as usize])
                     .collect();
                 let (lo, hi) = bounds(&points);
-                let a = p.normal().abs();
-                let axes = if a.x >= a.y && a.x >= a.z {
-                    (1, 2)
-                } else if a.y >= a.z {
-                    (2, 0)
-                } else {
-                    (0, 1)
-                };
+                let [u, v, _] = super::polygon::projection_axes(p.normal());
+                let axes = (u, v);
                 let material = object.material(pi);
                 polygons.push(WorldPolygon {
                     object: oi as u32,

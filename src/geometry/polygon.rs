@@ -11,6 +11,21 @@ use glam::{DVec3, DVec4};
 
 use crate::precision;
 
+/// The axes of the projection that shows a plane with normal `normal`
+/// best: `[u, v, w]`, `w` the normal's largest component (dropped) and
+/// `u, v` the other two in cyclic order, so that counter-clockwise in
+/// `(u, v)` is counter-clockwise about `+w`.
+pub fn projection_axes(normal: DVec3) -> [usize; 3] {
+    let a = normal.abs();
+    if a.x >= a.y && a.x >= a.z {
+        [1, 2, 0]
+    } else if a.y >= a.z {
+        [2, 0, 1]
+    } else {
+        [0, 1, 2]
+    }
+}
+
 /// Newell's area vector of the loop `points` in the given order: its length
 /// is twice the area, its direction follows the right-hand rule (points
 /// counter-clockwise around it). Exact for planar polygons, a best fit for

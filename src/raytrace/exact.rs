@@ -506,14 +506,7 @@ pub fn snell_crossing(eye: DVec3, p: DVec3, plane: DVec4, eta: f64) -> Option<DV
 /// `normal`) is inside it: even-odd, in the projection that drops the
 /// normal's largest axis.
 fn inside_outline(outline: &[DVec3], normal: DVec3, c: DVec3) -> bool {
-    let a = normal.abs();
-    let (u, v) = if a.x >= a.y && a.x >= a.z {
-        (1, 2)
-    } else if a.y >= a.z {
-        (2, 0)
-    } else {
-        (0, 1)
-    };
+    let [u, v, _] = crate::geometry::polygon::projection_axes(normal);
     let g = |q: DVec3| (q.to_array()[u], q.to_array()[v]);
     let (px, py) = g(c);
     let mut odd = false;

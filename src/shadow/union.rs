@@ -33,14 +33,7 @@ pub struct PlaneFrame {
 impl PlaneFrame {
     /// The frame of `plane` (`A x + B y + C z + D = 0`, normal not zero).
     pub fn new(plane: DVec4) -> PlaneFrame {
-        let a = plane.truncate().abs();
-        let axes = if a.x >= a.y && a.x >= a.z {
-            [1, 2, 0]
-        } else if a.y >= a.z {
-            [2, 0, 1]
-        } else {
-            [0, 1, 2]
-        };
+        let axes = crate::geometry::polygon::projection_axes(plane.truncate());
         PlaneFrame { plane, axes }
     }
 
