@@ -49,9 +49,12 @@ pub fn overlap_regions(
         .collect();
     // The light sets to intersect next: their region (outlines and holes,
     // as the engine gives them), lights, and the index of the last light.
+    // A set ending with the last light has none left to meet.
+    let deeper = |k: usize| k + 1 < lights.len();
     let mut layer: Vec<(Vec<Vec<Flat>>, Vec<u32>, usize)> = flat
         .iter()
         .enumerate()
+        .filter(|&(k, _)| deeper(k))
         .map(|(k, c)| (c.clone(), vec![lights[k]], k))
         .collect();
     let mut made = 0;
@@ -65,17 +68,24 @@ pub fn overlap_regions(
                 }
                 let mut set = set.clone();
                 set.push(lights[k]);
+                let (rings, region) = if deeper(k) {
+                    let region = shapes.iter().flatten().cloned().collect();
+                    (boolean::without_holes(shapes), Some(region))
+                } else {
+                    (boolean::without_holes(shapes), None)
+                };
                 // A region left with a degenerate hole is left out: too
                 // bright there, never too dark.
-                let rings = boolean::without_holes(shapes.clone()).unwrap_or_default();
-                for r in rings {
+                for r in rings.unwrap_or_default() {
                     let points = frame.lift_ring(r);
                     if made < cap && worth_keeping(&points, eps) {
                         made += 1;
                         out.push((points, set.clone()));
                     }
                 }
-                next.push((shapes.into_iter().flatten().collect(), set, k));
+                if let Some(region) = region {
+                    next.push((region, set, k));
+                }
             }
         }
         layer = next;
