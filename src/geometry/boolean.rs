@@ -69,10 +69,12 @@ pub fn intersection(a: &[Vec<Flat>], b: &[Vec<Flat>]) -> Shapes {
     a.overlay_as::<i64>(&b, OverlayRule::Intersect, FillRule::NonZero)
 }
 
-/// Whether a counter-clockwise ring never turns right.
-fn is_convex(ring: &[Flat]) -> bool {
+/// Whether a ring of at least three points never turns both ways (a
+/// convex ring, either way round).
+pub fn is_convex(ring: &[Flat]) -> bool {
     let n = ring.len();
-    n >= 3 && (0..n).all(|k| cross(ring[k], ring[(k + 1) % n], ring[(k + 2) % n]) >= 0.0)
+    let turns = || (0..n).map(|k| cross(ring[k], ring[(k + 1) % n], ring[(k + 2) % n]));
+    n >= 3 && (turns().all(|t| t >= 0.0) || turns().all(|t| t <= 0.0))
 }
 
 /// `(b - a) x (c - a)`: positive when `c` is left of the line `a b`.

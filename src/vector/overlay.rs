@@ -181,31 +181,18 @@ fn area(p: &[[f32; 2]]) -> f64 {
 /// when `clip` is convex, by the boolean engine when it is not (the
 /// union of a light's shadow pieces on a polygon).
 fn clip(subject: &[[f32; 2]], clip: &[[f32; 2]]) -> Vec<Vec<[f32; 2]>> {
-    if is_convex(clip) {
-        return vec![clip_convex(subject, clip)];
-    }
     let flat = |p: &[[f32; 2]]| {
         boolean::counter_clockwise(p.iter().map(|q| [q[0] as f64, q[1] as f64]).collect())
     };
-    boolean::without_holes(boolean::intersection(&[flat(subject)], &[flat(clip)]))
+    let clip_flat = flat(clip);
+    if boolean::is_convex(&clip_flat) {
+        return vec![clip_convex(subject, clip)];
+    }
+    boolean::without_holes(boolean::intersection(&[flat(subject)], &[clip_flat]))
         .unwrap_or_default()
         .into_iter()
         .map(|r| r.into_iter().map(|q| [q[0] as f32, q[1] as f32]).collect())
         .collect()
-}
-
-/// Whether a ring never turns both ways.
-fn is_convex(p: &[[f32; 2]]) -> bool {
-    let n = p.len();
-    let (mut left, mut right) = (false, false);
-    for i in 0..n {
-        let (a, b, c) = (p[i], p[(i + 1) % n], p[(i + 2) % n]);
-        let turn = (b[0] as f64 - a[0] as f64) * (c[1] as f64 - b[1] as f64)
-            - (b[1] as f64 - a[1] as f64) * (c[0] as f64 - b[0] as f64);
-        left |= turn > 0.0;
-        right |= turn < 0.0;
-    }
-    !(left && right)
 }
 
 /// `subject` clipped to the convex polygon `clip` (Sutherland-Hodgman).
