@@ -55,9 +55,10 @@ pub fn union(rings: &[Vec<Flat>]) -> Shapes {
 /// without the engine: most shadows of two lights on a polygon are one
 /// convex outline each.
 pub fn intersection(a: &[Vec<Flat>], b: &[Vec<Flat>]) -> Shapes {
+    let convex_ccw = |r: &[Flat]| r.len() >= 3 && turns(r).all(|t| t >= 0.0);
     if let ([a], [b]) = (a, b)
-        && is_convex(a)
-        && is_convex(b)
+        && convex_ccw(a)
+        && convex_ccw(b)
     {
         let ring = clip_convex(a, b);
         return if ring.len() >= 3 && twice_area(&ring) > 0.0 {
@@ -72,9 +73,13 @@ pub fn intersection(a: &[Vec<Flat>], b: &[Vec<Flat>]) -> Shapes {
 /// Whether a ring of at least three points never turns both ways (a
 /// convex ring, either way round).
 pub fn is_convex(ring: &[Flat]) -> bool {
+    ring.len() >= 3 && (turns(ring).all(|t| t >= 0.0) || turns(ring).all(|t| t <= 0.0))
+}
+
+/// The turn at each point of a ring: positive to the left.
+fn turns(ring: &[Flat]) -> impl Iterator<Item = f64> + '_ {
     let n = ring.len();
-    let turns = || (0..n).map(|k| cross(ring[k], ring[(k + 1) % n], ring[(k + 2) % n]));
-    n >= 3 && (turns().all(|t| t >= 0.0) || turns().all(|t| t <= 0.0))
+    (0..n).map(move |k| cross(ring[k], ring[(k + 1) % n], ring[(k + 2) % n]))
 }
 
 /// `(b - a) x (c - a)`: positive when `c` is left of the line `a b`.
