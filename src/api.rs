@@ -967,6 +967,10 @@ impl crate::raster::scan::RowSink for ByteRows<'_> {
         crate::output::rgb8_row(row.rgb, row.y, self.mode, self.bytes);
         (self.sink)(row.y, self.bytes)
     }
+
+    fn wants_pixel_structs(&self) -> bool {
+        false
+    }
 }
 
 /// Renders `scene` as vector graphics (SVG, one-page PDF or TikZ): the

@@ -862,6 +862,10 @@ impl RowSink for PngSink {
         }
         Ok(())
     }
+
+    fn wants_pixel_structs(&self) -> bool {
+        false
+    }
 }
 
 /// Which planes a [`SeparationSink`] writes besides `.r .g .b`.
@@ -951,6 +955,10 @@ impl RowSink for SeparationSink {
             self.files[i].write_all(&self.buf)?;
         }
         Ok(())
+    }
+
+    fn wants_pixel_structs(&self) -> bool {
+        false
     }
 }
 

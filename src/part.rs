@@ -247,6 +247,10 @@ impl RowSink for PartSink {
         let stream = self.stream.as_mut().expect("open until finished");
         stream.write_all(&self.buf).map_err(|e| Error::io(path, e))
     }
+
+    fn wants_pixel_structs(&self) -> bool {
+        false
+    }
 }
 
 /// An error about part file `path`.

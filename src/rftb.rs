@@ -672,6 +672,10 @@ impl RowSink for Outputs {
             None => Ok(()),
         }
     }
+
+    fn wants_pixel_structs(&self) -> bool {
+        matches!(self.main, MainSink::PixelStructs(_))
+    }
 }
 
 impl Outputs {

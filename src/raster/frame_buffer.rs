@@ -264,6 +264,10 @@ impl crate::raster::scan::RowSink for FrameBuffer {
         }
         Ok(())
     }
+
+    fn wants_pixel_structs(&self) -> bool {
+        false
+    }
 }
 
 #[cfg(test)]

@@ -347,6 +347,10 @@ impl RowSink for LayeredSink<'_> {
             ..*row
         })
     }
+
+    fn wants_pixel_structs(&self) -> bool {
+        self.inner.wants_pixel_structs()
+    }
 }
 
 /// How far, in pixels, the linearized refraction matrix (004 section

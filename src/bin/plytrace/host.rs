@@ -156,6 +156,10 @@ impl RowSink for ProgressSink<'_> {
         }
         Ok(())
     }
+
+    fn wants_pixel_structs(&self) -> bool {
+        self.inner.wants_pixel_structs()
+    }
 }
 
 /// The date and time now, UTC, as the logs of every program write it.

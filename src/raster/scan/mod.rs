@@ -208,6 +208,13 @@ impl<'a> Row<'a> {
 pub trait RowSink {
     /// Takes one row.
     fn row(&mut self, row: &Row<'_>) -> Result<()>;
+
+    /// Whether the rows must carry method 4's pixel-structs
+    /// ([`Row::pixels`]). Making them costs a few percent of the scan
+    /// conversion; a sink that only looks at colours says `false`.
+    fn wants_pixel_structs(&self) -> bool {
+        true
+    }
 }
 
 /// The work of a row for [`part_rows`], in pixels' worth: the row's
@@ -358,7 +365,7 @@ pub fn scan_convert_rows(
         // The painter leaves no coverage, masks or pixel-structs.
         coverage: logic != Logic::Painter && matches!(m, Method::Area | Method::Hybrid),
         mask: logic != Logic::Painter && matches!(m, Method::Mask | Method::Hybrid),
-        pixels: logic != Logic::Painter && m == Method::Multilevel,
+        pixels: logic != Logic::Painter && m == Method::Multilevel && sink.wants_pixel_structs(),
         part: rows,
     };
     let t = options.threads;
@@ -382,7 +389,7 @@ pub fn scan_convert_rows(
             || SingleLevel::new(measure, side * side, options.transparency),
             sink,
         ),
-        Logic::Multi(n) => convert(&plan, t, || MultiLevel::new(n), sink),
+        Logic::Multi(n) => convert(&plan, t, || MultiLevel::new(n, plan.pixels), sink),
     }
 }
 

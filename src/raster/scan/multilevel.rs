@@ -57,6 +57,8 @@ struct Frag {
 #[derive(Debug)]
 pub(crate) struct MultiLevel {
     samples: u32,
+    /// Whether [`Integrator::output`] makes the pixel-structs.
+    structs: bool,
     full: SampleMask,
     pixels: Vec<Pix>,
     frags: Vec<Frag>,
@@ -67,10 +69,12 @@ pub(crate) struct MultiLevel {
 }
 
 impl MultiLevel {
-    /// Method 4 logic over `samples` samples per pixel.
-    pub fn new(samples: u32) -> MultiLevel {
+    /// Method 4 logic over `samples` samples per pixel; with `structs`
+    /// (16 samples only) the output has the pixel-structs.
+    pub fn new(samples: u32, structs: bool) -> MultiLevel {
         MultiLevel {
             samples,
+            structs: structs && samples == 16,
             full: SampleMask::full(samples),
             pixels: Vec::new(),
             frags: Vec::new(),
@@ -250,7 +254,9 @@ impl Integrator for MultiLevel {
         out.coverage.clear();
         out.mask.clear();
         let n = self.pixels.len();
-        if self.samples == 16 {
+        if !self.structs {
+            out.pixels.clear();
+        } else {
             out.pixels.resize_with(n, || PixelStruct {
                 rgb: [0; 3],
                 pixstat: 0,
