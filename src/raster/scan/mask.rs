@@ -4,8 +4,19 @@
 //! row 0 at the top of the pixel.
 
 /// A set of up to 256 sample bits.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, Eq, Default)]
 pub(crate) struct SampleMask(pub [u64; 4]);
+
+/// Word by word in registers: the derived comparison loads the masks,
+/// just stored a word at a time, as two 16-byte vectors, which stalls on
+/// store forwarding in the method 4 pixel loop.
+impl PartialEq for SampleMask {
+    #[inline]
+    fn eq(&self, other: &SampleMask) -> bool {
+        let (a, b) = (&self.0, &other.0);
+        ((a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2]) | (a[3] ^ b[3])) == 0
+    }
+}
 
 impl SampleMask {
     /// No sample.
@@ -45,7 +56,7 @@ impl SampleMask {
 
     /// Whether no bit is set.
     pub fn is_empty(self) -> bool {
-        self.0 == [0; 4]
+        self == SampleMask::EMPTY
     }
 
     /// The low 16 bits (the 4 x 4 pixel mask).

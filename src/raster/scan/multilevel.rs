@@ -106,8 +106,17 @@ impl MultiLevel {
         self.free.push(k);
     }
 
-    /// Cases 5 and 6: pops levels deeper than `level`.
+    /// Cases 5 and 6: pops levels deeper than `level`. Most pixels have
+    /// none, so only the test is inlined.
+    #[inline]
     fn restore_to(&mut self, px: usize, level: u8) {
+        if self.pixels[px].stat & DEPTH > level {
+            self.pop_to(px, level);
+        }
+    }
+
+    #[inline(never)]
+    fn pop_to(&mut self, px: usize, level: u8) {
         while self.pixels[px].stat & DEPTH > level {
             let p = self.pixels[px];
             let mut head = p.head;
