@@ -45,6 +45,15 @@ pub fn newell_vector(points: impl Iterator<Item = DVec3> + Clone) -> DVec3 {
     sum
 }
 
+/// The plane through `points` with the unit normal of their Newell
+/// vector (right-handed about their order) and through their centroid;
+/// `None` when they span no area.
+pub fn newell_plane(points: &[DVec3]) -> Option<DVec4> {
+    let n = newell_vector(points.iter().copied()).try_normalize()?;
+    let c = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    Some(n.extend(-n.dot(c)))
+}
+
 /// Area of a planar polygon given in any order.
 pub fn area(points: &[DVec3]) -> f64 {
     newell_vector(points.iter().copied()).length() / 2.0

@@ -1263,19 +1263,20 @@ impl ShadowCaster<'_> {
             profile: self.profile,
             eps: self.eps,
         };
-        casting.whole_regions(&target, || {
+        casting.regions(&target, scratch, |target, scratch| {
             let mut per_light = Vec::new();
             for (j, light) in self.materials.lights.iter().enumerate() {
                 if light.kind != crate::model::LightKind::Point {
                     continue;
                 }
-                let pieces = casting.pieces(&target, j, light.position, scratch);
+                let pieces = casting.pieces(target, j, light.position, scratch);
                 if !pieces.is_empty() {
                     per_light.push((j as u32, pieces));
                 }
             }
             let rest = per_light.split_off(per_light.len().min(MAX_COMBINED_LIGHTS));
-            let mut regions = overlap_regions(per_light, plane, self.eps, MAX_OVERLAP_PIECES);
+            let mut regions =
+                overlap_regions(per_light, target.plane, self.eps, MAX_OVERLAP_PIECES);
             for (j, pieces) in rest {
                 regions.extend(pieces.into_iter().map(|p| (p, vec![j])));
             }
@@ -1383,9 +1384,7 @@ pub const MAX_OVERLAP_PIECES: usize = 65_536;
 
 /// The plane of `points` with its unit normal towards the eye.
 fn toward_eye_plane(points: &[DVec3], eye: DVec4) -> Option<DVec4> {
-    let n = polygon::newell_vector(points.iter().copied()).try_normalize()?;
-    let c = points.iter().copied().sum::<DVec3>() / points.len() as f64;
-    let pl = n.extend(-n.dot(c));
+    let pl = polygon::newell_plane(points)?;
     let side = pl.dot(eye);
     if side == 0.0 {
         return None;

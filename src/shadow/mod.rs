@@ -16,14 +16,15 @@
 //!
 //! No view changes the shadows a light casts on a polygon: they are
 //! computed once per polygon and light, on the whole polygon in world
-//! coordinates, and kept in the index (Atherton, Weiler and Greenberg's
-//! shadows as surface detail, 1978). A fragment at any level (a piece of
-//! its polygon, mapped by the level's affine mapping) takes its polygon's
-//! pieces, mapped the same way, clipped to the fragment's own shadow
-//! volume: the planes through the light and its edges meet the target's
-//! plane in its outline. Fragments of one polygon seen directly, in
-//! mirrors or split by the sort share one casting, and an animation whose
-//! world does not change between frames ([`CasterReuse`]) keeps them all.
+//! coordinates, united ([`union`]) and kept in the index (Atherton, Weiler
+//! and Greenberg's shadows as surface detail, 1978). So are the overlap
+//! regions of all the lights on a polygon ([`overlap`]), once per side it
+//! is seen from. A fragment at any level (a piece of its polygon, mapped
+//! by the level's affine mapping) takes its polygon's regions, mapped the
+//! same way and cut to its outline ([`Casting::regions`]). Fragments of
+//! one polygon seen directly, in mirrors or split by the sort share one
+//! casting, and an animation whose world does not change between frames
+//! ([`CasterReuse`]) keeps them all.
 
 pub mod overlap;
 pub mod union;
@@ -35,6 +36,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use glam::{DVec3, DVec4, Vec3};
 
+use crate::geometry::face_splitter::NotSimple;
 use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::math::Matrix4;
@@ -698,11 +700,10 @@ pub struct Casting<'a> {
 
 impl Casting<'_> {
     /// The shadows cast on `target` by Point light `j` at world position
-    /// `light`, in the target's plane (virtual coordinates): the shadows on
-    /// its whole polygon in world coordinates ([`Self::on_polygon`]),
-    /// mapped by the level's mapping and clipped to the target's own
-    /// shadow volume. A level whose mapping is not affine casts on the
-    /// fragment directly ([`Self::cast`]).
+    /// `light`, in the target's plane. `target` is a whole polygon in
+    /// world coordinates, as [`Self::regions`] hands it (the pieces of
+    /// [`Self::on_polygon`]), or a fragment under a mapping that is not
+    /// affine, which casts directly ([`Self::cast`]).
     pub fn pieces(
         &self,
         target: &Target,
@@ -719,49 +720,134 @@ impl Casting<'_> {
         if !is_affine(t) {
             return self.cast(target, j, light, s);
         }
-        let Some(whole) = self.on_polygon(target.object, target.polygon, j, light, s) else {
-            return Vec::new();
-        };
-        // A fragment that is its whole polygon, seen directly, takes the
-        // pieces as cast (a ten-million-piece floor is not copied).
+        debug_assert!(*t == Matrix4::IDENTITY && self.is_whole(target));
+        match self.on_polygon(target.object, target.polygon, j, light, s) {
+            None => Vec::new(),
+            Some(OnPolygon::Cast(pieces)) => pieces,
+            Some(OnPolygon::Kept(kept)) => kept.pieces().map(<[DVec3]>::to_vec).collect(),
+        }
+    }
+
+    /// The shadow regions of every light on `target` (see
+    /// [`overlap::overlap_regions`]), with `compute` making the regions
+    /// of a target. Under an affine mapping (a mirror's, or none) a
+    /// fragment takes the regions of its whole polygon in world
+    /// coordinates, seen from the same side ([`Self::whole_regions`]),
+    /// mapped by the level's mapping and cut to its outline: the same
+    /// region as casting on the fragment itself, since shadows on a
+    /// polygon do not depend on how it is seen. The regions of a whole
+    /// polygon are made once per side, whatever the fragments, mirrors
+    /// and frames that show it. Other mappings cast on the fragment.
+    pub fn regions(
+        &self,
+        target: &Target,
+        s: &mut Scratch,
+        compute: impl FnOnce(&Target, &mut Scratch) -> Vec<ShadowRegion>,
+    ) -> Vec<ShadowRegion> {
+        let t = target.t;
+        if !is_affine(t) {
+            return compute(target, s);
+        }
         let identity = *t == Matrix4::IDENTITY;
         if identity && self.is_whole(target) {
-            return match whole {
-                OnPolygon::Cast(pieces) => pieces,
-                OnPolygon::Kept(kept) => kept.pieces().map(<[DVec3]>::to_vec).collect(),
-            };
+            return self.whole_regions(target, s, compute);
         }
-        volume(target.points, plane, lv, eps, &mut s.volume);
+        let points: Vec<DVec3> = CasterRef::new(self.objects, target.object, target.polygon)
+            .points()
+            .collect();
+        // The fragment's plane towards the eye, in world coordinates.
+        let seen = if identity {
+            target.plane
+        } else {
+            t.transpose().transform(target.plane)
+        };
+        let Some(plane) = polygon::newell_plane(&points) else {
+            return Vec::new();
+        };
+        let world = Target {
+            points: &points,
+            plane: if plane.truncate().dot(seen.truncate()) > 0.0 {
+                plane
+            } else {
+                -plane
+            },
+            t: &Matrix4::IDENTITY,
+            convex: polygon::is_convex(&points),
+            ..*target
+        };
+        let mut regions = self.whole_regions(&world, s, compute);
+        if !identity {
+            // A reflection turns the outlines; they stay counter-clockwise.
+            let turned = t.determinant() < 0.0;
+            for (ring, _) in &mut regions {
+                for p in ring.iter_mut() {
+                    *p = t.transform_point(*p);
+                }
+                if turned {
+                    ring.reverse();
+                }
+            }
+        }
+        if !identity && self.maps_whole(target) {
+            return regions;
+        }
+        self.cut_to(regions, target, s)
+    }
+
+    /// `regions` cut to the outline of `target`, which lies in their
+    /// plane: by the splitter against the planes through its edges
+    /// square to it when it is convex, else (or for a region the splitter
+    /// refuses) by the boolean engine.
+    fn cut_to(
+        &self,
+        regions: Vec<ShadowRegion>,
+        target: &Target,
+        s: &mut Scratch,
+    ) -> Vec<ShadowRegion> {
+        let _t = self.profile.time(Category::Clipping);
+        let eps = self.eps;
+        if target.convex {
+            prism(target.points, target.plane.truncate(), &mut s.volume);
+        }
         let mut out = Vec::new();
-        match whole {
-            OnPolygon::Cast(pieces) => {
-                for piece in pieces {
-                    self.clip_piece(&piece, target, t, identity, s, &mut out);
+        let mut kept = Vec::new();
+        for (ring, lights) in regions {
+            kept.clear();
+            let clipped = if target.convex {
+                plane_clip::clip_to_planes(&ring, &s.volume, eps, &mut s.clip, &mut s.many)
+            } else {
+                Err(NotSimple)
+            };
+            match clipped {
+                Ok(Clipped::One) => push_kept(&mut kept, s.clip.piece(), eps),
+                Ok(Clipped::Many) => {
+                    for piece in &s.many {
+                        push_kept(&mut kept, piece, eps);
+                    }
+                }
+                Ok(Clipped::Empty) => {}
+                Err(_) => {
+                    for piece in union::intersection(&ring, target.points, target.plane) {
+                        push_kept(&mut kept, &piece, eps);
+                    }
                 }
             }
-            OnPolygon::Kept(kept) => {
-                for piece in kept.pieces() {
-                    self.clip_piece(piece, target, t, identity, s, &mut out);
-                }
-            }
+            out.extend(kept.drain(..).map(|piece| (piece, lights.clone())));
         }
         out
     }
 
-    /// The shadow regions of every light on `target` (see
-    /// [`overlap::overlap_regions`]) as `compute` makes them, kept the
-    /// second time they are asked for when the target is its whole
-    /// polygon seen directly: they then depend only on the polygon, the
-    /// side it is seen from and the world, so the frames of a walk through
-    /// an unchanged world make them once.
-    pub fn whole_regions(
+    /// The shadow regions of every light on `target`, its whole polygon
+    /// in world coordinates, as `compute` makes them: kept, when asked
+    /// for a second time (or at once for an index kept across frames),
+    /// under the polygon and the side it is seen from, on which alone
+    /// they depend in a world that does not change.
+    fn whole_regions(
         &self,
         target: &Target,
-        compute: impl FnOnce() -> Vec<ShadowRegion>,
+        s: &mut Scratch,
+        compute: impl FnOnce(&Target, &mut Scratch) -> Vec<ShadowRegion>,
     ) -> Vec<ShadowRegion> {
-        if *target.t != Matrix4::IDENTITY || !self.is_whole(target) {
-            return compute();
-        }
         let own = self.objects[target.object as usize].polygons[target.polygon as usize].plane;
         let front = own.truncate().dot(target.plane.truncate()) > 0.0;
         let key = (target.object, target.polygon, u32::from(front));
@@ -770,7 +856,7 @@ impl Casting<'_> {
             Found::Again => true,
             Found::First => self.index.keep_first,
         };
-        let regions = compute();
+        let regions = compute(target, s);
         if again {
             let size = 64
                 + regions
@@ -792,46 +878,23 @@ impl Casting<'_> {
             && polygon.points().zip(target.points).all(|(p, q)| p == *q)
     }
 
-    /// `piece` (world coordinates) mapped by `t` and clipped to the side
-    /// planes of the target's shadow volume (in `s.volume`: the pieces lie
-    /// in the target's plane), into `out`.
-    fn clip_piece(
-        &self,
-        piece: &[DVec3],
-        target: &Target,
-        t: &Matrix4,
-        identity: bool,
-        s: &mut Scratch,
-        out: &mut Vec<Vec<DVec3>>,
-    ) {
-        let eps = self.eps;
-        let sides = s.volume.len() - 2;
-        s.points.clear();
-        if identity {
-            s.points.extend_from_slice(piece);
-        } else {
-            s.points.extend(piece.iter().map(|p| t.transform_point(*p)));
+    /// Whether `target` has its polygon's points mapped by its mapping,
+    /// each within the tolerance, in order (reversed under a reflection,
+    /// as the mirror's level lists them).
+    fn maps_whole(&self, target: &Target) -> bool {
+        let polygon = CasterRef::new(self.objects, target.object, target.polygon);
+        let (t, eps2) = (target.t, self.eps * self.eps);
+        let near = |p: DVec3, q: &DVec3| t.transform_point(p).distance_squared(*q) <= eps2;
+        if polygon.polygon.indices.len() != target.points.len() {
+            return false;
         }
-        let clipped = {
-            let _t = self.profile.time(Category::Clipping);
-            plane_clip::clip_to_planes(&s.points, &s.volume[..sides], eps, &mut s.clip, &mut s.many)
-        };
-        match clipped {
-            Ok(Clipped::One) => push_kept(out, s.clip.piece(), eps),
-            Ok(Clipped::Many) => {
-                for piece in &s.many {
-                    push_kept(out, piece, eps);
-                }
-            }
-            Ok(Clipped::Empty) => {}
-            // A piece the splitter cannot cut (a union touching itself at
-            // a point): the same region by the boolean engine, since the
-            // side planes meet the target's plane in its outline.
-            Err(_) => {
-                for piece in union::intersection(&s.points, target.points, target.plane) {
-                    push_kept(out, &piece, eps);
-                }
-            }
+        if t.determinant() < 0.0 {
+            polygon
+                .points()
+                .zip(target.points.iter().rev())
+                .all(|(p, q)| near(p, q))
+        } else {
+            polygon.points().zip(target.points).all(|(p, q)| near(p, q))
         }
     }
 
@@ -1040,6 +1103,25 @@ fn push_projected(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], target: DVec4, lv:
         .collect();
     if worth_keeping(&projected, eps) {
         out.push(projected);
+    }
+}
+
+/// The planes through the edges of convex polygon `points` square to its
+/// `normal`, facing inwards: the prism over the polygon.
+fn prism(points: &[DVec3], normal: DVec3, out: &mut Vec<DVec4>) {
+    out.clear();
+    let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    for i in 0..points.len() {
+        let (a, b) = (points[i], points[(i + 1) % points.len()]);
+        let Some(n) = (b - a).cross(normal).try_normalize() else {
+            continue;
+        };
+        let pl = n.extend(-n.dot(a));
+        out.push(if pl.truncate().dot(centre) + pl.w < 0.0 {
+            -pl
+        } else {
+            pl
+        });
     }
 }
 
