@@ -1198,6 +1198,97 @@ mod tests {
         assert!(total > 100, "only {total} shadow pieces compared");
     }
 
+    /// Whether `p` lies inside `ring` (its x and y; even-odd rule).
+    fn inside_xy(ring: &[DVec3], p: DVec3) -> bool {
+        let mut inside = false;
+        for k in 0..ring.len() {
+            let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
+            if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+                inside = !inside;
+            }
+        }
+        inside
+    }
+
+    /// Cuts `region` (lights 0 and 2) to `fragment` in the plane z = 0
+    /// and checks, on a grid of probes off every edge, that each probe in
+    /// both is covered by exactly one piece and any other by none; returns
+    /// the number of pieces.
+    fn check_cut(region: &[(f64, f64)], fragment: &[(f64, f64)]) -> usize {
+        let ring = |pts: &[(f64, f64)]| -> Vec<DVec3> {
+            pts.iter().map(|&(x, y)| DVec3::new(x, y, 0.0)).collect()
+        };
+        let (region, fragment) = (ring(region), ring(fragment));
+        let index = CasterIndex::new(&[], 0);
+        let profile = Profile::new(false);
+        let casting = Casting {
+            objects: &[],
+            index: &index,
+            profile: &profile,
+            eps: 1e-9,
+        };
+        let target = Target {
+            object: 0,
+            polygon: 0,
+            points: &fragment,
+            plane: DVec4::new(0.0, 0.0, 1.0, 0.0),
+            t: &Matrix4::IDENTITY,
+            convex: polygon::is_convex(&fragment),
+        };
+        let cut = casting.cut_to(
+            vec![(region.clone(), vec![0, 2])],
+            &target,
+            &mut Scratch::default(),
+        );
+        for (piece, lights) in &cut {
+            assert_eq!(lights, &vec![0, 2]);
+            assert!(piece.iter().all(|p| p.z == 0.0));
+        }
+        for i in 0..60 {
+            for j in 0..60 {
+                let p = DVec3::new(-0.47 + i as f64 * 0.0537, -0.43 + j as f64 * 0.0541, 0.0);
+                let want = inside_xy(&region, p) && inside_xy(&fragment, p);
+                let got = cut.iter().filter(|(piece, _)| inside_xy(piece, p)).count();
+                assert_eq!(got, usize::from(want), "probe {p}");
+            }
+        }
+        cut.len()
+    }
+
+    /// A convex fragment (the splitter's prism) cutting a region shaped
+    /// like a gate leaves its two posts.
+    #[test]
+    fn a_convex_fragment_cuts_a_gate_into_its_posts() {
+        let gate = [
+            (0.0, -1.0),
+            (1.0, -1.0),
+            (1.0, 0.5),
+            (2.0, 0.5),
+            (2.0, -1.0),
+            (3.0, -1.0),
+            (3.0, 2.0),
+            (0.0, 2.0),
+        ];
+        let strip = [(-0.2, 0.0), (2.9, 0.0), (2.9, 0.4), (-0.2, 0.4)];
+        assert_eq!(check_cut(&gate, &strip), 2);
+    }
+
+    /// A concave fragment goes to the boolean engine.
+    #[test]
+    fn a_concave_fragment_cuts_by_the_engine() {
+        let ell = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ];
+        let square = [(0.5, 0.5), (2.5, 0.5), (2.5, 2.5), (0.5, 2.5)];
+        assert_eq!(check_cut(&square, &ell), 1);
+        assert!(check_cut(&ell, &[(1.5, -0.3), (2.4, -0.3), (2.4, 2.4), (1.5, 2.4)]) == 1);
+    }
+
     /// Rounded outward, an `f32` box holds the `f64` one: below and above
     /// bracket every value, by one `f32` step at most, and values an
     /// `f32` holds exactly stay as they are.
