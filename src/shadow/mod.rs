@@ -776,19 +776,11 @@ impl Casting<'_> {
             ..*target
         };
         let mut regions = self.whole_regions(&world, s, compute);
-        if !identity {
-            // A reflection turns the outlines; they stay counter-clockwise.
-            let turned = t.determinant() < 0.0;
-            for (ring, _) in &mut regions {
-                for p in ring.iter_mut() {
-                    *p = t.transform_point(*p);
-                }
-                if turned {
-                    ring.reverse();
-                }
-            }
+        if identity {
+            return self.cut_to(regions, target, s);
         }
-        if !identity && self.maps_whole(target) {
+        map_regions(&mut regions, t);
+        if self.maps_whole(target) {
             return regions;
         }
         self.cut_to(regions, target, s)
@@ -1103,6 +1095,20 @@ fn push_projected(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], target: DVec4, lv:
         .collect();
     if worth_keeping(&projected, eps) {
         out.push(projected);
+    }
+}
+
+/// `regions` mapped by affine `t`, their outlines kept counter-clockwise
+/// (reversed under a reflection).
+fn map_regions(regions: &mut [ShadowRegion], t: &Matrix4) {
+    let turned = t.determinant() < 0.0;
+    for (ring, _) in regions {
+        for p in ring.iter_mut() {
+            *p = t.transform_point(*p);
+        }
+        if turned {
+            ring.reverse();
+        }
     }
 }
 
