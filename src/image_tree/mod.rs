@@ -584,73 +584,89 @@ impl<'a> Builder<'a> {
     fn mapped_level(&self, t: &Matrix4, planes: &[DVec4]) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Addobj);
         let mirrored = linear_determinant(t) < 0.0;
+        // Objects in parallel, appended in order: the thread count
+        // changes nothing.
+        let per_object: Vec<Vec<Candidate>> = self
+            .materials
+            .objects
+            .par_iter()
+            .enumerate()
+            .map(|(oi, object)| self.mapped_object(oi as u32, object, t, planes, mirrored))
+            .collect();
+        per_object.into_iter().flatten().collect()
+    }
+
+    /// The fragments of `object` (number `oi`) in the level mapped by `t`
+    /// and clipped to `planes`; `mirrored` when `t` is a reflection.
+    fn mapped_object(
+        &self,
+        oi: u32,
+        object: &crate::model::Object,
+        t: &Matrix4,
+        planes: &[DVec4],
+        mirrored: bool,
+    ) -> Vec<Candidate> {
         let mut out = Vec::new();
-        for (oi, object) in self.materials.objects.iter().enumerate() {
-            if object.surface_type.hidden {
+        if object.surface_type.hidden {
+            return out;
+        }
+        let outside = {
+            let _t = self.profile.time(Category::ChkBbox);
+            let corners: Vec<DVec3> = object
+                .bbox_corners
+                .iter()
+                .map(|c| t.transform_point(*c))
+                .collect();
+            planes.iter().any(|pl| {
+                corners
+                    .iter()
+                    .all(|c| pl.truncate().dot(*c) + pl.w < -self.eps)
+            })
+        };
+        if outside {
+            return out;
+        }
+        let verts: Vec<DVec3> = {
+            let _t = self.profile.time(Category::Transform);
+            object
+                .vertices
+                .iter()
+                .map(|v| t.transform_point(*v))
+                .collect()
+        };
+        // Polygons in the mirror's (or refracting surface's) own plane,
+        // itself included, map onto it: they are not seen through it.
+        let front_plane = planes[0];
+        let on_front =
+            |p: &DVec3| (front_plane.truncate().dot(*p) + front_plane.w).abs() <= self.eps;
+        for (pi, poly) in object.polygons.iter().enumerate() {
+            let mut pts: Vec<DVec3> = poly.indices.iter().map(|&i| verts[i as usize]).collect();
+            if mirrored {
+                pts.reverse();
+            }
+            let Ok(plane) = polygon::outward_plane(&pts) else {
+                continue;
+            };
+            if pts.iter().all(on_front) {
                 continue;
             }
-            let outside = {
-                let _t = self.profile.time(Category::ChkBbox);
-                let corners: Vec<DVec3> = object
-                    .bbox_corners
-                    .iter()
-                    .map(|c| t.transform_point(*c))
-                    .collect();
-                planes.iter().any(|pl| {
-                    corners
-                        .iter()
-                        .all(|c| pl.truncate().dot(*c) + pl.w < -self.eps)
-                })
-            };
-            if outside {
+            let front = self.view.faces_eye(plane);
+            if !front && !object.surface_type.open {
                 continue;
             }
-            let verts: Vec<DVec3> = {
-                let _t = self.profile.time(Category::Transform);
-                object
-                    .vertices
-                    .iter()
-                    .map(|v| t.transform_point(*v))
-                    .collect()
+            let clipped = {
+                let _t = self.profile.time(Category::Clipping);
+                face_splitter::clip_to_planes(&pts, planes, self.eps)
             };
-            for (pi, poly) in object.polygons.iter().enumerate() {
-                let mut pts: Vec<DVec3> = poly.indices.iter().map(|&i| verts[i as usize]).collect();
-                if mirrored {
-                    pts.reverse();
-                }
-                let Ok(plane) = polygon::outward_plane(&pts) else {
-                    continue;
-                };
-                // Polygons in the mirror's (or refracting surface's) own
-                // plane, itself included, map onto it: they are not seen
-                // through it.
-                let front_plane = planes[0];
-                if pts
-                    .iter()
-                    .all(|p| (front_plane.truncate().dot(*p) + front_plane.w).abs() <= self.eps)
-                {
-                    continue;
-                }
-                let front = self.view.faces_eye(plane);
-                if !front && !object.surface_type.open {
-                    continue;
-                }
-                let clipped = {
-                    let _t = self.profile.time(Category::Clipping);
-                    face_splitter::clip_to_planes(&pts, planes, self.eps)
-                };
-                let Ok(pieces) = clipped else {
-                    continue;
-                };
-                for piece in pieces {
-                    out.push(Candidate {
-                        object: oi as u32,
-                        polygon: pi as u32,
-                        points: piece,
-                        back_facing: !front,
-                    });
-                }
-            }
+            let Ok(pieces) = clipped else {
+                continue;
+            };
+            out.extend(pieces.into_iter().map(|piece| Candidate {
+                object: oi,
+                polygon: pi as u32,
+                points: piece,
+                back_facing: !front,
+            }));
         }
         out
     }
