@@ -42,7 +42,7 @@ mod fragments;
 use glam::{DVec2, DVec3, DVec4};
 
 use crate::budget::Budgets;
-use crate::geometry::face_splitter;
+use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::geometry::view::{self, GeometryStats, View};
 use crate::math::{self, Matrix4};
@@ -584,20 +584,34 @@ impl<'a> Builder<'a> {
     fn mapped_level(&self, t: &Matrix4, planes: &[DVec4]) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Addobj);
         let mirrored = linear_determinant(t) < 0.0;
+        let objects = self.materials.objects;
+        let one = |clip: &mut ClipBuffers, (oi, object): (usize, &crate::model::Object)| {
+            self.mapped_object(oi as u32, object, t, planes, mirrored, clip)
+        };
+        // A small scene's level is mapped on this thread: handing a few
+        // hundred polygons to others costs more than it saves.
+        let polygons: usize = objects.iter().map(|o| o.polygons.len()).sum();
+        if polygons < PARALLEL_LEVEL_POLYGONS {
+            let mut clip = ClipBuffers::default();
+            return objects
+                .iter()
+                .enumerate()
+                .flat_map(|o| one(&mut clip, o))
+                .collect();
+        }
         // Objects in parallel, appended in order: the thread count
         // changes nothing.
-        let per_object: Vec<Vec<Candidate>> = self
-            .materials
-            .objects
+        let per_object: Vec<Vec<Candidate>> = objects
             .par_iter()
             .enumerate()
-            .map(|(oi, object)| self.mapped_object(oi as u32, object, t, planes, mirrored))
+            .map_init(ClipBuffers::default, one)
             .collect();
         per_object.into_iter().flatten().collect()
     }
 
     /// The fragments of `object` (number `oi`) in the level mapped by `t`
-    /// and clipped to `planes`; `mirrored` when `t` is a reflection.
+    /// and clipped to `planes` (in `clip`'s reused buffers: most polygons
+    /// come out whole or empty); `mirrored` when `t` is a reflection.
     fn mapped_object(
         &self,
         oi: u32,
@@ -605,6 +619,7 @@ impl<'a> Builder<'a> {
         t: &Matrix4,
         planes: &[DVec4],
         mirrored: bool,
+        clip: &mut ClipBuffers,
     ) -> Vec<Candidate> {
         let mut out = Vec::new();
         if object.surface_type.hidden {
@@ -656,17 +671,19 @@ impl<'a> Builder<'a> {
             }
             let clipped = {
                 let _t = self.profile.time(Category::Clipping);
-                face_splitter::clip_to_planes(&pts, planes, self.eps)
+                plane_clip::clip_to_planes(&pts, planes, self.eps, &mut clip.one, &mut clip.many)
             };
-            let Ok(pieces) = clipped else {
-                continue;
-            };
-            out.extend(pieces.into_iter().map(|piece| Candidate {
+            let candidate = |points| Candidate {
                 object: oi,
                 polygon: pi as u32,
-                points: piece,
+                points,
                 back_facing: !front,
-            }));
+            };
+            match clipped {
+                Ok(Clipped::One) => out.push(candidate(clip.one.piece().to_vec())),
+                Ok(Clipped::Many) => out.extend(clip.many.drain(..).map(candidate)),
+                Ok(Clipped::Empty) | Err(_) => {}
+            }
         }
         out
     }
@@ -1397,6 +1414,17 @@ pub const MAX_COMBINED_LIGHTS: usize = 8;
 /// one light too bright on office2's floor (726 pixels, 27/255 from the
 /// ray tracer on average); the tree's node budget still bounds them all.
 pub const MAX_OVERLAP_PIECES: usize = 65_536;
+
+/// Scenes of at least this many polygons map a mirror's level on all
+/// threads (see `Builder::mapped_level`).
+const PARALLEL_LEVEL_POLYGONS: usize = 4096;
+
+/// Buffers for clipping a mirror's level, reused from polygon to polygon.
+#[derive(Default)]
+struct ClipBuffers {
+    one: ClipScratch,
+    many: Vec<Vec<DVec3>>,
+}
 
 /// The plane of `points` with its unit normal towards the eye.
 fn toward_eye_plane(points: &[DVec3], eye: DVec4) -> Option<DVec4> {
