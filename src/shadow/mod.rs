@@ -750,32 +750,38 @@ impl Casting<'_> {
         }
         let identity = *t == Matrix4::IDENTITY;
         if identity && self.is_whole(target) {
-            return self.whole_regions(target, s, compute);
+            let front = self.front(target, target.plane);
+            return self.whole_regions(target, front, || compute(target, s));
         }
-        let points: Vec<DVec3> = CasterRef::new(self.objects, target.object, target.polygon)
-            .points()
-            .collect();
         // The fragment's plane towards the eye, in world coordinates.
         let seen = if identity {
             target.plane
         } else {
             t.transpose().transform(target.plane)
         };
-        let Some(plane) = polygon::newell_plane(&points) else {
-            return Vec::new();
+        // The whole polygon is made only when its regions are not kept.
+        let make = |s: &mut Scratch| {
+            let points: Vec<DVec3> = CasterRef::new(self.objects, target.object, target.polygon)
+                .points()
+                .collect();
+            let Some(plane) = polygon::newell_plane(&points) else {
+                return Vec::new();
+            };
+            let world = Target {
+                points: &points,
+                plane: if plane.truncate().dot(seen.truncate()) > 0.0 {
+                    plane
+                } else {
+                    -plane
+                },
+                t: &Matrix4::IDENTITY,
+                convex: polygon::is_convex(&points),
+                ..*target
+            };
+            compute(&world, s)
         };
-        let world = Target {
-            points: &points,
-            plane: if plane.truncate().dot(seen.truncate()) > 0.0 {
-                plane
-            } else {
-                -plane
-            },
-            t: &Matrix4::IDENTITY,
-            convex: polygon::is_convex(&points),
-            ..*target
-        };
-        let mut regions = self.whole_regions(&world, s, compute);
+        let front = self.front(target, seen);
+        let mut regions = self.whole_regions(target, front, || make(s));
         if identity {
             return self.cut_to(regions, target, s);
         }
@@ -829,26 +835,31 @@ impl Casting<'_> {
         out
     }
 
-    /// The shadow regions of every light on `target`, its whole polygon
-    /// in world coordinates, as `compute` makes them: kept, when asked
-    /// for a second time (or at once for an index kept across frames),
-    /// under the polygon and the side it is seen from, on which alone
-    /// they depend in a world that does not change.
+    /// Whether the side of `target`'s polygon that `seen` (a plane of it,
+    /// world coordinates) faces is its front.
+    fn front(&self, target: &Target, seen: DVec4) -> bool {
+        let own = self.objects[target.object as usize].polygons[target.polygon as usize].plane;
+        own.truncate().dot(seen.truncate()) > 0.0
+    }
+
+    /// The shadow regions of every light on `target`'s whole polygon, in
+    /// world coordinates, seen from its front or back, as `make` makes
+    /// them: kept, when asked for a second time (or at once for an index
+    /// kept across frames), under the polygon and the side, on which
+    /// alone they depend in a world that does not change.
     fn whole_regions(
         &self,
         target: &Target,
-        s: &mut Scratch,
-        compute: impl FnOnce(&Target, &mut Scratch) -> Vec<ShadowRegion>,
+        front: bool,
+        make: impl FnOnce() -> Vec<ShadowRegion>,
     ) -> Vec<ShadowRegion> {
-        let own = self.objects[target.object as usize].polygons[target.polygon as usize].plane;
-        let front = own.truncate().dot(target.plane.truncate()) > 0.0;
         let key = (target.object, target.polygon, u32::from(front));
         let again = match self.index.regions.get(key) {
             Found::Kept(kept) => return kept.to_vec(),
             Found::Again => true,
             Found::First => self.index.keep_first,
         };
-        let regions = compute(target, s);
+        let regions = make();
         if again {
             let size = 64
                 + regions
