@@ -441,9 +441,10 @@ impl LightTree {
 
 /// The shadows on whole polygons in world coordinates, by (object,
 /// polygon, light). A polygon's shadows are kept the second time they
-/// are asked for: a still's polygons seen once (most of them) keep
-/// nothing, those seen again (split by the sort, seen in a mirror, or in
-/// the next frame of an animation) are cast at most twice. Kept up to
+/// are asked for, or the first when the asker knows more will follow (a
+/// piece of a polygon the sort split): a still's polygons seen once (most
+/// of them) keep nothing, those seen again (in a mirror, or in the next
+/// frame of an animation) are cast at most twice. Kept up to
 /// [`MAX_KEPT_BYTES`]; past it they are cast again when asked, the same.
 struct PieceCache<V> {
     shards: [Mutex<HashMap<PieceKey, Kept<V>>>; SHARDS],
@@ -751,7 +752,7 @@ impl Casting<'_> {
         let identity = *t == Matrix4::IDENTITY;
         if identity && self.is_whole(target) {
             let front = self.front(target, target.plane);
-            return self.whole_regions(target, front, || compute(target, s));
+            return self.whole_regions(target, front, false, || compute(target, s));
         }
         // The fragment's plane towards the eye, in world coordinates.
         let seen = if identity {
@@ -781,12 +782,14 @@ impl Casting<'_> {
             compute(&world, s)
         };
         let front = self.front(target, seen);
-        let mut regions = self.whole_regions(target, front, || make(s));
+        // A piece of its polygon has siblings that will ask again.
+        let whole = !identity && self.maps_whole(target);
+        let mut regions = self.whole_regions(target, front, !whole, || make(s));
         if identity {
             return self.cut_to(regions, target, s);
         }
         map_regions(&mut regions, t);
-        if self.maps_whole(target) {
+        if whole {
             return regions;
         }
         self.cut_to(regions, target, s)
@@ -845,19 +848,21 @@ impl Casting<'_> {
     /// The shadow regions of every light on `target`'s whole polygon, in
     /// world coordinates, seen from its front or back, as `make` makes
     /// them: kept, when asked for a second time (or at once for an index
-    /// kept across frames), under the polygon and the side, on which
+    /// kept across frames, or when `piece`: the target is one of several
+    /// pieces of its polygon), under the polygon and the side, on which
     /// alone they depend in a world that does not change.
     fn whole_regions(
         &self,
         target: &Target,
         front: bool,
+        piece: bool,
         make: impl FnOnce() -> Vec<ShadowRegion>,
     ) -> Vec<ShadowRegion> {
         let key = (target.object, target.polygon, u32::from(front));
         let again = match self.index.regions.get(key) {
             Found::Kept(kept) => return kept.to_vec(),
             Found::Again => true,
-            Found::First => self.index.keep_first,
+            Found::First => piece || self.index.keep_first,
         };
         let regions = make();
         if again {
@@ -1213,6 +1218,57 @@ mod tests {
             }
         }
         assert!(total > 100, "only {total} shadow pieces compared");
+    }
+
+    /// A still keeps a polygon's regions when a piece of it asks: its
+    /// other pieces, and the polygon itself, find them made.
+    #[test]
+    fn the_pieces_of_a_polygon_make_its_regions_once() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/gallery.des");
+        let scene = crate::scene::load(&path).expect("the gallery fixture").0;
+        let index = CasterIndex::new(&scene.objects, scene.lights.len());
+        let profile = Profile::new(false);
+        let casting = Casting {
+            objects: &scene.objects,
+            index: &index,
+            profile: &profile,
+            eps: scene.modes.epsilon * scene.size(),
+        };
+        let (oi, pi) = scene
+            .objects
+            .iter()
+            .enumerate()
+            .find_map(|(oi, o)| {
+                let p = o.polygons.iter().position(|p| p.indices.len() >= 4)?;
+                Some((oi as u32, p as u32))
+            })
+            .expect("a polygon of four points or more");
+        let poly = &scene.objects[oi as usize].polygons[pi as usize];
+        let whole: Vec<DVec3> = CasterRef::new(&scene.objects, oi, pi).points().collect();
+        // Two pieces: a fan triangle and the rest.
+        let pieces = [whole[..3].to_vec(), [&whole[..1], &whole[2..]].concat()];
+        let made = std::cell::Cell::new(0);
+        let mut s = Scratch::default();
+        let mut ask = |points: &[DVec3]| {
+            let target = Target {
+                object: oi,
+                polygon: pi,
+                points,
+                plane: poly.plane,
+                t: &Matrix4::IDENTITY,
+                convex: polygon::is_convex(points),
+            };
+            casting.regions(&target, &mut s, |_, _| {
+                made.set(made.get() + 1);
+                Vec::new()
+            });
+        };
+        ask(&pieces[0]);
+        ask(&pieces[1]);
+        assert_eq!(made.get(), 1, "the second piece made the regions again");
+        ask(&whole);
+        assert_eq!(made.get(), 1, "the whole polygon found its pieces' regions");
     }
 
     /// Whether `p` lies inside `ring` (its x and y; even-odd rule).
