@@ -187,7 +187,7 @@ pub struct CasterIndex {
     world: PieceCache<WholePieces>,
     /// The overlap regions of all lights on whole polygons seen directly,
     /// by the side they are seen from.
-    regions: PieceCache<Arc<[ShadowRegion]>>,
+    regions: PieceCache<Arc<WholeRegions>>,
     /// Whether shadows are kept the first time they are asked for, not
     /// the second: an index kept for the next frames of an animation
     /// (every polygon a moving camera uncovers would else be cast twice).
@@ -517,6 +517,40 @@ impl WholeShadows {
     }
 }
 
+/// The overlap regions on a whole polygon (world coordinates), with the
+/// box of each.
+pub struct WholeRegions {
+    regions: Vec<ShadowRegion>,
+    boxes: Vec<(DVec3, DVec3)>,
+}
+
+impl WholeRegions {
+    fn new(regions: Vec<ShadowRegion>) -> WholeRegions {
+        let boxes = regions.iter().map(|(ring, _)| bounds(ring)).collect();
+        WholeRegions { regions, boxes }
+    }
+
+    /// Copies of the regions whose boxes meet the box `near`.
+    fn near(&self, (lo, hi): (DVec3, DVec3)) -> Vec<ShadowRegion> {
+        self.regions
+            .iter()
+            .zip(&self.boxes)
+            .filter(|(_, (rlo, rhi))| !(rlo.cmpgt(hi).any() || rhi.cmplt(lo).any()))
+            .map(|(r, _)| r.clone())
+            .collect()
+    }
+
+    /// The memory it takes, roughly.
+    fn bytes(&self) -> usize {
+        let regions: usize = self
+            .regions
+            .iter()
+            .map(|(p, l)| 48 + 48 + p.len() * 24 + l.len() * 4)
+            .sum();
+        64 + regions
+    }
+}
+
 /// Locks the pieces are spread over (threads cast on different polygons).
 const SHARDS: usize = 16;
 
@@ -752,7 +786,8 @@ impl Casting<'_> {
         let identity = *t == Matrix4::IDENTITY;
         if identity && self.is_whole(target) {
             let front = self.front(target, target.plane);
-            return self.whole_regions(target, front, false, || compute(target, s));
+            let kept = self.whole_regions(target, front, false, || compute(target, s));
+            return Arc::try_unwrap(kept).map_or_else(|kept| kept.regions.clone(), |w| w.regions);
         }
         // The fragment's plane towards the eye, in world coordinates.
         let seen = if identity {
@@ -784,7 +819,18 @@ impl Casting<'_> {
         let front = self.front(target, seen);
         // A piece of its polygon has siblings that will ask again.
         let whole = !identity && self.maps_whole(target);
-        let mut regions = self.whole_regions(target, front, !whole, || make(s));
+        let kept = self.whole_regions(target, front, !whole, || make(s));
+        // Only the regions near the fragment are mapped and cut: a small
+        // piece of a polygon with many regions (seen in a deep mirror)
+        // meets few of them.
+        let near = match world_corners(target, identity) {
+            Some((lo, hi)) if !whole => {
+                let margin = DVec3::splat(BOX_MARGIN * self.eps);
+                (lo - margin, hi + margin)
+            }
+            _ => (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY)),
+        };
+        let mut regions = kept.near(near);
         if identity {
             return self.cut_to(regions, target, s);
         }
@@ -857,23 +903,16 @@ impl Casting<'_> {
         front: bool,
         piece: bool,
         make: impl FnOnce() -> Vec<ShadowRegion>,
-    ) -> Vec<ShadowRegion> {
+    ) -> Arc<WholeRegions> {
         let key = (target.object, target.polygon, u32::from(front));
         let again = match self.index.regions.get(key) {
-            Found::Kept(kept) => return kept.to_vec(),
+            Found::Kept(kept) => return kept,
             Found::Again => true,
             Found::First => piece || self.index.keep_first,
         };
-        let regions = make();
+        let regions = Arc::new(WholeRegions::new(make()));
         if again {
-            let size = 64
-                + regions
-                    .iter()
-                    .map(|(p, l)| 48 + p.len() * 24 + l.len() * 4)
-                    .sum::<usize>();
-            self.index
-                .regions
-                .put(key, &Arc::from(regions.as_slice()), size);
+            self.index.regions.put(key, &regions, regions.bytes());
         }
         regions
     }
