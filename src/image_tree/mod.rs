@@ -527,10 +527,15 @@ pub fn build_profiled(
         },
     );
     b.casters = casters;
+    let mut sorted = b.sort(level1);
+    if let Some(n) = b.options.cull_samples {
+        sorted = b.visible(sorted, n);
+    }
     let roots = b
         .trace(
             1,
-            level1,
+            sorted,
+            None,
             &Matrix4::IDENTITY,
             Branch::Direct,
             1.0,
@@ -688,8 +693,36 @@ impl<'a> Builder<'a> {
         out
     }
 
-    /// Orders a level's candidates back to front.
+    /// Orders a level's candidates back to front, and counts the sort.
     fn sort(&mut self, candidates: Vec<Candidate>) -> Vec<Candidate> {
+        let (sorted, stats) = self.sorted(candidates);
+        self.count_sort(stats);
+        sorted
+    }
+
+    /// Adds an NNS sort's counts to the tree's.
+    fn count_sort(&mut self, stats: Option<nns::NnsStats>) {
+        let Some(stats) = stats else {
+            return;
+        };
+        let total = self.tree.nns.get_or_insert_with(Default::default);
+        total.faces_in += stats.faces_in;
+        total.faces_out += stats.faces_out;
+        total.splits += stats.splits;
+        total.cycles_of_two += stats.cycles_of_two;
+        total.longer_cycles += stats.longer_cycles;
+        total.exact_tests += stats.exact_tests;
+        total.unresolved += stats.unresolved;
+        total.work += stats.work;
+        if stats.fallbacks > 0 && total.fallbacks == 0 {
+            self.first_fallback_splits = stats.splits;
+        }
+        total.fallbacks += stats.fallbacks;
+    }
+
+    /// A level's candidates back to front, with the NNS sort's counts
+    /// (`None` under the depth sort).
+    fn sorted(&self, candidates: Vec<Candidate>) -> (Vec<Candidate>, Option<nns::NnsStats>) {
         let _t = self.profile.time(Category::Sortply);
         if self.options.nns {
             // Which source polygons are seen from behind (`type open`);
@@ -720,20 +753,7 @@ impl<'a> Builder<'a> {
             }
             let (sorted, stats) =
                 nns::sort_budgeted(faces, self.view, self.eps, self.options.budgets.splits);
-            let total = self.tree.nns.get_or_insert_with(Default::default);
-            total.faces_in += stats.faces_in;
-            total.faces_out += stats.faces_out;
-            total.splits += stats.splits;
-            total.cycles_of_two += stats.cycles_of_two;
-            total.longer_cycles += stats.longer_cycles;
-            total.exact_tests += stats.exact_tests;
-            total.unresolved += stats.unresolved;
-            total.work += stats.work;
-            if stats.fallbacks > 0 && total.fallbacks == 0 {
-                self.first_fallback_splits = stats.splits;
-            }
-            total.fallbacks += stats.fallbacks;
-            return sorted
+            let sorted = sorted
                 .into_iter()
                 .map(|f| Candidate {
                     back_facing: back.contains_key(&(f.object, f.polygon)),
@@ -742,6 +762,7 @@ impl<'a> Builder<'a> {
                     points: f.world,
                 })
                 .collect();
+            return (sorted, Some(stats));
         }
         // 004 section 4.4: "the sorting order is simply determined by
         // either the minimum or maximum vertex Z-coordinate of the polygon,
@@ -774,12 +795,11 @@ impl<'a> Builder<'a> {
         };
         if self.materials.expand {
             // `setmode x on`: one composite list.
-            return stored(
-                depth_sort::sorted_order(&keys)
-                    .into_iter()
-                    .map(|k| slots[k].take().expect("a permutation"))
-                    .collect(),
-            );
+            let sorted = depth_sort::sorted_order(&keys)
+                .into_iter()
+                .map(|k| slots[k].take().expect("a permutation"))
+                .collect();
+            return (stored(sorted), None);
         }
         // `setmode x off` (004 section 4.4): objects one at a time, by the
         // farthest (btf) or nearest (ftb) depth of their polygons, each
@@ -804,12 +824,13 @@ impl<'a> Builder<'a> {
                 out.push(slots[members[m]].take().expect("each once"));
             }
         }
-        stored(out)
+        (stored(out), None)
     }
 
-    /// Sorts `candidates` (the polygons of one level, in virtual coordinates
-    /// under `t`), adds them as fragments and traces their sub-trees.
-    /// Returns the new fragments' indices, back to front.
+    /// Adds `sorted` (the polygons of one level back to front, in virtual
+    /// coordinates under `t`) as fragments and traces their sub-trees.
+    /// Returns the new fragments' indices, back to front. `found` is what
+    /// the first chunk needs, when it was found ahead.
     ///
     /// The shadow regions of the fragments are found in parallel a chunk
     /// at a time, the next chunk's while this thread adds the current
@@ -819,7 +840,8 @@ impl<'a> Builder<'a> {
     fn trace(
         &mut self,
         level: u32,
-        candidates: Vec<Candidate>,
+        sorted: Vec<Candidate>,
+        found: Option<PreparedChunk<'a>>,
         t: &Matrix4,
         branch: Branch,
         weight: f64,
@@ -827,12 +849,6 @@ impl<'a> Builder<'a> {
         parent: Option<usize>,
         reserve: usize,
     ) -> Option<Vec<usize>> {
-        let mut sorted = self.sort(candidates);
-        if level == 1
-            && let Some(n) = self.options.cull_samples
-        {
-            sorted = self.visible(sorted, n);
-        }
         // Below level 1 the node budget is checked before anything is
         // added; `reserve` more nodes (a restore copy) must fit as well.
         if level > 1
@@ -843,9 +859,7 @@ impl<'a> Builder<'a> {
         }
         self.tree.max_depth = self.tree.max_depth.max(level);
         let inverse = t.inverse();
-        let eye_real = inverse
-            .map(|inv| inv.transform(self.view.eye))
-            .unwrap_or(self.view.eye);
+        let eye_real = self.eye_under(t);
         self.tree.spaces.push(VirtualSpace {
             inverse,
             eye: eye_real,
@@ -868,24 +882,16 @@ impl<'a> Builder<'a> {
             self.options.shading,
             at.eye_real,
         );
-        // What a chunk's fragments need that does not depend on the tree
-        // (shades, shadows), found in parallel.
         let prepare = |chunk: Option<&[Candidate]>| {
-            let Some(chunk) = chunk else {
-                return PreparedChunk::default();
-            };
-            let own = || {
-                let _t = profile.time(Category::Shading);
-                facet_terms(materials, eye, shading, chunk)
-            };
-            let (terms, regions) = match &caster {
-                Some(c) => rayon::join(own, || c.level_regions(chunk, t)),
-                None => (own(), Vec::new()),
-            };
-            PreparedChunk { terms, regions }
+            chunk.map_or_else(PreparedChunk::default, |chunk| {
+                prepare_chunk(materials, profile, shading, caster.as_ref(), chunk, t, eye)
+            })
         };
         let mut chunks = into_chunks(sorted);
-        let mut ready = prepare(chunks.last().map(Vec::as_slice));
+        let mut ready = match found {
+            Some(found) => found,
+            None => prepare(chunks.last().map(Vec::as_slice)),
+        };
         while let Some(chunk) = chunks.pop() {
             let mut now = std::mem::take(&mut ready);
             // A full tree takes no more shadows.
@@ -1051,6 +1057,7 @@ impl<'a> Builder<'a> {
     fn expand(&mut self) {
         let mut branches: std::collections::HashMap<usize, (Vec<usize>, Vec<usize>)> =
             std::collections::HashMap::new();
+        let mut ahead = std::collections::HashMap::new();
         while let Some(p) = self.pending.pop() {
             if crate::cancel::requested() {
                 continue;
@@ -1059,15 +1066,19 @@ impl<'a> Builder<'a> {
                 self.tree.pruned += 1;
                 continue;
             }
-            let planes = self.volume(&self.tree.nodes[p.parent].virtual_points, p.plane);
-            let found = self.mapped_level(&p.t, &planes);
-            if found.is_empty() {
+            let found = match ahead.remove(&p.seq) {
+                Some(found) => found,
+                None => self.find_ahead(&p, &mut ahead),
+            };
+            let Some(found) = found else {
                 continue;
-            }
+            };
+            self.count_sort(found.stats);
             let reserve = usize::from(p.branch == Branch::Refracted);
             let Some(kids) = self.trace(
                 p.level,
-                found,
+                found.sorted,
+                found.ready,
                 &p.t,
                 p.branch,
                 p.weight,
@@ -1111,6 +1122,74 @@ impl<'a> Builder<'a> {
                 self.options.budgets.tree_nodes, self.tree.pruned
             ));
         }
+    }
+
+    /// The level of branch `p`, found with those of the next heaviest
+    /// pending branches not yet found, in parallel; theirs go to `ahead`
+    /// by their order found. They are traced in their turn as before:
+    /// only what does not depend on the tree is found ahead, so the tree
+    /// does not depend on the threads.
+    fn find_ahead(
+        &mut self,
+        p: &Pending,
+        ahead: &mut std::collections::HashMap<usize, Option<FoundLevel<'a>>>,
+    ) -> Option<FoundLevel<'a>> {
+        let mut next = Vec::new();
+        while next.len() + 1 < FIND_AHEAD
+            && let Some(q) = self.pending.pop()
+        {
+            next.push(q);
+        }
+        let todo: Vec<&Pending> = std::iter::once(p)
+            .chain(next.iter().filter(|q| !ahead.contains_key(&q.seq)))
+            .collect();
+        let this: &Self = self;
+        let found: Vec<Option<FoundLevel<'a>>> =
+            todo.par_iter().map(|q| this.find_level(q)).collect();
+        let mut found = todo.iter().map(|q| q.seq).zip(found);
+        let (_, mine) = found.next().expect("p is first");
+        ahead.extend(found);
+        self.pending.extend(next);
+        mine
+    }
+
+    /// The level of branch `p`: the scene mapped and clipped to what is
+    /// seen through its parent, sorted, and for a level of one chunk the
+    /// chunk's shades and shadows. `None` if nothing is seen.
+    fn find_level(&self, p: &Pending) -> Option<FoundLevel<'a>> {
+        let planes = self.volume(&self.tree.nodes[p.parent].virtual_points, p.plane);
+        let found = self.mapped_level(&p.t, &planes);
+        if found.is_empty() {
+            return None;
+        }
+        let (sorted, stats) = self.sorted(found);
+        let ready = (sorted.len() <= SHADOW_CHUNK).then(|| {
+            let caster = self.caster();
+            let eye = self.eye_under(&p.t);
+            let (materials, profile, shading) =
+                (self.materials, self.profile, self.options.shading);
+            prepare_chunk(
+                materials,
+                profile,
+                shading,
+                caster.as_ref(),
+                &sorted,
+                &p.t,
+                eye,
+            )
+        });
+        Some(FoundLevel {
+            sorted,
+            stats,
+            ready,
+        })
+    }
+
+    /// The eye in true world coordinates, for a level under mapping `t`.
+    fn eye_under(&self, t: &Matrix4) -> DVec4 {
+        t.inverse()
+            .map(|inv| inv.transform(self.view.eye))
+            .unwrap_or(self.view.eye)
     }
 
     /// The shadow caster of the scene, `None` without `run y` (the index
@@ -1380,6 +1459,40 @@ fn facet_terms<'a>(
         .collect();
     slot.into_iter().map(|k| terms[k].clone()).collect()
 }
+
+/// What a chunk's fragments need that does not depend on the tree
+/// (shades, and shadows with a `caster`), found in parallel.
+fn prepare_chunk<'a>(
+    materials: &'a Materials<'a>,
+    profile: &Profile,
+    shading: ShadingModel,
+    caster: Option<&ShadowCaster<'_>>,
+    chunk: &[Candidate],
+    t: &Matrix4,
+    eye: DVec4,
+) -> PreparedChunk<'a> {
+    let own = || {
+        let _t = profile.time(Category::Shading);
+        facet_terms(materials, eye, shading, chunk)
+    };
+    let (terms, regions) = match caster {
+        Some(c) => rayon::join(own, || c.level_regions(chunk, t)),
+        None => (own(), Vec::new()),
+    };
+    PreparedChunk { terms, regions }
+}
+
+/// A branch's level found ahead of its turn (see `Builder::find_ahead`).
+struct FoundLevel<'a> {
+    sorted: Vec<Candidate>,
+    stats: Option<nns::NnsStats>,
+    /// The shades and shadows of its only chunk, if it has one.
+    ready: Option<PreparedChunk<'a>>,
+}
+
+/// How many pending branches are found at once: a few per thread keeps
+/// both busy on the hundreds of small levels of a deep mirror scene.
+const FIND_AHEAD: usize = 8;
 
 /// A level's sorted candidates in chunks of [`SHADOW_CHUNK`], the last
 /// chunk first (popped in order, each freed once added to the tree).
