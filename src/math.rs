@@ -95,6 +95,15 @@ impl Matrix4 {
         DVec4::new(self.m[0][c], self.m[1][c], self.m[2][c], self.m[3][c])
     }
 
+    /// The determinant of the linear part (the upper 3 x 3): negative
+    /// for a mapping that turns orientation over, as a reflection does.
+    pub fn linear_determinant(&self) -> f64 {
+        let a = &self.m;
+        a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+    }
+
     /// The determinant.
     pub fn determinant(&self) -> f64 {
         let m = &self.m;
@@ -643,5 +652,16 @@ mod tests {
     fn determinant_of_rotation_and_scale() {
         assert!((rotate(33.0, Axis::Y).determinant() - 1.0).abs() < 1e-12);
         assert!((scale(DVec3::new(2.0, 3.0, -1.0)).determinant() + 6.0).abs() < 1e-12);
+    }
+
+    /// The linear part's determinant ignores the translation: a mirror's
+    /// reflection (through a plane off the origin) is -1, a move 1.
+    #[test]
+    fn linear_determinant_ignores_translation() {
+        let mirror = reflection(DVec4::new(0.0, 0.6, 0.8, -3.0));
+        assert!((mirror.linear_determinant() + 1.0).abs() < 1e-12);
+        let moved = translate(DVec3::new(5.0, -2.0, 7.0)).mul(&scale(DVec3::new(2.0, 3.0, -1.0)));
+        assert!((moved.linear_determinant() + 6.0).abs() < 1e-12);
+        assert!((translate(DVec3::ONE).linear_determinant() - 1.0).abs() < 1e-12);
     }
 }

@@ -588,7 +588,7 @@ impl<'a> Builder<'a> {
     /// fragment seen through.
     fn mapped_level(&self, t: &Matrix4, planes: &[DVec4]) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Addobj);
-        let mirrored = linear_determinant(t) < 0.0;
+        let mirrored = t.linear_determinant() < 0.0;
         let objects = self.materials.objects;
         let one = |clip: &mut ClipBuffers, (oi, object): (usize, &crate::model::Object)| {
             self.mapped_object(oi as u32, object, t, planes, mirrored, clip)
@@ -1570,11 +1570,4 @@ fn toward_eye_plane(points: &[DVec3], eye: DVec4) -> Option<DVec4> {
         return None;
     }
     Some(if side > 0.0 { pl } else { -pl })
-}
-
-fn linear_determinant(m: &Matrix4) -> f64 {
-    let a = &m.m;
-    a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
-        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
 }

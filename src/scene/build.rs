@@ -65,7 +65,7 @@ pub fn build_object(parts: ObjectParts, warn: &mut dyn FnMut(String)) -> Result<
             i + 1
         ));
     }
-    let mirrored = linear_determinant(&transform) < 0.0;
+    let mirrored = transform.linear_determinant() < 0.0;
     let oriented = orient(&mesh, &vertices, mirrored);
     let (polygons, source_polygon) = planes(oriented, &vertices, &shown, warn)?;
     let vertex_normals = surface_type.curved.then(|| {
@@ -199,13 +199,6 @@ fn bbox_corners(mesh: &Mesh, transform: &Matrix4) -> [DVec3; 8] {
         );
         transform.transform_point(p)
     })
-}
-
-fn linear_determinant(m: &Matrix4) -> f64 {
-    let a = &m.m;
-    a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
-        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
 }
 
 /// The kind of a warning of [`build_object`], for counting.

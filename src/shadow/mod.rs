@@ -36,7 +36,6 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use glam::{DVec3, DVec4, Vec3};
 
-use crate::geometry::face_splitter::NotSimple;
 use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::math::Matrix4;
@@ -755,7 +754,7 @@ impl Casting<'_> {
         if !is_affine(t) {
             return self.cast(target, j, light, s);
         }
-        debug_assert!(*t == Matrix4::IDENTITY && self.is_whole(target));
+        debug_assert!(*t == Matrix4::IDENTITY && self.maps_whole(target, 0.0));
         match self.on_polygon(target.object, target.polygon, j, light, s) {
             None => Vec::new(),
             Some(OnPolygon::Cast(pieces)) => pieces,
@@ -784,7 +783,7 @@ impl Casting<'_> {
             return compute(target, s);
         }
         let identity = *t == Matrix4::IDENTITY;
-        if identity && self.is_whole(target) {
+        if identity && self.maps_whole(target, 0.0) {
             let front = self.front(target, target.plane);
             let kept = self.whole_regions(target, front, false, || compute(target, s));
             return Arc::try_unwrap(kept).map_or_else(|kept| kept.regions.clone(), |w| w.regions);
@@ -818,7 +817,7 @@ impl Casting<'_> {
         };
         let front = self.front(target, seen);
         // A piece of its polygon has siblings that will ask again.
-        let whole = !identity && self.maps_whole(target);
+        let whole = !identity && self.maps_whole(target, self.eps);
         let kept = self.whole_regions(target, front, !whole, || make(s));
         // Only the regions near the fragment are mapped and cut: a small
         // piece of a polygon with many regions (seen in a deep mirror)
@@ -860,20 +859,19 @@ impl Casting<'_> {
         let mut kept = Vec::new();
         for (ring, lights) in regions {
             kept.clear();
-            let clipped = if target.convex {
+            // `None`: the fragment is concave, or the splitter refused.
+            let clipped = target.convex.then(|| {
                 plane_clip::clip_to_planes(&ring, &s.volume, eps, &mut s.clip, &mut s.many)
-            } else {
-                Err(NotSimple)
-            };
-            match clipped {
-                Ok(Clipped::One) => push_kept(&mut kept, s.clip.piece(), eps),
-                Ok(Clipped::Many) => {
+            });
+            match clipped.and_then(Result::ok) {
+                Some(Clipped::One) => push_kept(&mut kept, s.clip.piece(), eps),
+                Some(Clipped::Many) => {
                     for piece in &s.many {
                         push_kept(&mut kept, piece, eps);
                     }
                 }
-                Ok(Clipped::Empty) => {}
-                Err(_) => {
+                Some(Clipped::Empty) => {}
+                None => {
                     for piece in union::intersection(&ring, target.points, target.plane) {
                         push_kept(&mut kept, &piece, eps);
                     }
@@ -917,25 +915,18 @@ impl Casting<'_> {
         regions
     }
 
-    /// Whether `target` has its polygon's points (world coordinates), in
-    /// order.
-    fn is_whole(&self, target: &Target) -> bool {
-        let polygon = CasterRef::new(self.objects, target.object, target.polygon);
-        polygon.polygon.indices.len() == target.points.len()
-            && polygon.points().zip(target.points).all(|(p, q)| p == *q)
-    }
-
     /// Whether `target` has its polygon's points mapped by its mapping,
-    /// each within the tolerance, in order (reversed under a reflection,
-    /// as the mirror's level lists them).
-    fn maps_whole(&self, target: &Target) -> bool {
+    /// each within `eps`, in order (reversed under a reflection, as the
+    /// mirror's level lists them). With `eps` 0 under the identity: its
+    /// polygon's very points.
+    fn maps_whole(&self, target: &Target, eps: f64) -> bool {
         let polygon = CasterRef::new(self.objects, target.object, target.polygon);
-        let (t, eps2) = (target.t, self.eps * self.eps);
+        let (t, eps2) = (target.t, eps * eps);
         let near = |p: DVec3, q: &DVec3| t.transform_point(p).distance_squared(*q) <= eps2;
         if polygon.polygon.indices.len() != target.points.len() {
             return false;
         }
-        if t.determinant() < 0.0 {
+        if t.linear_determinant() < 0.0 {
             polygon
                 .points()
                 .zip(target.points.iter().rev())
@@ -1156,7 +1147,7 @@ fn push_projected(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], target: DVec4, lv:
 /// `regions` mapped by affine `t`, their outlines kept counter-clockwise
 /// (reversed under a reflection).
 fn map_regions(regions: &mut [ShadowRegion], t: &Matrix4) {
-    let turned = t.determinant() < 0.0;
+    let turned = t.linear_determinant() < 0.0;
     for (ring, _) in regions {
         for p in ring.iter_mut() {
             *p = t.transform_point(*p);

@@ -42,14 +42,19 @@ impl CoverMask {
     /// The bytes of a mask for `width x height` pixels of `n x n`
     /// samples.
     pub fn bytes(width: u32, height: u32, n: u32) -> u64 {
-        let words = (u64::from(width) * u64::from(n)).div_ceil(64);
-        words * 8 * u64::from(height) * u64::from(n)
+        Self::words(width, n) * 8 * u64::from(height) * u64::from(n)
     }
 
-    /// An image with nothing covered.
+    /// The 64-bit words of a row of samples.
+    fn words(width: u32, n: u32) -> u64 {
+        (u64::from(width) * u64::from(n)).div_ceil(64)
+    }
+
+    /// An image with nothing covered (of at most [`Self::bytes`], which
+    /// the caller has checked).
     pub fn new(width: u32, height: u32, n: u32) -> CoverMask {
         let (columns, rows) = (width * n, height * n);
-        let words = (columns as usize).div_ceil(64);
+        let words = Self::words(width, n) as usize;
         CoverMask {
             n: n as f64,
             columns,
