@@ -1202,14 +1202,19 @@ fn volume(points: &[DVec3], target: DVec4, lv: DVec3, eps: f64, out: &mut Vec<DV
 mod tests {
     use super::*;
 
+    /// The gallery scene (four shadow lights, mirrors) from the fixtures.
+    fn gallery() -> crate::model::Scene {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/gallery.des");
+        crate::scene::load(&path).expect("the gallery fixture").0
+    }
+
     /// Past the memory bound, lights share one hierarchy of all casters
     /// and test facing per caster: the same shadows as their own
     /// hierarchies, on every polygon of the gallery (4 lights).
     #[test]
     fn the_shared_hierarchy_casts_the_same_shadows() {
-        let path =
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/gallery.des");
-        let scene = crate::scene::load(&path).expect("the gallery fixture").0;
+        let scene = gallery();
         let own = CasterIndex::new(&scene.objects, scene.lights.len());
         let mut shared = CasterIndex::new(&scene.objects, scene.lights.len());
         shared.max_light_items = 0;
@@ -1254,9 +1259,7 @@ mod tests {
     /// other pieces, and the polygon itself, find them made.
     #[test]
     fn the_pieces_of_a_polygon_make_its_regions_once() {
-        let path =
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/gallery.des");
-        let scene = crate::scene::load(&path).expect("the gallery fixture").0;
+        let scene = gallery();
         let index = CasterIndex::new(&scene.objects, scene.lights.len());
         let profile = Profile::new(false);
         let casting = Casting {
