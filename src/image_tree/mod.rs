@@ -1128,14 +1128,27 @@ impl<'a> Builder<'a> {
     /// pending branches not yet found, in parallel; theirs go to `ahead`
     /// by their order found. They are traced in their turn as before:
     /// only what does not depend on the tree is found ahead, so the tree
-    /// does not depend on the threads.
+    /// does not depend on the threads. A scene of [`PARALLEL_LEVEL_POLYGONS`]
+    /// or more finds one level at a time (in parallel within it): several
+    /// of its levels would be held at once.
     fn find_ahead(
         &mut self,
         p: &Pending,
         ahead: &mut std::collections::HashMap<usize, Option<FoundLevel<'a>>>,
     ) -> Option<FoundLevel<'a>> {
+        let polygons: usize = self
+            .materials
+            .objects
+            .iter()
+            .map(|o| o.polygons.len())
+            .sum();
+        let at_once = if polygons < PARALLEL_LEVEL_POLYGONS {
+            FIND_AHEAD
+        } else {
+            1
+        };
         let mut next = Vec::new();
-        while next.len() + 1 < FIND_AHEAD
+        while next.len() + 1 < at_once
             && let Some(q) = self.pending.pop()
         {
             next.push(q);
@@ -1490,8 +1503,9 @@ struct FoundLevel<'a> {
     ready: Option<PreparedChunk<'a>>,
 }
 
-/// How many pending branches are found at once: a few per thread keeps
-/// both busy on the hundreds of small levels of a deep mirror scene.
+/// How many pending branches of a small scene are found at once: a few
+/// per thread keeps both busy on the hundreds of small levels of a deep
+/// mirror scene.
 const FIND_AHEAD: usize = 8;
 
 /// A level's sorted candidates in chunks of [`SHADOW_CHUNK`], the last
