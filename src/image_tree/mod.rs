@@ -416,6 +416,10 @@ struct Builder<'a> {
     reserved: usize,
     /// Splits made by the first NNS sort that fell back.
     first_fallback_splits: usize,
+    /// Whether the scene has fewer than [`PARALLEL_LEVEL_POLYGONS`]
+    /// polygons: its levels are small, mapped on one thread and found
+    /// several at once.
+    small_scene: bool,
 }
 
 /// A branch waiting to be traced: the scene seen by reflection in (or
@@ -514,6 +518,12 @@ pub fn build_profiled(
         next_seq: 0,
         reserved: 0,
         first_fallback_splits: 0,
+        small_scene: materials
+            .objects
+            .iter()
+            .map(|o| o.polygons.len())
+            .sum::<usize>()
+            < PARALLEL_LEVEL_POLYGONS,
     };
     // The casters' index does not depend on the view: it is built (or
     // found unchanged) while this thread finds level 1.
@@ -595,8 +605,7 @@ impl<'a> Builder<'a> {
         };
         // A small scene's level is mapped on this thread: handing a few
         // hundred polygons to others costs more than it saves.
-        let polygons: usize = objects.iter().map(|o| o.polygons.len()).sum();
-        if polygons < PARALLEL_LEVEL_POLYGONS {
+        if self.small_scene {
             let mut clip = ClipBuffers::default();
             return objects
                 .iter()
@@ -1136,17 +1145,7 @@ impl<'a> Builder<'a> {
         p: &Pending,
         ahead: &mut std::collections::HashMap<usize, Option<FoundLevel<'a>>>,
     ) -> Option<FoundLevel<'a>> {
-        let polygons: usize = self
-            .materials
-            .objects
-            .iter()
-            .map(|o| o.polygons.len())
-            .sum();
-        let at_once = if polygons < PARALLEL_LEVEL_POLYGONS {
-            FIND_AHEAD
-        } else {
-            1
-        };
+        let at_once = if self.small_scene { FIND_AHEAD } else { 1 };
         let mut next = Vec::new();
         while next.len() + 1 < at_once
             && let Some(q) = self.pending.pop()
