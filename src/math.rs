@@ -104,6 +104,22 @@ impl Matrix4 {
             + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
     }
 
+    /// Whether it is affine and keeps distances (a rotation, a
+    /// reflection, a translation): its linear part's rows are orthonormal,
+    /// within `1e-9`.
+    pub fn keeps_distances(&self) -> bool {
+        let m = &self.m;
+        let affine = m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0;
+        let row = |i: usize| DVec3::new(m[i][0], m[i][1], m[i][2]);
+        affine
+            && (0..3).all(|i| {
+                (0..3).all(|k| {
+                    let want = if i == k { 1.0 } else { 0.0 };
+                    (row(i).dot(row(k)) - want).abs() <= 1e-9
+                })
+            })
+    }
+
     /// The determinant.
     pub fn determinant(&self) -> f64 {
         let m = &self.m;
@@ -663,5 +679,22 @@ mod tests {
         let moved = translate(DVec3::new(5.0, -2.0, 7.0)).mul(&scale(DVec3::new(2.0, 3.0, -1.0)));
         assert!((moved.linear_determinant() + 6.0).abs() < 1e-12);
         assert!((translate(DVec3::ONE).linear_determinant() - 1.0).abs() < 1e-12);
+    }
+
+    /// Mirrors and moves keep distances; a scale, a refraction (which
+    /// stretches along the normal) and a projection do not.
+    #[test]
+    fn only_rigid_mappings_keep_distances() {
+        let mirror = reflection(DVec4::new(0.0, 0.6, 0.8, -3.0));
+        let moved = translate(DVec3::new(5.0, -2.0, 7.0)).mul(&mirror);
+        assert!(Matrix4::IDENTITY.keeps_distances() && mirror.keeps_distances());
+        assert!(moved.keeps_distances());
+        assert!(!scale(DVec3::new(1.0, 1.0, -1.01)).keeps_distances());
+        let water = DVec4::new(0.0, 0.0, 1.0, 0.0);
+        let bent = refraction(water, DVec3::new(0.3, 0.0, -1.0), 1.0 / 1.33).unwrap();
+        assert!(!bent.keeps_distances());
+        let mut projective = Matrix4::IDENTITY;
+        projective.m[2][3] = -1.0;
+        assert!(!projective.keeps_distances());
     }
 }

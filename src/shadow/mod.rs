@@ -4,11 +4,18 @@
 //!
 //! The shadow volume of a target fragment and a Point light is the convex
 //! volume from the light through the fragment's outline down to its plane.
-//! Casters are found per light: each light has its own bounding volume
-//! hierarchy holding only the polygons that face it (or are `type open`),
-//! built the first time the light is asked for, so back-facing casters are
-//! never fetched. Boxes are tested against the volume at the nodes and
-//! again, caster by caster, at the leaves. A caster that survives is
+//! Casters are found per light, among only the polygons that face it (or
+//! are `type open`), so back-facing casters are never fetched. They are
+//! found as the light sees them ([`light_space`]): on each face of a cube
+//! around the light, a hierarchy of their boxes in the face's coordinates
+//! (two directions and a distance), where a volume is the box of its
+//! target's picture, cut by the target's sides and plane. A volume that
+//! the faces cannot take (a non-convex target, a level whose mapping does
+//! not keep distances, a light past the memory bound) is mapped back to
+//! the world and queried in a hierarchy of world boxes. Either way boxes
+//! are tested against the volume at the nodes and again, caster by
+//! caster, at the leaves, and both are built the first time they are
+//! needed. A caster that survives is
 //! tested vertex by vertex against the volume's planes, clipped to it in
 //! reused buffers ([`plane_clip`], stopping as soon as nothing is left) and
 //! projected from the light onto the target's plane. Nothing is allocated
@@ -26,6 +33,7 @@
 //! casting, and an animation whose world does not change between frames
 //! ([`CasterReuse`]) keeps them all.
 
+pub mod light_space;
 pub mod overlap;
 pub mod union;
 
@@ -95,6 +103,19 @@ struct LightTree {
     items: Vec<Item>,
     nodes: Vec<Node>,
 }
+
+/// The casters facing one light in the coordinates of the faces of the
+/// cube around it ([`light_space`]), a hierarchy a face, their boxes
+/// widened by the tolerance `tol` (a distance).
+struct LightFaces {
+    tol: f64,
+    faces: Vec<LightTree>,
+}
+
+/// How many tolerances the boxes of [`LightFaces`] are widened by: the
+/// clipper keeps what lies within a tolerance of each plane of a volume,
+/// and within another of its target's plane.
+const FACE_MARGIN: f64 = 4.0;
 
 /// How many tolerances the box of a shadow volume is widened by: the
 /// clipper keeps what lies within the tolerance of each plane, which near
@@ -178,6 +199,11 @@ fn caster_hash(open: bool, c: CasterRef<'_>) -> u64 {
 pub struct CasterIndex {
     casters: Vec<Caster>,
     lights: Vec<OnceLock<LightTree>>,
+    /// Per light within the memory bound, its casters as it sees them.
+    faces: Vec<OnceLock<LightFaces>>,
+    /// Whether shadow volumes are looked up in [`Self::faces`] when they
+    /// can be (off only to test them against the world hierarchies).
+    light_space: bool,
     /// Every caster, for the lights past the memory bound.
     shared: OnceLock<LightTree>,
     /// The bound: [`MAX_LIGHT_ITEMS`].
@@ -247,6 +273,8 @@ impl CasterIndex {
         CasterIndex {
             casters,
             lights: (0..lights).map(|_| OnceLock::new()).collect(),
+            faces: (0..lights).map(|_| OnceLock::new()).collect(),
+            light_space: true,
             shared: OnceLock::new(),
             max_light_items: MAX_LIGHT_ITEMS,
             world: PieceCache::default(),
@@ -261,8 +289,7 @@ impl CasterIndex {
     /// [`MAX_LIGHT_ITEMS`] items, else one shared by every further light,
     /// so that many lights never cost lights times casters memory.
     fn tree(&self, objects: &[Object], j: usize, light: DVec3) -> (&LightTree, bool) {
-        let n = self.casters.len().max(1);
-        if (j + 1).saturating_mul(n) > self.max_light_items && j > 0 {
+        if !self.own_hierarchy(j) {
             return (
                 self.shared
                     .get_or_init(|| self.make_tree(objects, |_| true)),
@@ -275,8 +302,55 @@ impl CasterIndex {
         (tree, false)
     }
 
+    /// Whether light `j` has hierarchies of its own: all lights' together
+    /// stay within [`MAX_LIGHT_ITEMS`] items.
+    fn own_hierarchy(&self, j: usize) -> bool {
+        let n = self.casters.len().max(1);
+        j == 0 || (j + 1).saturating_mul(n) <= self.max_light_items
+    }
+
+    /// Light `j`'s casters as it sees them ([`LightFaces`]), made for the
+    /// tolerance `tol` the first time they are asked for; `None` for a
+    /// light without hierarchies of its own, or when `tol` is larger than
+    /// theirs.
+    fn faces(&self, objects: &[Object], j: usize, light: DVec3, tol: f64) -> Option<&LightFaces> {
+        if !self.light_space || !self.own_hierarchy(j) {
+            return None;
+        }
+        let faces = self.faces[j].get_or_init(|| self.make_faces(objects, light, tol));
+        (tol <= faces.tol).then_some(faces)
+    }
+
+    fn make_faces(&self, objects: &[Object], light: DVec3, tol: f64) -> LightFaces {
+        let mut faces = vec![Vec::new(); light_space::FACES];
+        let (mut points, mut clip) = (Vec::new(), light_space::FaceClip::default());
+        for (k, c) in self.casters.iter().enumerate() {
+            let caster = CasterRef::of(objects, c);
+            if !caster.faces(c.open, light) {
+                continue;
+            }
+            points.clear();
+            points.extend(caster.points());
+            light_space::caster_boxes(&points, light, tol, &mut clip, |f, (lo, hi)| {
+                faces[f].push(Item {
+                    lo: f32_below(lo),
+                    hi: f32_above(hi),
+                    caster: k as u32,
+                    object: c.single_object,
+                });
+            });
+        }
+        LightFaces {
+            tol,
+            faces: faces
+                .into_iter()
+                .map(|items| LightTree::new(items, DVec3::new(1.0, 1.0, 0.0)))
+                .collect(),
+        }
+    }
+
     fn make_tree(&self, objects: &[Object], keep: impl Fn(&Caster) -> bool) -> LightTree {
-        let mut items: Vec<Item> = self
+        let items: Vec<Item> = self
             .casters
             .iter()
             .enumerate()
@@ -291,19 +365,7 @@ impl CasterIndex {
                 }
             })
             .collect();
-        let mut nodes = Vec::new();
-        if !items.is_empty() {
-            nodes.push(Node {
-                lo: Vec3::ZERO,
-                hi: Vec3::ZERO,
-                first: 0,
-                count: 0,
-                object: NONE,
-            });
-            let n = items.len();
-            build(&mut items, &mut nodes, 0, 0, n);
-        }
-        LightTree { items, nodes }
+        LightTree::new(items, DVec3::ONE)
     }
 }
 
@@ -328,8 +390,15 @@ fn f32_above(v: DVec3) -> Vec3 {
 }
 
 /// Splits `items[start..end]` at the median of the box centres along the
-/// longest axis of their bounds.
-fn build(items: &mut [Item], nodes: &mut Vec<Node>, node: usize, start: usize, end: usize) {
+/// longest axis of their bounds, each axis's length weighted by `weight`.
+fn build(
+    items: &mut [Item],
+    nodes: &mut Vec<Node>,
+    weight: DVec3,
+    node: usize,
+    start: usize,
+    end: usize,
+) {
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     for it in &items[start..end] {
         lo = lo.min(it.lo);
@@ -347,7 +416,7 @@ fn build(items: &mut [Item], nodes: &mut Vec<Node>, node: usize, start: usize, e
         };
         return;
     }
-    let e = hi.as_dvec3() - lo.as_dvec3();
+    let e = (hi.as_dvec3() - lo.as_dvec3()) * weight;
     let axis = if e.x >= e.y && e.x >= e.z {
         0
     } else if e.y >= e.z {
@@ -378,8 +447,8 @@ fn build(items: &mut [Item], nodes: &mut Vec<Node>, node: usize, start: usize, e
         count: 0,
         object: NONE,
     };
-    build(items, nodes, left, start, mid);
-    build(items, nodes, left + 1, mid, end);
+    build(items, nodes, weight, left, start, mid);
+    build(items, nodes, weight, left + 1, mid, end);
     if nodes[left].object == nodes[left + 1].object {
         nodes[node].object = nodes[left].object;
     }
@@ -397,17 +466,42 @@ fn box_outside(planes: &[DVec4], lo: DVec3, hi: DVec3) -> bool {
 }
 
 impl LightTree {
+    /// The hierarchy of `items`, split along the axes `weight` gives
+    /// weight to.
+    fn new(mut items: Vec<Item>, weight: DVec3) -> LightTree {
+        let mut nodes = Vec::new();
+        if !items.is_empty() {
+            nodes.push(Node {
+                lo: Vec3::ZERO,
+                hi: Vec3::ZERO,
+                first: 0,
+                count: 0,
+                object: NONE,
+            });
+            let n = items.len();
+            build(&mut items, &mut nodes, weight, 0, 0, n);
+        }
+        LightTree { items, nodes }
+    }
+
     /// The casters whose boxes may meet the volume `planes` within
     /// `bounds`, in caster order, leaving out those that stand only for
     /// polygons of object `skip` (none when it is [`NONE`]).
     fn query(&self, planes: &[DVec4], bounds: (DVec3, DVec3), skip: u32, out: &mut Vec<u32>) {
+        out.clear();
+        self.add(planes, bounds, skip, out);
+        // The pieces keep the casters' (the scene's) order.
+        out.sort_unstable();
+    }
+
+    /// [`Self::query`]'s casters added to `out`, in no order.
+    fn add(&self, planes: &[DVec4], bounds: (DVec3, DVec3), skip: u32, out: &mut Vec<u32>) {
         let (blo, bhi) = bounds;
         let outside = |lo: Vec3, hi: Vec3| {
             let (lo, hi) = (lo.as_dvec3(), hi.as_dvec3());
             lo.cmpgt(bhi).any() || hi.cmplt(blo).any() || box_outside(planes, lo, hi)
         };
         let skipped = |object: u32| skip != NONE && object == skip;
-        out.clear();
         if self.nodes.is_empty() {
             return;
         }
@@ -433,8 +527,39 @@ impl LightTree {
                 );
             }
         }
-        // The pieces keep the casters' (the scene's) order.
-        out.sort_unstable();
+    }
+}
+
+impl LightFaces {
+    /// The casters that may meet the shadow volume from `light` through
+    /// the convex polygon `points` (world coordinates) down to its
+    /// `plane` (world coordinates, facing the light), into `s.found` in
+    /// caster order; those of object `skip` left out, as
+    /// [`LightTree::query`]. A caster counts if it comes within the
+    /// tolerance of the volume, or within `beyond` of the plane.
+    fn query(
+        &self,
+        points: &[DVec3],
+        plane: DVec4,
+        light: DVec3,
+        beyond: f64,
+        skip: u32,
+        s: &mut Scratch,
+    ) {
+        s.found.clear();
+        let mut clip = std::mem::take(&mut s.face_clip);
+        light_space::target_parts(points, light, &mut clip, |f, part| {
+            let Some((lo, hi)) = light_space::face_box(part.iter().copied(), light, f, 0.0) else {
+                return;
+            };
+            let far = light_space::farthest(plane, light, f, lo, hi, beyond);
+            let bounds = (lo.with_z(f64::NEG_INFINITY), hi.with_z(far));
+            light_space::face_sides(part, light, f, &mut s.face_sides);
+            self.faces[f].add(&s.face_sides, bounds, skip, &mut s.found);
+        });
+        s.face_clip = clip;
+        s.found.sort_unstable();
+        s.found.dedup();
     }
 }
 
@@ -696,6 +821,12 @@ pub struct Scratch {
     points: Vec<DVec3>,
     volume: Vec<DVec4>,
     world_volume: Vec<DVec4>,
+    /// A mirrored target's points mapped back to the world.
+    world_points: Vec<DVec3>,
+    /// The sides of a target on a face of the cube around the light.
+    face_sides: Vec<DVec4>,
+    /// Buffers to clip a target to the faces of that cube.
+    face_clip: light_space::FaceClip,
     clip: ClipScratch,
     many: Vec<Vec<DVec3>>,
     /// A whole polygon's points, while its shadows are cast.
@@ -733,6 +864,71 @@ pub struct Casting<'a> {
 }
 
 impl Casting<'_> {
+    /// The casters that may meet the shadow volume `s.volume` of `target`
+    /// (virtual coordinates, the light at `lv` there), into `s.found` in
+    /// caster order, and whether they still need the facing test. From
+    /// the light's faces ([`LightFaces`]) when the target is convex and its
+    /// level's mapping keeps distances (so the tolerance is the same in
+    /// the world), else from the world hierarchy, the volume mapped back.
+    fn find(&self, target: &Target, j: usize, light: DVec3, skip: u32, s: &mut Scratch) -> bool {
+        let (objects, index, eps) = (self.objects, self.index, self.eps);
+        let t = target.t;
+        let identity = *t == Matrix4::IDENTITY;
+        let tol = FACE_MARGIN * eps;
+        let faces = index
+            .faces(objects, j, light, tol)
+            .filter(|_| target.convex);
+        let mut world = std::mem::take(&mut s.world_points);
+        if let Some(faces) = faces
+            && let Some(points) = world_points(target, identity, &mut world)
+        {
+            // The volume reaches a tolerance beyond the target's plane,
+            // and the clipper keeps what lies within another.
+            let plane = if identity {
+                target.plane
+            } else {
+                t.transpose().transform(target.plane)
+            };
+            let length = plane.truncate().length();
+            faces.query(
+                points,
+                plane / length,
+                light,
+                tol + 2.0 * eps / length,
+                skip,
+                s,
+            );
+            s.world_points = world;
+            return false;
+        }
+        s.world_points = world;
+        // The index is in world coordinates: map the volume's planes back
+        // (a plane L of the virtual space is t L in world space).
+        s.world_volume.clear();
+        if identity {
+            s.world_volume.extend_from_slice(&s.volume);
+        } else {
+            let tt = t.transpose();
+            s.world_volume
+                .extend(s.volume.iter().map(|pl| tt.transform(*pl)));
+        }
+        // The volume lies in the pyramid from the light to the target: its
+        // box in world coordinates (an affine mapping, as mirrors make,
+        // keeps the pyramid the hull of its corners), widened well beyond
+        // the tolerance the clipper allows, culls the hierarchy before any
+        // plane.
+        let bounds = match world_corners(target, identity) {
+            Some((lo, hi)) if target.convex => {
+                let margin = DVec3::splat(BOX_MARGIN * eps);
+                (lo.min(light) - margin, hi.max(light) + margin)
+            }
+            _ => (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY)),
+        };
+        let (tree, facing_unknown) = index.tree(objects, j, light);
+        tree.query(&s.world_volume, bounds, skip, &mut s.found);
+        facing_unknown
+    }
+
     /// The shadows cast on `target` by Point light `j` at world position
     /// `light`, in the target's plane. `target` is a whole polygon in
     /// world coordinates, as [`Self::regions`] hands it (the pieces of
@@ -986,29 +1182,7 @@ impl Casting<'_> {
             return Vec::new();
         }
         volume(target.points, plane, lv, eps, &mut s.volume);
-        // The index is in world coordinates: map the volume's planes back
-        // (a plane L of the virtual space is t L in world space).
         let identity = *t == Matrix4::IDENTITY;
-        s.world_volume.clear();
-        if identity {
-            s.world_volume.extend_from_slice(&s.volume);
-        } else {
-            let tt = t.transpose();
-            s.world_volume
-                .extend(s.volume.iter().map(|pl| tt.transform(*pl)));
-        }
-        // The volume lies in the pyramid from the light to the target: its
-        // box in world coordinates (an affine mapping, as mirrors make,
-        // keeps the pyramid the hull of its corners), widened well beyond
-        // the tolerance the clipper allows, culls the hierarchy before any
-        // plane.
-        let bounds = match world_corners(target, identity) {
-            Some((lo, hi)) if target.convex => {
-                let margin = DVec3::splat(BOX_MARGIN * eps);
-                (lo.min(light) - margin, hi.max(light) + margin)
-            }
-            _ => (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY)),
-        };
         let own = &objects[target.object as usize];
         // Its own object shadows a fragment only if it is `type concave`.
         let skip = if own.surface_type.concave {
@@ -1016,16 +1190,15 @@ impl Casting<'_> {
         } else {
             target.object
         };
-        {
+        let facing_unknown = {
             let _t = profile.time(Category::ChkBbox);
-            let (tree, facing_unknown) = index.tree(objects, j, light);
-            tree.query(&s.world_volume, bounds, skip, &mut s.found);
-            if facing_unknown {
-                s.found.retain(|&k| {
-                    let c = &index.casters[k as usize];
-                    CasterRef::of(objects, c).faces(c.open, light)
-                });
-            }
+            self.find(target, j, light, skip, s)
+        };
+        if facing_unknown {
+            s.found.retain(|&k| {
+                let c = &index.casters[k as usize];
+                CasterRef::of(objects, c).faces(c.open, light)
+            });
         }
         let n = plane.truncate();
         let mut out = Vec::new();
@@ -1091,6 +1264,25 @@ fn world_corners(target: &Target, identity: bool) -> Option<(DVec3, DVec3)> {
     let inverse = target.t.inverse()?;
     let b = crate::math::bounds(target.points.iter().map(|p| inverse.transform_point(*p)));
     (b.0.is_finite() && b.1.is_finite()).then_some(b)
+}
+
+/// The target's points in world coordinates when its level's mapping
+/// keeps distances (the identity, or a mirror's reflection), in `out`.
+fn world_points<'a>(
+    target: &'a Target,
+    identity: bool,
+    out: &'a mut Vec<DVec3>,
+) -> Option<&'a [DVec3]> {
+    if identity {
+        return Some(target.points);
+    }
+    if !target.t.keeps_distances() {
+        return None;
+    }
+    let inverse = target.t.inverse()?;
+    out.clear();
+    out.extend(target.points.iter().map(|p| inverse.transform_point(*p)));
+    Some(out)
 }
 
 /// Whether a shadow piece is worth keeping: finite and of some area.
@@ -1260,6 +1452,62 @@ mod tests {
             }
         }
         assert!(total > 100, "only {total} shadow pieces compared");
+    }
+
+    /// The casters found on the faces of the cube around each light make
+    /// the same shadow pieces, bit for bit, as those found in the world
+    /// hierarchies, on every polygon of the gallery (4 lights), seen
+    /// directly and in a mirror (a reflection through a plane across the
+    /// room): the faces never miss a caster that matters.
+    #[test]
+    fn the_light_faces_cast_the_same_shadows_as_the_world_hierarchy() {
+        let scene = gallery();
+        let faces = CasterIndex::new(&scene.objects, scene.lights.len());
+        let mut world = CasterIndex::new(&scene.objects, scene.lights.len());
+        world.light_space = false;
+        let profile = Profile::new(false);
+        let eps = scene.modes.epsilon * scene.size();
+        let cast = |index| Casting {
+            objects: &scene.objects,
+            index,
+            profile: &profile,
+            eps,
+        };
+        let (a, b) = (cast(&faces), cast(&world));
+        let mirror = crate::math::reflection(DVec4::new(0.6, 0.0, 0.8, -0.5));
+        let mut s = Scratch::default();
+        let mut total = 0;
+        for t in [Matrix4::IDENTITY, mirror] {
+            for (oi, object) in scene.objects.iter().enumerate() {
+                for (pi, poly) in object.polygons.iter().enumerate() {
+                    let mut points: Vec<DVec3> =
+                        CasterRef::new(&scene.objects, oi as u32, pi as u32)
+                            .points()
+                            .map(|p| t.transform_point(p))
+                            .collect();
+                    let mut plane = t.inverse().unwrap().transpose().transform(poly.plane);
+                    if t.linear_determinant() < 0.0 {
+                        points.reverse();
+                    }
+                    plane /= plane.truncate().length();
+                    let target = Target {
+                        object: oi as u32,
+                        polygon: pi as u32,
+                        points: &points,
+                        plane,
+                        t: &t,
+                        convex: polygon::is_convex(&points),
+                    };
+                    for (j, light) in scene.lights.iter().enumerate() {
+                        let x = a.pieces(&target, j, light.position, &mut s);
+                        let y = b.pieces(&target, j, light.position, &mut s);
+                        total += x.len();
+                        assert_eq!(x, y, "object {oi} polygon {pi} light {j} mapped by {t:?}");
+                    }
+                }
+            }
+        }
+        assert!(total > 200, "only {total} shadow pieces compared");
     }
 
     /// A still keeps a polygon's regions when a piece of it asks: its
