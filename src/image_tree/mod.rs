@@ -868,10 +868,9 @@ impl<'a> Builder<'a> {
         }
         self.tree.max_depth = self.tree.max_depth.max(level);
         let inverse = t.inverse();
-        let eye_real = self.eye_under(t);
         self.tree.spaces.push(VirtualSpace {
             inverse,
-            eye: eye_real,
+            eye: self.eye_under(t),
         });
         let mut at = LevelState {
             level,
@@ -880,21 +879,12 @@ impl<'a> Builder<'a> {
             weight,
             parent_blend,
             parent,
-            eye_real,
             space: (self.tree.spaces.len() - 1) as u32,
             ids: Vec::new(),
         };
-        let caster = self.caster();
-        let (materials, profile, shading, eye) = (
-            self.materials,
-            self.profile,
-            self.options.shading,
-            at.eye_real,
-        );
+        let work = self.chunk_work(t);
         let prepare = |chunk: Option<&[Candidate]>| {
-            chunk.map_or_else(PreparedChunk::default, |chunk| {
-                prepare_chunk(materials, profile, shading, caster.as_ref(), chunk, t, eye)
-            })
+            chunk.map_or_else(PreparedChunk::default, |chunk| work.prepare(chunk))
         };
         let mut chunks = into_chunks(sorted);
         let mut ready = match found {
@@ -1175,21 +1165,7 @@ impl<'a> Builder<'a> {
             return None;
         }
         let (sorted, stats) = self.sorted(found);
-        let ready = (sorted.len() <= SHADOW_CHUNK).then(|| {
-            let caster = self.caster();
-            let eye = self.eye_under(&p.t);
-            let (materials, profile, shading) =
-                (self.materials, self.profile, self.options.shading);
-            prepare_chunk(
-                materials,
-                profile,
-                shading,
-                caster.as_ref(),
-                &sorted,
-                &p.t,
-                eye,
-            )
-        });
+        let ready = (sorted.len() <= SHADOW_CHUNK).then(|| self.chunk_work(&p.t).prepare(&sorted));
         Some(FoundLevel {
             sorted,
             stats,
@@ -1202,6 +1178,18 @@ impl<'a> Builder<'a> {
         t.inverse()
             .map(|inv| inv.transform(self.view.eye))
             .unwrap_or(self.view.eye)
+    }
+
+    /// What preparing the chunks of a level under mapping `t` reads.
+    fn chunk_work(&self, t: &Matrix4) -> ChunkWork<'a> {
+        ChunkWork {
+            materials: self.materials,
+            profile: self.profile,
+            shading: self.options.shading,
+            caster: self.caster(),
+            t: *t,
+            eye: self.eye_under(t),
+        }
     }
 
     /// The shadow caster of the scene, `None` without `run y` (the index
@@ -1472,26 +1460,34 @@ fn facet_terms<'a>(
     slot.into_iter().map(|k| terms[k].clone()).collect()
 }
 
-/// What a chunk's fragments need that does not depend on the tree
-/// (shades, and shadows with a `caster`), found in parallel.
-fn prepare_chunk<'a>(
+/// What preparing a level's chunks reads: nothing of the tree, so a chunk
+/// is prepared while the one before it is added.
+struct ChunkWork<'a> {
     materials: &'a Materials<'a>,
-    profile: &Profile,
+    profile: &'a Profile,
     shading: ShadingModel,
-    caster: Option<&ShadowCaster<'_>>,
-    chunk: &[Candidate],
-    t: &Matrix4,
+    /// `None` without shadows.
+    caster: Option<ShadowCaster<'a>>,
+    /// The level's mapping.
+    t: Matrix4,
+    /// The eye in true world coordinates.
     eye: DVec4,
-) -> PreparedChunk<'a> {
-    let own = || {
-        let _t = profile.time(Category::Shading);
-        facet_terms(materials, eye, shading, chunk)
-    };
-    let (terms, regions) = match caster {
-        Some(c) => rayon::join(own, || c.level_regions(chunk, t)),
-        None => (own(), Vec::new()),
-    };
-    PreparedChunk { terms, regions }
+}
+
+impl<'a> ChunkWork<'a> {
+    /// What a chunk's fragments need that does not depend on the tree
+    /// (shades, and shadows with a caster), found in parallel.
+    fn prepare(&self, chunk: &[Candidate]) -> PreparedChunk<'a> {
+        let own = || {
+            let _t = self.profile.time(Category::Shading);
+            facet_terms(self.materials, self.eye, self.shading, chunk)
+        };
+        let (terms, regions) = match &self.caster {
+            Some(c) => rayon::join(own, || c.level_regions(chunk, &self.t)),
+            None => (own(), Vec::new()),
+        };
+        PreparedChunk { terms, regions }
+    }
 }
 
 /// A branch's level found ahead of its turn (see `Builder::find_ahead`).
@@ -1540,8 +1536,6 @@ struct LevelState<'t> {
     weight: f64,
     parent_blend: Color,
     parent: Option<usize>,
-    /// The eye in true world coordinates.
-    eye_real: DVec4,
     /// Index of the level's space in [`VirtualImageTree::spaces`].
     space: u32,
     /// The fragments added, in order.
