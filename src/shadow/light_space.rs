@@ -210,7 +210,7 @@ pub fn face_sides(points: &[DVec3], light: DVec3, f: usize, out: &mut Vec<DVec4>
         (w > 0.0).then(|| [d[b] / w, d[c] / w])
     };
     let n = points.len();
-    let mut twice_area = 0.0;
+    let (mut twice_area, mut longest) = (0.0, 0.0f64);
     for i in 0..n {
         let (Some(p), Some(q)) = (uv(points[i]), uv(points[(i + 1) % n])) else {
             out.clear();
@@ -219,9 +219,13 @@ pub fn face_sides(points: &[DVec3], light: DVec3, f: usize, out: &mut Vec<DVec4>
         twice_area += p[0] * q[1] - p[1] * q[0];
         // Left of p -> q: (q - p) x (x - p) >= 0.
         let (du, dv) = (q[0] - p[0], q[1] - p[1]);
+        longest = longest.max(du.abs()).max(dv.abs());
         out.push(DVec4::new(-dv, du, 0.0, dv * p[0] - du * p[1]));
     }
-    if twice_area < 0.0 {
+    // Seen nearly edge on, its turn is lost in rounding: no sides.
+    if twice_area.abs() <= 1e-9 * longest * longest {
+        out.clear();
+    } else if twice_area < 0.0 {
         for pl in out.iter_mut() {
             *pl = -*pl;
         }
@@ -287,6 +291,37 @@ mod tests {
         let (axis, b, c, side) = axes(f);
         let w = d[axis] * side;
         (f, DVec3::new(d[b] / w, d[c] / w, w))
+    }
+
+    /// A square seen from the light has four sides facing inwards, either
+    /// way round; seen edge on, none.
+    #[test]
+    fn a_target_has_its_sides_facing_inwards_unless_edge_on() {
+        let square = [
+            DVec3::new(-1.0, -1.0, 4.0),
+            DVec3::new(1.0, -1.0, 4.0),
+            DVec3::new(1.0, 1.0, 4.0),
+            DVec3::new(-1.0, 1.0, 4.0),
+        ];
+        let mut sides = Vec::new();
+        for ring in [square.to_vec(), square.iter().rev().copied().collect()] {
+            face_sides(&ring, DVec3::ZERO, 4, &mut sides);
+            assert_eq!(sides.len(), 4);
+            let inside = |u: f64, v: f64| {
+                sides
+                    .iter()
+                    .all(|s| s.dot(DVec4::new(u, v, 0.0, 1.0)) >= 0.0)
+            };
+            assert!(inside(0.0, 0.0) && inside(0.24, -0.24));
+            assert!(!inside(0.26, 0.0) && !inside(0.0, -0.3));
+        }
+        let edge_on = [
+            DVec3::new(-1.0, 0.0, 4.0),
+            DVec3::new(1.0, 0.0, 4.0),
+            DVec3::new(1.0, 0.0, 6.0),
+        ];
+        face_sides(&edge_on, DVec3::ZERO, 4, &mut sides);
+        assert!(sides.is_empty(), "{sides:?}");
     }
 
     /// Every point within the tolerance of a polygon lies in the box its
