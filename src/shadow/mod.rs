@@ -122,8 +122,10 @@ const FACE_MARGIN: f64 = 4.0;
 /// the apex of a thin volume reaches farther than the tolerance.
 const BOX_MARGIN: f64 = 1e4;
 
-/// At most this many items (32 bytes each) in the lights' own
-/// hierarchies together.
+/// At most this many casters in the lights' own hierarchies together
+/// (32 bytes an item). A light's faces hold one item per caster, and one
+/// more for each further face a caster reaches: only the few large
+/// polygons that pass near the light reach several.
 const MAX_LIGHT_ITEMS: usize = 1 << 20;
 
 /// Items per leaf.
@@ -425,10 +427,12 @@ fn build(
         2
     };
     let mid = (start + end) / 2;
+    // Twice the centre, exact in f64.
+    let centre = |it: &Item| f64::from(it.lo[axis]) + f64::from(it.hi[axis]);
     items[start..end].select_nth_unstable_by(mid - start, |a, b| {
-        let ca = (a.lo.as_dvec3() + a.hi.as_dvec3()).to_array()[axis];
-        let cb = (b.lo.as_dvec3() + b.hi.as_dvec3()).to_array()[axis];
-        ca.total_cmp(&cb).then(a.caster.cmp(&b.caster))
+        centre(a)
+            .total_cmp(&centre(b))
+            .then(a.caster.cmp(&b.caster))
     });
     let left = nodes.len();
     let blank = Node {
