@@ -8,9 +8,12 @@
 //! `u = d[b] / w`, `v = d[c] / w` (both within -1..1) and `w = d[a] * side`,
 //! its distance along the axis. A shadow volume is the pyramid from the
 //! light through its target, so on a face it lies over the target's
-//! `(u, v)` box and no farther than its largest `w`: a thin volume, which
-//! in world coordinates meets the boxes of hundreds of casters along its
-//! length, is a small box here.
+//! `(u, v)` box, inside the target's sides (lines there), and no farther
+//! in `w` than where that box passes behind the target's plane: a thin
+//! volume, which in world coordinates meets the boxes of hundreds of
+//! casters along its length, is a small box here. Casters' boxes are
+//! widened by the clipper's tolerance, so a caster it would keep a sliver
+//! of is always found.
 
 use glam::{DVec3, DVec4};
 

@@ -906,6 +906,21 @@ impl Casting<'_> {
             return false;
         }
         s.world_points = world;
+        self.find_in_world(target, j, light, skip, s)
+    }
+
+    /// [`Self::find`] in the world hierarchy.
+    fn find_in_world(
+        &self,
+        target: &Target,
+        j: usize,
+        light: DVec3,
+        skip: u32,
+        s: &mut Scratch,
+    ) -> bool {
+        let (objects, index, eps) = (self.objects, self.index, self.eps);
+        let t = target.t;
+        let identity = *t == Matrix4::IDENTITY;
         // The index is in world coordinates: map the volume's planes back
         // (a plane L of the virtual space is t L in world space).
         s.world_volume.clear();
