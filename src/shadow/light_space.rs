@@ -327,6 +327,16 @@ mod tests {
         assert!(sides.is_empty(), "{sides:?}");
     }
 
+    /// Asserts that point `q` lies in the box that its face (seen from
+    /// `light`) has among `boxes` for polygon `tri`.
+    fn assert_in_its_box(q: DVec3, light: DVec3, boxes: &[(usize, FaceBox)], tri: &[DVec3]) {
+        let (f, x) = on_face(q - light);
+        let inside = boxes
+            .iter()
+            .any(|&(g, (lo, hi))| g == f && lo.cmple(x).all() && x.cmple(hi).all());
+        assert!(inside, "{q} {x} on face {f} outside {boxes:?} of {tri:?}");
+    }
+
     /// Every point within the tolerance of a polygon lies in the box its
     /// face has for the polygon: random triangles of all sizes, from
     /// small ones inside one face to large ones passing beside the light
@@ -357,11 +367,7 @@ mod tests {
                 if q.distance(light) < 1e3 * tol {
                     continue;
                 }
-                let (f, x) = on_face(q - light);
-                let inside = boxes
-                    .iter()
-                    .any(|&(g, (lo, hi))| g == f && lo.cmple(x).all() && x.cmple(hi).all());
-                assert!(inside, "{q} {x} on face {f} outside {boxes:?} of {tri:?}");
+                assert_in_its_box(q, light, &boxes, &tri);
             }
         }
     }
@@ -392,11 +398,7 @@ mod tests {
             let tri = [p + e1, p + e2, p - e1 - e2];
             let mut boxes = Vec::new();
             caster_boxes(&tri, light, tol, &mut clip, |f, b| boxes.push((f, b)));
-            let (f, x) = on_face(q - light);
-            let inside = boxes
-                .iter()
-                .any(|&(g, (lo, hi))| g == f && lo.cmple(x).all() && x.cmple(hi).all());
-            assert!(inside, "{q} {x} on face {f} outside {boxes:?} of {tri:?}");
+            assert_in_its_box(q, light, &boxes, &tri);
         }
     }
 

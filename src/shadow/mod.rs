@@ -1427,15 +1427,50 @@ mod tests {
         crate::scene::load(&path).expect("the gallery fixture").0
     }
 
-    /// Past the memory bound, lights share one hierarchy of all casters
-    /// and test facing per caster: the same shadows as their own
-    /// hierarchies, on every polygon of the gallery (4 lights).
-    #[test]
-    fn the_shared_hierarchy_casts_the_same_shadows() {
+    /// Asserts that `a` and `b` cast the same pieces, bit for bit, on
+    /// every polygon of `scene` mapped by `t` (as a mirror level sees it),
+    /// for every light; returns how many pieces were compared.
+    fn same_pieces(scene: &crate::model::Scene, a: &Casting, b: &Casting, t: &Matrix4) -> usize {
+        let mut s = Scratch::default();
+        let mut total = 0;
+        let turned = t.linear_determinant() < 0.0;
+        for (oi, object) in scene.objects.iter().enumerate() {
+            for (pi, poly) in object.polygons.iter().enumerate() {
+                let mut points: Vec<DVec3> = CasterRef::new(&scene.objects, oi as u32, pi as u32)
+                    .points()
+                    .map(|p| t.transform_point(p))
+                    .collect();
+                if turned {
+                    points.reverse();
+                }
+                let plane = t.inverse().unwrap().transpose().transform(poly.plane);
+                let target = Target {
+                    object: oi as u32,
+                    polygon: pi as u32,
+                    points: &points,
+                    plane: plane / plane.truncate().length(),
+                    t,
+                    convex: polygon::is_convex(&points),
+                };
+                for (j, light) in scene.lights.iter().enumerate() {
+                    let x = a.pieces(&target, j, light.position, &mut s);
+                    let y = b.pieces(&target, j, light.position, &mut s);
+                    total += x.len();
+                    assert_eq!(x, y, "object {oi} polygon {pi} light {j} mapped by {t:?}");
+                }
+            }
+        }
+        total
+    }
+
+    /// How many pieces [`same_pieces`] compared between the gallery's
+    /// casters as built and as `change` leaves them, over the mappings
+    /// `ts`.
+    fn compare_indexes(change: impl FnOnce(&mut CasterIndex), ts: &[Matrix4]) -> usize {
         let scene = gallery();
-        let own = CasterIndex::new(&scene.objects, scene.lights.len());
-        let mut shared = CasterIndex::new(&scene.objects, scene.lights.len());
-        shared.max_light_items = 0;
+        let plain = CasterIndex::new(&scene.objects, scene.lights.len());
+        let mut changed = CasterIndex::new(&scene.objects, scene.lights.len());
+        change(&mut changed);
         let profile = Profile::new(false);
         let eps = scene.modes.epsilon * scene.size();
         let cast = |index| Casting {
@@ -1444,32 +1479,16 @@ mod tests {
             profile: &profile,
             eps,
         };
-        let (a, b) = (cast(&own), cast(&shared));
-        let mut s = Scratch::default();
-        let mut total = 0;
-        for (oi, object) in scene.objects.iter().enumerate() {
-            for (pi, poly) in object.polygons.iter().enumerate() {
-                let points: Vec<DVec3> = poly
-                    .indices
-                    .iter()
-                    .map(|&i| object.vertices[i as usize])
-                    .collect();
-                let target = Target {
-                    object: oi as u32,
-                    polygon: pi as u32,
-                    points: &points,
-                    plane: poly.plane,
-                    t: &Matrix4::IDENTITY,
-                    convex: polygon::is_convex(&points),
-                };
-                for (j, light) in scene.lights.iter().enumerate() {
-                    let x = a.pieces(&target, j, light.position, &mut s);
-                    let y = b.pieces(&target, j, light.position, &mut s);
-                    total += x.len();
-                    assert_eq!(x, y, "object {oi} polygon {pi} light {j}");
-                }
-            }
-        }
+        let (a, b) = (cast(&plain), cast(&changed));
+        ts.iter().map(|t| same_pieces(&scene, &a, &b, t)).sum()
+    }
+
+    /// Past the memory bound, lights share one hierarchy of all casters
+    /// and test facing per caster: the same shadows as their own
+    /// hierarchies, on every polygon of the gallery (4 lights).
+    #[test]
+    fn the_shared_hierarchy_casts_the_same_shadows() {
+        let total = compare_indexes(|index| index.max_light_items = 0, &[Matrix4::IDENTITY]);
         assert!(total > 100, "only {total} shadow pieces compared");
     }
 
@@ -1480,52 +1499,11 @@ mod tests {
     /// room): the faces never miss a caster that matters.
     #[test]
     fn the_light_faces_cast_the_same_shadows_as_the_world_hierarchy() {
-        let scene = gallery();
-        let faces = CasterIndex::new(&scene.objects, scene.lights.len());
-        let mut world = CasterIndex::new(&scene.objects, scene.lights.len());
-        world.light_space = false;
-        let profile = Profile::new(false);
-        let eps = scene.modes.epsilon * scene.size();
-        let cast = |index| Casting {
-            objects: &scene.objects,
-            index,
-            profile: &profile,
-            eps,
-        };
-        let (a, b) = (cast(&faces), cast(&world));
         let mirror = crate::math::reflection(DVec4::new(0.6, 0.0, 0.8, -0.5));
-        let mut s = Scratch::default();
-        let mut total = 0;
-        for t in [Matrix4::IDENTITY, mirror] {
-            for (oi, object) in scene.objects.iter().enumerate() {
-                for (pi, poly) in object.polygons.iter().enumerate() {
-                    let mut points: Vec<DVec3> =
-                        CasterRef::new(&scene.objects, oi as u32, pi as u32)
-                            .points()
-                            .map(|p| t.transform_point(p))
-                            .collect();
-                    let mut plane = t.inverse().unwrap().transpose().transform(poly.plane);
-                    if t.linear_determinant() < 0.0 {
-                        points.reverse();
-                    }
-                    plane /= plane.truncate().length();
-                    let target = Target {
-                        object: oi as u32,
-                        polygon: pi as u32,
-                        points: &points,
-                        plane,
-                        t: &t,
-                        convex: polygon::is_convex(&points),
-                    };
-                    for (j, light) in scene.lights.iter().enumerate() {
-                        let x = a.pieces(&target, j, light.position, &mut s);
-                        let y = b.pieces(&target, j, light.position, &mut s);
-                        total += x.len();
-                        assert_eq!(x, y, "object {oi} polygon {pi} light {j} mapped by {t:?}");
-                    }
-                }
-            }
-        }
+        let total = compare_indexes(
+            |index| index.light_space = false,
+            &[Matrix4::IDENTITY, mirror],
+        );
         assert!(total > 200, "only {total} shadow pieces compared");
     }
 
