@@ -131,6 +131,11 @@ const MAX_LIGHT_ITEMS: usize = 1 << 20;
 /// Items per leaf.
 const LEAF: usize = 4;
 
+/// Casters whose face boxes are made at once, and in one task: see
+/// [`CasterIndex::make_faces`].
+const FACE_BLOCK: usize = 1 << 20;
+const FACE_CHUNK: usize = 4096;
+
 /// No caster (the end of a chain of casters with one hash).
 const NONE: u32 = u32::MAX;
 
@@ -323,29 +328,31 @@ impl CasterIndex {
         (tol <= faces.tol).then_some(faces)
     }
 
+    /// Light `j`'s [`LightFaces`]: the casters' boxes made a block at a
+    /// time, its chunks on all threads (so a block's items are held twice
+    /// at most), put together in caster order; then a hierarchy a face.
     fn make_faces(&self, objects: &[Object], light: DVec3, tol: f64) -> LightFaces {
+        use rayon::prelude::*;
         let mut faces = vec![Vec::new(); light_space::FACES];
-        let (mut points, mut clip) = (Vec::new(), light_space::FaceClip::default());
-        for (k, c) in self.casters.iter().enumerate() {
-            let caster = CasterRef::of(objects, c);
-            if !caster.faces(c.open, light) {
-                continue;
+        for (b, block) in self.casters.chunks(FACE_BLOCK).enumerate() {
+            let parts: Vec<Vec<Vec<Item>>> = block
+                .par_chunks(FACE_CHUNK)
+                .enumerate()
+                .map_init(light_space::FaceClip::default, |clip, (c, chunk)| {
+                    let first = b * FACE_BLOCK + c * FACE_CHUNK;
+                    face_items(objects, chunk, first, light, tol, clip)
+                })
+                .collect();
+            for part in parts {
+                for (face, items) in faces.iter_mut().zip(part) {
+                    face.extend(items);
+                }
             }
-            points.clear();
-            points.extend(caster.points());
-            light_space::caster_boxes(&points, light, tol, &mut clip, |f, (lo, hi)| {
-                faces[f].push(Item {
-                    lo: f32_below(lo),
-                    hi: f32_above(hi),
-                    caster: k as u32,
-                    object: c.single_object,
-                });
-            });
         }
         LightFaces {
             tol,
             faces: faces
-                .into_iter()
+                .into_par_iter()
                 .map(|items| LightTree::new(items, DVec3::new(1.0, 1.0, 0.0)))
                 .collect(),
         }
@@ -389,6 +396,37 @@ fn f32_above(v: DVec3) -> Vec3 {
         let f = x as f32;
         if f64::from(f) < x { f.next_up() } else { f }
     }))
+}
+
+/// The items, face by face, of the casters `chunk` (numbered from
+/// `first`) that face `light`, with their boxes widened by `tol`.
+fn face_items(
+    objects: &[Object],
+    chunk: &[Caster],
+    first: usize,
+    light: DVec3,
+    tol: f64,
+    clip: &mut light_space::FaceClip,
+) -> Vec<Vec<Item>> {
+    let mut faces = vec![Vec::new(); light_space::FACES];
+    let mut points = Vec::new();
+    for (k, c) in chunk.iter().enumerate() {
+        let caster = CasterRef::of(objects, c);
+        if !caster.faces(c.open, light) {
+            continue;
+        }
+        points.clear();
+        points.extend(caster.points());
+        light_space::caster_boxes(&points, light, tol, clip, |f, (lo, hi)| {
+            faces[f].push(Item {
+                lo: f32_below(lo),
+                hi: f32_above(hi),
+                caster: (first + k) as u32,
+                object: c.single_object,
+            });
+        });
+    }
+    faces
 }
 
 /// Splits `items[start..end]` at the median of the box centres along the
