@@ -104,14 +104,20 @@ impl Matrix4 {
             + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
     }
 
+    /// Whether it is affine: its last column is 0, 0, 0, 1 (no
+    /// perspective division).
+    pub fn is_affine(&self) -> bool {
+        let m = &self.m;
+        m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0
+    }
+
     /// Whether it is affine and keeps distances (a rotation, a
     /// reflection, a translation): its linear part's rows are orthonormal,
     /// within `1e-9`.
     pub fn keeps_distances(&self) -> bool {
         let m = &self.m;
-        let affine = m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0;
         let row = |i: usize| DVec3::new(m[i][0], m[i][1], m[i][2]);
-        affine
+        self.is_affine()
             && (0..3).all(|i| {
                 (0..3).all(|k| {
                     let want = if i == k { 1.0 } else { 0.0 };

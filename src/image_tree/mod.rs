@@ -867,10 +867,10 @@ impl<'a> Builder<'a> {
             return None;
         }
         self.tree.max_depth = self.tree.max_depth.max(level);
-        let inverse = t.inverse();
+        let work = self.chunk_work(t);
         self.tree.spaces.push(VirtualSpace {
-            inverse,
-            eye: self.eye_under(t),
+            inverse: t.inverse(),
+            eye: work.eye,
         });
         let mut at = LevelState {
             level,
@@ -882,7 +882,6 @@ impl<'a> Builder<'a> {
             space: (self.tree.spaces.len() - 1) as u32,
             ids: Vec::new(),
         };
-        let work = self.chunk_work(t);
         let prepare = |chunk: Option<&[Candidate]>| {
             chunk.map_or_else(PreparedChunk::default, |chunk| work.prepare(chunk))
         };

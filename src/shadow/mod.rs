@@ -917,9 +917,10 @@ impl Casting<'_> {
         let t = target.t;
         let identity = *t == Matrix4::IDENTITY;
         let tol = FACE_MARGIN * eps;
-        let faces = index
-            .faces(objects, j, light, tol)
-            .filter(|_| target.convex);
+        let faces = target
+            .convex
+            .then(|| index.faces(objects, j, light, tol))
+            .flatten();
         let mut world = std::mem::take(&mut s.world_points);
         if let Some(faces) = faces
             && let Some(points) = world_points(target, identity, &mut world)
@@ -1004,7 +1005,8 @@ impl Casting<'_> {
         if plane.truncate().dot(lv) + plane.w <= eps {
             return Vec::new();
         }
-        if !is_affine(t) {
+        // Only an affine mapping takes a polygon's shadows to its image's.
+        if !t.is_affine() {
             return self.cast(target, j, light, s);
         }
         debug_assert!(*t == Matrix4::IDENTITY && self.maps_whole(target, 0.0));
@@ -1032,7 +1034,7 @@ impl Casting<'_> {
         compute: impl FnOnce(&Target, &mut Scratch) -> Vec<ShadowRegion>,
     ) -> Vec<ShadowRegion> {
         let t = target.t;
-        if !is_affine(t) {
+        if !t.is_affine() {
             return compute(target, s);
         }
         let identity = *t == Matrix4::IDENTITY;
@@ -1315,7 +1317,7 @@ fn world_corners(target: &Target, identity: bool) -> Option<(DVec3, DVec3)> {
     if identity {
         return Some(bounds(target.points));
     }
-    if !is_affine(target.t) {
+    if !target.t.is_affine() {
         return None;
     }
     let inverse = target.t.inverse()?;
@@ -1353,13 +1355,6 @@ fn push_kept(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], eps: f64) {
     if worth_keeping(piece, eps) {
         out.push(piece.to_vec());
     }
-}
-
-/// Whether `t` is affine (its last column 0, 0, 0, 1): it maps the shadows
-/// on a polygon to the shadows on its image.
-fn is_affine(t: &Matrix4) -> bool {
-    let m = &t.m;
-    m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0
 }
 
 /// `piece` projected from the light `lv` onto the `target` plane, kept if
