@@ -54,6 +54,7 @@ use overlap::ShadowRegion;
 /// A polygon that may cast a shadow, in world coordinates; identical
 /// polygons (the same vertices from the same start, the same `type open`)
 /// share one caster, since they cast the same shadow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Caster {
     /// The object and polygon of the first polygon it stands for (its
     /// points and plane are the scene's).
@@ -200,6 +201,69 @@ fn caster_hash(open: bool, c: CasterRef<'_>) -> u64 {
     h.finish()
 }
 
+/// Every displayed polygon of `objects` as a caster, in order, but one
+/// caster for identical polygons: 65,535 copies of one triangle would
+/// each be found by every query of the others. The hashes are made and
+/// sorted on all threads (a mesh of millions of polygons); only the
+/// polygons of one hash are compared.
+fn distinct_casters(objects: &[Object]) -> Vec<Caster> {
+    use rayon::prelude::*;
+    let shown = |o: &&Object| !o.surface_type.hidden;
+    let refs: Vec<(u32, u32)> = objects
+        .iter()
+        .enumerate()
+        .filter(|(_, o)| shown(o))
+        .flat_map(|(oi, o)| (0..o.polygons.len() as u32).map(move |pi| (oi as u32, pi)))
+        .collect();
+    let open = |(oi, _): (u32, u32)| objects[oi as usize].surface_type.open;
+    let caster = |r: (u32, u32)| CasterRef::new(objects, r.0, r.1);
+    let mut by_hash: Vec<(u64, u32)> = refs
+        .par_iter()
+        .enumerate()
+        .map(|(i, &r)| (caster_hash(open(r), caster(r)), i as u32))
+        .collect();
+    by_hash.par_sort_unstable();
+    // The first polygon of each set of identical ones, for each polygon:
+    // the earliest identical one of its hash (which is a first polygon,
+    // or its own first, earlier still, would have been found).
+    let mut first: Vec<u32> = (0..refs.len() as u32).collect();
+    for run in by_hash.chunk_by(|a, b| a.0 == b.0).filter(|r| r.len() > 1) {
+        for (k, &(_, i)) in run.iter().enumerate() {
+            let (r, o) = (refs[i as usize], open(refs[i as usize]));
+            let same = |&&(_, j): &&(u64, u32)| {
+                let q = refs[j as usize];
+                open(q) == o && same_points(caster(q), caster(r))
+            };
+            if let Some(&(_, j)) = run[..k].iter().find(same) {
+                first[i as usize] = j;
+            }
+        }
+    }
+    drop(by_hash);
+    let mut casters: Vec<Caster> = Vec::with_capacity(refs.len());
+    for (i, &(object, polygon)) in refs.iter().enumerate() {
+        let f = first[i] as usize;
+        if f == i {
+            // From here on, a first polygon's entry is where its caster is.
+            first[i] = casters.len() as u32;
+            casters.push(Caster {
+                object,
+                polygon,
+                single_object: object,
+                copies: 1,
+                open: open((object, polygon)),
+            });
+        } else {
+            let caster = &mut casters[first[f] as usize];
+            caster.copies += 1;
+            if caster.single_object != object {
+                caster.single_object = NONE;
+            }
+        }
+    }
+    casters
+}
+
 /// Every displayed polygon of a scene as a caster, in world coordinates
 /// (levels below 1 map their shadow volumes back to them), and per Point
 /// light the hierarchy of those facing it.
@@ -230,53 +294,7 @@ impl CasterIndex {
     /// The casters among a scene's `objects`, for its `lights` lights; the
     /// lights' hierarchies are built on first use.
     pub fn new(objects: &[Object], lights: usize) -> CasterIndex {
-        let shown = || objects.iter().filter(|o| !o.surface_type.hidden);
-        let polygons: usize = shown().map(|o| o.polygons.len()).sum();
-        let mut casters: Vec<Caster> = Vec::with_capacity(polygons);
-        // Identical polygons (65,535 copies of one triangle) would each
-        // be found by every query of the others: one caster for all. The
-        // casters with one hash are chained through `same_hash`.
-        let mut first_with: std::collections::HashMap<u64, u32> =
-            std::collections::HashMap::with_capacity(polygons);
-        let mut same_hash: Vec<u32> = Vec::with_capacity(polygons);
-        for (oi, object) in objects.iter().enumerate() {
-            if object.surface_type.hidden {
-                continue;
-            }
-            let open = object.surface_type.open;
-            for pi in 0..object.polygons.len() {
-                let this = CasterRef::new(objects, oi as u32, pi as u32);
-                let hash = caster_hash(open, this);
-                let mut k = first_with.get(&hash).copied().unwrap_or(NONE);
-                while k != NONE {
-                    let c = &casters[k as usize];
-                    if c.open == open && same_points(CasterRef::of(objects, c), this) {
-                        break;
-                    }
-                    k = same_hash[k as usize];
-                }
-                if k != NONE {
-                    let caster = &mut casters[k as usize];
-                    caster.copies += 1;
-                    if caster.single_object != oi as u32 {
-                        caster.single_object = NONE;
-                    }
-                    continue;
-                }
-                same_hash.push(
-                    first_with
-                        .insert(hash, casters.len() as u32)
-                        .unwrap_or(NONE),
-                );
-                casters.push(Caster {
-                    object: oi as u32,
-                    polygon: pi as u32,
-                    single_object: oi as u32,
-                    copies: 1,
-                    open,
-                });
-            }
-        }
+        let casters = distinct_casters(objects);
         CasterIndex {
             casters,
             lights: (0..lights).map(|_| OnceLock::new()).collect(),
@@ -1458,6 +1476,62 @@ mod tests {
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/gallery.des");
         crate::scene::load(&path).expect("the gallery fixture").0
+    }
+
+    /// Identical polygons within an object, across objects, and with
+    /// `type open` changed: the casters are those of a plain search of
+    /// the polygons before each one (every copy of gallery's first two
+    /// objects, one open, and a hidden copy that casts nothing).
+    #[test]
+    fn identical_polygons_share_the_first_ones_caster() {
+        let mut objects = gallery().objects;
+        let mut copy = objects[0].clone();
+        copy.polygons.extend(objects[0].polygons.iter().cloned());
+        let mut open = objects[1].clone();
+        open.surface_type.open = true;
+        let mut hidden = objects[1].clone();
+        hidden.surface_type.hidden = true;
+        objects.extend([copy, open, objects[1].clone(), hidden]);
+        let mut expected: Vec<Caster> = Vec::new();
+        for (oi, o) in objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| !o.surface_type.hidden)
+        {
+            let open = o.surface_type.open;
+            for pi in 0..o.polygons.len() as u32 {
+                let this = CasterRef::new(&objects, oi as u32, pi);
+                let same = |c: &&mut Caster| {
+                    c.open == open && same_points(CasterRef::of(&objects, c), this)
+                };
+                match expected.iter_mut().find(same) {
+                    Some(c) => {
+                        c.copies += 1;
+                        if c.single_object != oi as u32 {
+                            c.single_object = NONE;
+                        }
+                    }
+                    None => expected.push(Caster {
+                        object: oi as u32,
+                        polygon: pi,
+                        single_object: oi as u32,
+                        copies: 1,
+                        open,
+                    }),
+                }
+            }
+        }
+        assert!(
+            expected
+                .iter()
+                .any(|c| c.copies == 3 && c.single_object == NONE)
+        );
+        assert!(
+            expected
+                .iter()
+                .any(|c| c.copies == 2 && c.single_object == NONE)
+        );
+        assert_eq!(distinct_casters(&objects), expected);
     }
 
     /// Asserts that `a` and `b` cast the same pieces, bit for bit, on
