@@ -39,7 +39,7 @@
 
 mod fragments;
 
-use glam::{DVec2, DVec3, DVec4};
+use glam::{DVec3, DVec4};
 
 use crate::budget::Budgets;
 use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
@@ -51,7 +51,7 @@ use crate::profile::{Category, Profile};
 use crate::shading::{FacetTerms, Materials, ShadingModel};
 pub use crate::shadow::CasterReuse;
 pub use crate::shadow::overlap::{ShadowRegion, overlap_regions};
-use crate::visibility::occlusion::{self, CoverMask};
+use crate::visibility::occlusion::{self, CoverMask, Outline};
 use crate::visibility::{depth_sort, nns};
 pub use fragments::Fragments;
 use rayon::prelude::*;
@@ -916,22 +916,25 @@ impl<'a> Builder<'a> {
         if CoverMask::bytes(w, h, n) > occlusion::MAX_BYTES {
             return sorted;
         }
-        let mut mask = CoverMask::new(w, h, n);
-        let mut screen: Vec<DVec2> = Vec::new();
-        let mut kept: Vec<Candidate> = Vec::with_capacity(sorted.len());
-        for c in sorted.into_iter().rev() {
-            screen.clear();
-            screen.extend(c.points.iter().map(|p| view.project(*p).truncate()));
-            if mask.hides(&screen) {
-                self.tree.hidden += 1;
-                continue;
-            }
-            if !self.materials.is_transparent(c.object) {
-                mask.cover(&screen);
-            }
-            kept.push(c);
-        }
-        kept.reverse();
+        let outlines: Vec<Outline> = sorted
+            .par_iter()
+            .map(|c| Outline {
+                points: c
+                    .points
+                    .iter()
+                    .map(|p| view.project(*p).truncate())
+                    .collect(),
+                opaque: !self.materials.is_transparent(c.object),
+            })
+            .collect();
+        let hidden = occlusion::hidden(w, h, n, &outlines);
+        drop(outlines);
+        let kept: Vec<Candidate> = sorted
+            .into_iter()
+            .zip(&hidden)
+            .filter_map(|(c, &h)| (!h).then_some(c))
+            .collect();
+        self.tree.hidden += hidden.len() - kept.len();
         kept
     }
 

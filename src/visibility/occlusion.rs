@@ -16,8 +16,13 @@
 //! sample within that margin of it is covered. The exact-area methods
 //! (004 sections 5.6 and 5.8) see slivers between samples, so they get no
 //! mask.
+//!
+//! Both questions look at each row of samples alone, so [`hidden`] asks
+//! them of bands of rows on all threads: a polygon is hidden when it is
+//! hidden in every band, which is what one mask of the whole image finds.
 
 use glam::DVec2;
+use rayon::prelude::*;
 
 /// Screen distance (pixels) by which covering shrinks and touching
 /// grows: far above the rounding of the record stream's coordinates.
@@ -29,7 +34,8 @@ const MARGIN: f64 = 1e-4;
 pub struct CoverMask {
     n: f64,
     columns: u32,
-    rows: u32,
+    /// The sample rows held: a band of the image's rows.
+    rows: std::ops::Range<u32>,
     words: usize,
     bits: Vec<u64>,
 }
@@ -53,32 +59,48 @@ impl CoverMask {
     /// An image with nothing covered (of at most [`Self::bytes`], which
     /// the caller has checked).
     pub fn new(width: u32, height: u32, n: u32) -> CoverMask {
-        let (columns, rows) = (width * n, height * n);
+        Self::band(width, n, 0..height * n)
+    }
+
+    /// The sample rows `rows` of an image `width` pixels wide with
+    /// nothing covered: what lies outside them is neither covered nor
+    /// asked about.
+    fn band(width: u32, n: u32, rows: std::ops::Range<u32>) -> CoverMask {
         let words = Self::words(width, n) as usize;
         CoverMask {
             n: n as f64,
-            columns,
+            columns: width * n,
+            bits: vec![0; words * rows.len()],
             rows,
             words,
-            bits: vec![0; words * rows as usize],
         }
     }
 
     /// Marks the samples inside `pts` (screen coordinates in pixels, y
     /// up). Only convex polygons cover; any other marks nothing.
     pub fn cover(&mut self, pts: &[DVec2]) {
-        if pts.len() < 3 || !is_convex(pts) {
-            return;
+        if can_cover(pts) {
+            self.fill(pts);
         }
+    }
+
+    /// Marks the samples inside `pts`, a polygon that [`can_cover`].
+    fn fill(&mut self, pts: &[DVec2]) {
         for row in self.sample_rows(pts, -MARGIN) {
             let y = self.at(row);
             if let Some((xl, xr)) = crossing(pts, y)
                 && let Some((c0, c1)) = self.sample_columns(xl + MARGIN, xr - MARGIN)
             {
-                let line = &mut self.bits[row as usize * self.words..][..self.words];
+                let line = self.line(row);
                 crate::math::for_bit_words(c0, c1, |w, m| line[w] |= m);
             }
         }
+    }
+
+    /// The bits of sample row `row`.
+    fn line(&mut self, row: u32) -> &mut [u64] {
+        let at = (row - self.rows.start) as usize * self.words;
+        &mut self.bits[at..][..self.words]
     }
 
     /// Whether every sample within the margin of `pts` (any simple
@@ -93,7 +115,8 @@ impl CoverMask {
             let Some((c0, c1)) = self.sample_columns(xl - MARGIN, xr + MARGIN) else {
                 return true;
             };
-            let line = &self.bits[row as usize * self.words..][..self.words];
+            let at = (row - self.rows.start) as usize * self.words;
+            let line = &self.bits[at..][..self.words];
             let mut all = true;
             crate::math::for_bit_words(c0, c1, |w, m| all &= line[w] & m == m);
             all
@@ -108,13 +131,24 @@ impl CoverMask {
     /// The sample rows whose line lies within `pts`'s y range widened by
     /// `margin`.
     fn sample_rows(&self, pts: &[DVec2], margin: f64) -> std::ops::Range<u32> {
+        self.rows_near(pts, margin, self.rows.clone())
+    }
+
+    /// The sample rows of `rows` whose line lies within `pts`'s y range
+    /// widened by `margin`.
+    fn rows_near(
+        &self,
+        pts: &[DVec2],
+        margin: f64,
+        rows: std::ops::Range<u32>,
+    ) -> std::ops::Range<u32> {
         let (ymin, ymax) = pts
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
                 (a.min(p.y), b.max(p.y))
             });
-        match self.sample_columns_in(ymin - margin, ymax + margin, self.rows) {
-            Some((r0, r1)) => r0..r1,
+        match self.sample_columns_in(ymin - margin, ymax + margin, rows.end) {
+            Some((r0, r1)) => r0.max(rows.start)..r1,
             None => 0..0,
         }
     }
@@ -131,6 +165,71 @@ impl CoverMask {
         let k1 = ((hi * self.n - 0.5).floor() + 1.0).min(count as f64);
         (k1 > k0).then_some((k0 as u32, k1 as u32))
     }
+}
+
+/// A polygon on the screen, in painting order: its points (pixels, y
+/// up), and whether it hides what is behind it (opaque).
+#[derive(Debug, Clone)]
+pub struct Outline {
+    pub points: Vec<DVec2>,
+    pub opaque: bool,
+}
+
+/// Which of `outlines` (back to front) are hidden at every sample of a
+/// `width x height` image with `n x n` samples per pixel (a mask within
+/// [`MAX_BYTES`], which the caller has checked) by the opaque convex
+/// ones later in the order; a hidden polygon hides nothing more.
+pub fn hidden(width: u32, height: u32, n: u32, outlines: &[Outline]) -> Vec<bool> {
+    let whole = CoverMask::band(width, n, 0..0);
+    let rows = height * n;
+    // The rows each outline is asked about (any it covers are among
+    // them; every band asks one that is never hidden), and whether it
+    // covers.
+    let asked: Vec<(Option<std::ops::Range<u32>>, bool)> = outlines
+        .par_iter()
+        .map(|o| {
+            let kept = o.points.len() < 3 || o.points.iter().any(|p| !p.is_finite());
+            let near = (!kept).then(|| whole.rows_near(&o.points, MARGIN, 0..rows));
+            (near, o.opaque && can_cover(&o.points))
+        })
+        .collect();
+    // Many bands a thread: the polygons crowd some rows more than others.
+    let count = (rayon::current_num_threads() as u32 * 16).clamp(1, rows.max(1));
+    let bands: Vec<std::ops::Range<u32>> = (0..count)
+        .map(|b| rows * b / count..rows * (b + 1) / count)
+        .collect();
+    let seen = |band: &std::ops::Range<u32>| {
+        let mut mask = CoverMask::band(width, n, band.clone());
+        let mut seen = vec![false; outlines.len()];
+        for (k, o) in outlines.iter().enumerate().rev() {
+            let (near, covers) = &asked[k];
+            if let Some(r) = near
+                && (r.end <= band.start || r.start >= band.end)
+            {
+                continue;
+            }
+            if !mask.hides(&o.points) {
+                seen[k] = true;
+                if *covers {
+                    mask.fill(&o.points);
+                }
+            }
+        }
+        seen
+    };
+    let seen = bands.par_iter().map(seen).reduce(
+        || vec![false; outlines.len()],
+        |mut a, b| {
+            a.iter_mut().zip(b).for_each(|(a, b)| *a |= b);
+            a
+        },
+    );
+    seen.into_iter().map(|s| !s).collect()
+}
+
+/// Whether `pts` may cover samples: a convex polygon.
+fn can_cover(pts: &[DVec2]) -> bool {
+    pts.len() >= 3 && is_convex(pts)
 }
 
 /// The x interval where the horizontal line `y` crosses a convex polygon,
@@ -287,7 +386,46 @@ mod tests {
             .prop_map(|v| v.into_iter().map(|(x, y)| DVec2::new(x, y)).collect())
     }
 
+    /// The serial question [`hidden`] answers by bands: one mask of the
+    /// whole image, front to back.
+    fn hidden_serially(width: u32, height: u32, n: u32, outlines: &[Outline]) -> Vec<bool> {
+        let mut mask = CoverMask::new(width, height, n);
+        let mut hidden = vec![false; outlines.len()];
+        for (k, o) in outlines.iter().enumerate().rev() {
+            hidden[k] = mask.hides(&o.points);
+            if !hidden[k] && o.opaque {
+                mask.cover(&o.points);
+            }
+        }
+        hidden
+    }
+
+    fn outline() -> impl Strategy<Value = Outline> {
+        let point = (-4.0..40.0f64, -4.0..40.0f64).prop_map(|(x, y)| DVec2::new(x, y));
+        (prop::collection::vec(point, 2..6), any::<bool>(), 0..20u32).prop_map(
+            |(mut points, opaque, bad)| {
+                if bad == 0 {
+                    points[0].y = f64::NAN;
+                }
+                Outline { points, opaque }
+            },
+        )
+    }
+
     proptest! {
+        /// Bands on all threads hide what one mask hides, whatever the
+        /// polygons (concave, degenerate, non-finite, transparent) and the
+        /// bands (a picture of 1 to 40 rows of 1 to 4 samples).
+        #[test]
+        fn the_bands_hide_what_one_mask_hides(
+            outlines in prop::collection::vec(outline(), 0..80),
+            height in 1u32..40,
+            n in 1u32..5,
+        ) {
+            let banded = hidden(36, height, n, &outlines);
+            prop_assert_eq!(banded, hidden_serially(36, height, n, &outlines));
+        }
+
         /// Against brute force: a polygon said to be hidden has every
         /// image sample strictly inside it also strictly inside an
         /// occluder, and a fan of occluders that covers the whole image
