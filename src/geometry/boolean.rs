@@ -1,7 +1,9 @@
 //! Boolean operations on polygons of a plane, in two coordinates, by a
-//! robust engine (`i_overlay`, on its 64-bit integer grid: its 32-bit grid
-//! was seen to multiply the vertices of nearly collinear edges a
-//! thousandfold). Used to unite the shadow pieces of one light (004
+//! robust engine (`i_overlay`, on its 64-bit integer grid at its full 61
+//! bits: its 32-bit grid was seen to multiply the vertices of nearly
+//! collinear edges a thousandfold, and the 64-bit grid at 56 bits or
+//! fewer did not finish uniting office2's floor, splitting its crossings
+//! again and again). Used to unite the shadow pieces of one light (004
 //! section 4.7), to intersect the shadows of several lights, and to clip
 //! the vector painter's shadow patches.
 //!
