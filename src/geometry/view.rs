@@ -180,6 +180,43 @@ pub struct GeometryStats {
     pub too_small: usize,
 }
 
+impl std::ops::AddAssign for GeometryStats {
+    fn add_assign(&mut self, o: GeometryStats) {
+        self.objects_culled += o.objects_culled;
+        self.back_faces += o.back_faces;
+        self.outside += o.outside;
+        self.clipped += o.clipped;
+        self.too_small += o.too_small;
+    }
+}
+
+/// The screen polygons of each shown (not `type hidden`) object of
+/// `objects`, one list an object, in order; the objects are expanded in
+/// parallel (a scene of many small objects), each as [`expand_object`].
+pub fn expand_objects(
+    objects: &[Object],
+    view: &View,
+    stats: &mut GeometryStats,
+) -> Vec<Vec<ScreenPolygon>> {
+    use rayon::prelude::*;
+    let expanded: Vec<(Vec<ScreenPolygon>, GeometryStats)> = (0..objects.len())
+        .into_par_iter()
+        .filter(|&i| !objects[i].surface_type.hidden)
+        .map(|i| {
+            let (mut out, mut counts) = (Vec::new(), GeometryStats::default());
+            expand_object(objects, i, view, &mut out, &mut counts);
+            (out, counts)
+        })
+        .collect();
+    expanded
+        .into_iter()
+        .map(|(out, counts)| {
+            *stats += counts;
+            out
+        })
+        .collect()
+}
+
 /// Expands object `index` of a scene's `objects` into screen polygons
 /// appended to `out`.
 /// The polygons are expanded in parallel and appended in order, so the

@@ -570,27 +570,17 @@ impl<'a> Builder<'a> {
     /// Level 1: the geometry stage's polygons (homogeneous clipping).
     fn level_one(&mut self) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Expobj);
-        let mut polys = Vec::new();
-        for i in 0..self.materials.objects.len() {
-            if !self.materials.objects[i].surface_type.hidden {
-                view::expand_object(
-                    self.materials.objects,
-                    i,
-                    self.view,
-                    &mut polys,
-                    &mut self.tree.geometry,
-                );
-            }
-        }
-        polys
-            .into_iter()
-            .map(|p| Candidate {
-                object: p.object,
-                polygon: p.polygon,
-                points: p.world,
-                back_facing: p.back_facing,
-            })
-            .collect()
+        let lists =
+            view::expand_objects(self.materials.objects, self.view, &mut self.tree.geometry);
+        // Exactly as many as there are: a mesh's level 1 is millions.
+        let mut level = Vec::with_capacity(lists.iter().map(Vec::len).sum());
+        level.extend(lists.into_iter().flatten().map(|p| Candidate {
+            object: p.object,
+            polygon: p.polygon,
+            points: p.world,
+            back_facing: p.back_facing,
+        }));
+        level
     }
 
     /// Lower levels: the scene mapped by `t`, clipped to `planes` (front

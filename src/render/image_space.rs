@@ -80,21 +80,14 @@ fn screen_lists(
     per_object: bool,
     stats: &mut RenderStats,
 ) -> Vec<Vec<ScreenPolygon>> {
-    let visible = (0..scene.objects.len()).filter(|&i| !scene.objects[i].surface_type.hidden);
-    let mut lists: Vec<Vec<ScreenPolygon>> = Vec::new();
-    let mut all = Vec::new();
-    for i in visible {
-        let mut one = Vec::new();
-        let into = if per_object { &mut one } else { &mut all };
-        view::expand_object(&scene.objects, i, view, into, &mut stats.geometry);
-        if !one.is_empty() {
-            lists.push(one);
-        }
+    let lists = view::expand_objects(&scene.objects, view, &mut stats.geometry);
+    if per_object {
+        lists.into_iter().filter(|l| !l.is_empty()).collect()
+    } else {
+        let mut all = Vec::with_capacity(lists.iter().map(Vec::len).sum());
+        all.extend(lists.into_iter().flatten());
+        vec![all]
     }
-    if !per_object {
-        lists.push(all);
-    }
-    lists
 }
 
 /// The painting list of `algorithm`: screen points and source polygon.
