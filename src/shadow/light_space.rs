@@ -118,25 +118,16 @@ pub fn caster_boxes(
         add(f, b);
         return;
     }
-    for f in 0..FACES {
-        pyramid(light, f, tol, &mut clip.planes);
-        let clipped = plane_clip::clip_to_planes(
-            points,
-            &clip.planes,
-            0.0,
-            &mut clip.scratch,
-            &mut clip.pieces,
-        );
-        let b = match clipped {
-            Ok(Clipped::Empty) => None,
-            Ok(Clipped::One) => face_box(clip.scratch.piece().iter().copied(), light, f, tol),
-            Ok(Clipped::Many) => face_box(clip.pieces.iter().flatten().copied(), light, f, tol),
-            Err(_) => face_box(points.iter().copied(), light, f, tol),
+    face_parts(points, light, tol, clip, |f, part| {
+        let b = match part {
+            Part::One(piece) => face_box(piece.iter().copied(), light, f, tol),
+            Part::Many(pieces) => face_box(pieces.iter().flatten().copied(), light, f, tol),
+            Part::Unclipped => face_box(points.iter().copied(), light, f, tol),
         };
         if let Some(b) = b {
             add(f, b);
         }
-    }
+    });
 }
 
 /// The parts of the convex polygon `points` (world coordinates) that the
@@ -152,20 +143,46 @@ pub fn target_parts(
         add(f, points);
         return;
     }
+    face_parts(points, light, 0.0, clip, |f, part| match part {
+        Part::One(piece) => add(f, piece),
+        // Not convex after all: the whole polygon, which holds its parts.
+        Part::Many(_) | Part::Unclipped => add(f, points),
+    });
+}
+
+/// What is left of a polygon in a face's pyramid, when something is.
+enum Part<'a> {
+    One(&'a [DVec3]),
+    /// Several pieces: the polygon was not convex.
+    Many(&'a [Vec<DVec3>]),
+    /// The clipper could not clip it.
+    Unclipped,
+}
+
+/// The part of polygon `points` (world coordinates) in each face's
+/// pyramid from `light` widened by `tol`, given to `add` with its face.
+fn face_parts(
+    points: &[DVec3],
+    light: DVec3,
+    tol: f64,
+    clip: &mut FaceClip,
+    mut add: impl FnMut(usize, Part<'_>),
+) {
     for f in 0..FACES {
-        pyramid(light, f, 0.0, &mut clip.planes);
-        match plane_clip::clip_to_planes(
+        pyramid(light, f, tol, &mut clip.planes);
+        let part = match plane_clip::clip_to_planes(
             points,
             &clip.planes,
             0.0,
             &mut clip.scratch,
             &mut clip.pieces,
         ) {
-            Ok(Clipped::Empty) => {}
-            Ok(Clipped::One) => add(f, clip.scratch.piece()),
-            // Not convex after all: the whole polygon, which holds its parts.
-            Ok(Clipped::Many) | Err(_) => add(f, points),
-        }
+            Ok(Clipped::Empty) => continue,
+            Ok(Clipped::One) => Part::One(clip.scratch.piece()),
+            Ok(Clipped::Many) => Part::Many(&clip.pieces),
+            Err(_) => Part::Unclipped,
+        };
+        add(f, part);
     }
 }
 

@@ -132,9 +132,9 @@ const MAX_LIGHT_ITEMS: usize = 1 << 20;
 /// Items per leaf.
 const LEAF: usize = 4;
 
-/// Casters whose face boxes are made at once, and in one task: see
-/// [`CasterIndex::make_faces`].
+/// Casters whose face boxes are made at once ([`CasterIndex::make_faces`]).
 const FACE_BLOCK: usize = 1 << 20;
+/// Casters whose face boxes are made in one task.
 const FACE_CHUNK: usize = 4096;
 
 /// No caster (the end of a chain of casters with one hash).
@@ -208,11 +208,10 @@ fn caster_hash(open: bool, c: CasterRef<'_>) -> u64 {
 /// polygons of one hash are compared.
 fn distinct_casters(objects: &[Object]) -> Vec<Caster> {
     use rayon::prelude::*;
-    let shown = |o: &&Object| !o.surface_type.hidden;
     let refs: Vec<(u32, u32)> = objects
         .iter()
         .enumerate()
-        .filter(|(_, o)| shown(o))
+        .filter(|(_, o)| !o.surface_type.hidden)
         .flat_map(|(oi, o)| (0..o.polygons.len() as u32).map(move |pi| (oi as u32, pi)))
         .collect();
     let open = |(oi, _): (u32, u32)| objects[oi as usize].surface_type.open;
@@ -940,9 +939,8 @@ impl Casting<'_> {
             .then(|| index.faces(objects, j, light, tol))
             .flatten();
         let mut world = std::mem::take(&mut s.world_points);
-        if let Some(faces) = faces
-            && let Some(points) = world_points(target, identity, &mut world)
-        {
+        let found = faces.and_then(|faces| {
+            let points = world_points(target, identity, &mut world)?;
             // The volume reaches a tolerance beyond the target's plane,
             // and the clipper keeps what lies within another.
             let plane = if identity {
@@ -951,19 +949,15 @@ impl Casting<'_> {
                 t.transpose().transform(target.plane)
             };
             let length = plane.truncate().length();
-            faces.query(
-                points,
-                plane / length,
-                light,
-                tol + 2.0 * eps / length,
-                skip,
-                s,
-            );
-            s.world_points = world;
-            return false;
-        }
+            let beyond = tol + 2.0 * eps / length;
+            faces.query(points, plane / length, light, beyond, skip, s);
+            Some(())
+        });
         s.world_points = world;
-        self.find_in_world(target, j, light, skip, s)
+        match found {
+            Some(()) => false,
+            None => self.find_in_world(target, j, light, skip, s),
+        }
     }
 
     /// [`Self::find`] in the world hierarchy.

@@ -131,26 +131,7 @@ impl CoverMask {
     /// The sample rows whose line lies within `pts`'s y range widened by
     /// `margin`.
     fn sample_rows(&self, pts: &[DVec2], margin: f64) -> std::ops::Range<u32> {
-        self.rows_near(pts, margin, self.rows.clone())
-    }
-
-    /// The sample rows of `rows` whose line lies within `pts`'s y range
-    /// widened by `margin`.
-    fn rows_near(
-        &self,
-        pts: &[DVec2],
-        margin: f64,
-        rows: std::ops::Range<u32>,
-    ) -> std::ops::Range<u32> {
-        let (ymin, ymax) = pts
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-                (a.min(p.y), b.max(p.y))
-            });
-        match self.sample_columns_in(ymin - margin, ymax + margin, rows.end) {
-            Some((r0, r1)) => r0.max(rows.start)..r1,
-            None => 0..0,
-        }
+        rows_near(self.n, pts, margin, self.rows.clone())
     }
 
     /// The sample columns `[c0, c1)` at `xl <= x <= xr`, in the image.
@@ -161,9 +142,34 @@ impl CoverMask {
     /// The samples `[k0, k1)` of `0..count` whose coordinate is in
     /// `lo..=hi`.
     fn sample_columns_in(&self, lo: f64, hi: f64, count: u32) -> Option<(u32, u32)> {
-        let k0 = (lo * self.n - 0.5).ceil().max(0.0);
-        let k1 = ((hi * self.n - 0.5).floor() + 1.0).min(count as f64);
-        (k1 > k0).then_some((k0 as u32, k1 as u32))
+        samples_in(self.n, lo, hi, count)
+    }
+}
+
+/// The samples `[k0, k1)` of `0..count`, `n` a pixel, whose coordinate
+/// is in `lo..=hi`.
+fn samples_in(n: f64, lo: f64, hi: f64, count: u32) -> Option<(u32, u32)> {
+    let k0 = (lo * n - 0.5).ceil().max(0.0);
+    let k1 = ((hi * n - 0.5).floor() + 1.0).min(count as f64);
+    (k1 > k0).then_some((k0 as u32, k1 as u32))
+}
+
+/// The sample rows of `rows` (`n` a pixel) whose line lies within
+/// `pts`'s y range widened by `margin`.
+fn rows_near(
+    n: f64,
+    pts: &[DVec2],
+    margin: f64,
+    rows: std::ops::Range<u32>,
+) -> std::ops::Range<u32> {
+    let (ymin, ymax) = pts
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.y), b.max(p.y))
+        });
+    match samples_in(n, ymin - margin, ymax + margin, rows.end) {
+        Some((r0, r1)) => r0.max(rows.start)..r1,
+        None => 0..0,
     }
 }
 
@@ -180,7 +186,6 @@ pub struct Outline {
 /// [`MAX_BYTES`], which the caller has checked) by the opaque convex
 /// ones later in the order; a hidden polygon hides nothing more.
 pub fn hidden(width: u32, height: u32, n: u32, outlines: &[Outline]) -> Vec<bool> {
-    let whole = CoverMask::band(width, n, 0..0);
     let rows = height * n;
     // The rows each outline is asked about (any it covers are among
     // them; every band asks one that is never hidden), and whether it
@@ -189,7 +194,7 @@ pub fn hidden(width: u32, height: u32, n: u32, outlines: &[Outline]) -> Vec<bool
         .par_iter()
         .map(|o| {
             let kept = o.points.len() < 3 || o.points.iter().any(|p| !p.is_finite());
-            let near = (!kept).then(|| whole.rows_near(&o.points, MARGIN, 0..rows));
+            let near = (!kept).then(|| rows_near(n as f64, &o.points, MARGIN, 0..rows));
             (near, o.opaque && can_cover(&o.points))
         })
         .collect();
