@@ -43,9 +43,9 @@ static READ: Mutex<Vec<(Identity, PathBuf)>> = Mutex::new(Vec::new());
 /// read as an input.
 pub fn note(path: &Path, meta: &std::fs::Metadata) {
     if let Some(id) = identity(path, meta) {
-        let mut read = READ.lock().unwrap_or_else(|e| e.into_inner());
-        if !read.iter().any(|(i, _)| *i == id) {
-            read.push((id, path.to_path_buf()));
+        let noted = Noted::Read(id, path.to_path_buf());
+        if !record(&noted) {
+            noted.enter();
         }
     }
 }
@@ -70,8 +70,76 @@ pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 /// object file, a tree file, standard input), for the fingerprint of
 /// the outputs.
 pub fn note_contents(bytes: &[u8]) {
-    let h = fnv1a(FNV_OFFSET, bytes);
-    CONTENTS.lock().unwrap_or_else(|e| e.into_inner()).push(h);
+    let noted = Noted::Contents(fnv1a(FNV_OFFSET, bytes));
+    if !record(&noted) {
+        noted.enter();
+    }
+}
+
+/// One note of an input read.
+#[derive(Debug, Clone)]
+enum Noted {
+    /// A file read, and the name it was read by ([`note`]).
+    Read(Identity, PathBuf),
+    /// The hash of an input's contents ([`note_contents`]).
+    Contents(u64),
+}
+
+impl Noted {
+    /// Enters the note in the process's lists.
+    fn enter(self) {
+        match self {
+            Noted::Read(id, path) => {
+                let mut read = READ.lock().unwrap_or_else(|e| e.into_inner());
+                if !read.iter().any(|(i, _)| *i == id) {
+                    read.push((id, path));
+                }
+            }
+            Noted::Contents(h) => CONTENTS.lock().unwrap_or_else(|e| e.into_inner()).push(h),
+        }
+    }
+}
+
+thread_local! {
+    /// The notes of a [`recording`] on this thread.
+    static RECORDING: std::cell::RefCell<Option<Vec<Noted>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Adds `noted` to this thread's recording, if one is running.
+fn record(noted: &Noted) -> bool {
+    RECORDING.with_borrow_mut(|r| r.as_mut().map(|r| r.push(noted.clone())).is_some())
+}
+
+/// The notes of reading done ahead of its turn, held until the reader
+/// that wanted it takes it: the outputs' fingerprint then lists the
+/// inputs in the order the scene reads them.
+#[derive(Debug, Default)]
+pub struct Notes(Vec<Noted>);
+
+impl Notes {
+    /// Enters the notes in the process's lists, in the order made.
+    pub fn enter(self) {
+        self.0.into_iter().for_each(Noted::enter);
+    }
+}
+
+/// Runs `f` with the notes it makes on this thread held back, not
+/// entered: the inputs it reads are the process's only once the notes
+/// are entered.
+pub fn recording<T>(f: impl FnOnce() -> T) -> (T, Notes) {
+    /// Puts back the recording `f` ran inside, even if it panics.
+    struct Restore(Option<Vec<Noted>>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            RECORDING.set(self.0.take());
+        }
+    }
+    let restore = Restore(RECORDING.replace(Some(Vec::new())));
+    let value = f();
+    let notes = RECORDING.take().unwrap_or_default();
+    drop(restore);
+    (value, Notes(notes))
 }
 
 /// The hashes of the contents read so far, in the order read.
@@ -142,5 +210,28 @@ mod tests {
         let fresh = dir.path().join("fresh.txt");
         std::fs::write(&fresh, "new").unwrap();
         assert!(check(&fresh).is_ok());
+    }
+
+    #[test]
+    fn recorded_notes_count_once_entered() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("ahead.det");
+        std::fs::write(&input, "read ahead").unwrap();
+        let bytes = format!("unique contents {:?}", dir.path()).into_bytes();
+        let h = fnv1a(FNV_OFFSET, &bytes);
+        let ((), notes) = recording(|| {
+            note(&input, &std::fs::metadata(&input).unwrap());
+            note_contents(&bytes);
+        });
+        assert!(check(&input).is_ok(), "held back while recorded");
+        assert!(!contents().contains(&h));
+        notes.enter();
+        assert!(check(&input).is_err(), "an input once entered");
+        assert!(contents().contains(&h));
+        // Outside a recording, notes are entered at once.
+        let other = dir.path().join("other.det");
+        std::fs::write(&other, "x").unwrap();
+        note(&other, &std::fs::metadata(&other).unwrap());
+        assert!(check(&other).is_err());
     }
 }
