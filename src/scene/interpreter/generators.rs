@@ -173,7 +173,7 @@ impl Interpreter {
         loc: &Location,
     ) -> Result<Generated> {
         let Some(path) = self
-            .det_dirs(active)
+            .det_dirs(&active.det_base)
             .into_iter()
             .map(|d| d.join(file))
             .find(|p| p.is_file())

@@ -28,6 +28,7 @@ mod files;
 mod generators;
 mod lighting;
 mod objects;
+mod read_ahead;
 mod surface;
 mod view;
 
@@ -175,6 +176,8 @@ pub struct Interpreter {
     /// Geodesic objects by number: the mesh generated and its turned
     /// radial function, for `radial rotate` outside a definition.
     pub(super) geodesics: std::collections::HashMap<u32, (Arc<Mesh>, TurnedRadial)>,
+    /// Object files read ahead of their statements.
+    read_ahead: read_ahead::ReadAhead,
 }
 
 impl Default for Interpreter {
@@ -203,6 +206,7 @@ impl Interpreter {
             notes: Vec::new(),
             budgets: Budgets::default(),
             geodesics: std::collections::HashMap::new(),
+            read_ahead: read_ahead::ReadAhead::default(),
         }
     }
 
@@ -289,7 +293,9 @@ impl Interpreter {
         let warnings = std::mem::take(&mut self.warnings);
         let notes = std::mem::take(&mut self.notes);
         let budgets = self.budgets;
+        let read_ahead = std::mem::take(&mut self.read_ahead);
         *self = Interpreter::new();
+        self.read_ahead = read_ahead;
         self.notes = notes;
         self.budgets = budgets;
         self.files = files;
@@ -345,6 +351,7 @@ impl Interpreter {
         host: &mut dyn Host,
     ) -> Result<Flow> {
         let frame = parse_text(source.to_string(), file, dir)?;
+        self.start_reading_ahead(&frame.commands, dir);
         self.run_frames(frame, host)
     }
 
@@ -392,8 +399,9 @@ impl Interpreter {
             self.init();
         }
         if init || self.files.is_empty() {
-            self.det_base = dir;
+            self.det_base = dir.clone();
         }
+        self.start_reading_ahead(&frame.commands, &dir);
         self.files.push(OpenFile {
             canonical,
             called: frame.caller.is_some(),
@@ -408,6 +416,9 @@ impl Interpreter {
         let mut stack = vec![base];
         let result = self.run_stack(&mut stack, host);
         self.files.truncate(open_before);
+        // What a run did not read (after an error, a `quit`) is dropped:
+        // a later run reads the files as they are then.
+        self.read_ahead.clear();
         result
     }
 

@@ -5,7 +5,7 @@
 //! `getobj` is both at once, `delobj` deletes. The object becomes the
 //! scene's, in world coordinates ([`crate::scene::build`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::active::ActiveObject;
@@ -291,7 +291,7 @@ impl Interpreter {
 
     /// The mesh of the object `callobj` copies (with its colours), or of
     /// the block's geometry file.
-    fn copied_or_read(&self, active: &ActiveObject) -> Result<(Arc<Mesh>, Colors)> {
+    fn copied_or_read(&mut self, active: &ActiveObject) -> Result<(Arc<Mesh>, Colors)> {
         let Some((n, loc)) = &active.copy_of else {
             return Ok((self.read_object_file(active)?, (None, None)));
         };
@@ -312,15 +312,22 @@ impl Interpreter {
     }
 
     /// The object's geometry file (`.det`, or a mesh format) read.
-    fn read_object_file(&self, active: &ActiveObject) -> Result<Arc<Mesh>> {
+    fn read_object_file(&mut self, active: &ActiveObject) -> Result<Arc<Mesh>> {
         let path = self.find_object_file(active)?;
-        let mesh = if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("det"))
-        {
-            object_file::read_det_within(&path, self.budgets.polygons.saturating_sub(self.polygons))
+        // A `.det` file may use what is left of the budget, a mesh file
+        // the whole (the object's count is checked after).
+        let limit = if is_det(&path) {
+            self.budgets.polygons.saturating_sub(self.polygons)
         } else {
-            mesh_import::read_mesh_within(&path, self.budgets.polygons)
+            self.budgets.polygons
+        };
+        let ahead = self.read_ahead.take(&path);
+        let mesh = match ahead.filter(|(mesh, _)| mesh.polygons.len() <= limit) {
+            Some((mesh, notes)) => {
+                notes.enter();
+                Ok(mesh)
+            }
+            None => read_geometry(&path, limit),
         };
         // A problem in the file names the statement that read it.
         let mesh = mesh.map_err(|e| match e {
@@ -486,7 +493,7 @@ impl Interpreter {
     /// directory relative to the file that set it, to the file of the
     /// definition and to the working directory, then the same folded to
     /// lower case (004 appendix B: input is converted to lower case).
-    pub(in crate::scene) fn det_dirs(&self, active: &ActiveObject) -> Vec<PathBuf> {
+    pub(in crate::scene) fn det_dirs(&self, det_base: &Path) -> Vec<PathBuf> {
         let mut dirs = Vec::new();
         let mut add = |d: PathBuf| {
             if !dirs.contains(&d) {
@@ -496,7 +503,7 @@ impl Interpreter {
         if self.det_dir.is_absolute() {
             add(self.det_dir.clone());
         } else {
-            for base in [&self.det_base, &active.det_base, &PathBuf::from(".")] {
+            for base in [&self.det_base, det_base, Path::new(".")] {
                 add(base.join(&self.det_dir));
             }
         }
@@ -505,7 +512,7 @@ impl Interpreter {
             let bases: Vec<PathBuf> = if folded.is_absolute() {
                 vec![PathBuf::new()]
             } else {
-                vec![self.det_base.clone(), active.det_base.clone(), ".".into()]
+                vec![self.det_base.clone(), det_base.to_path_buf(), ".".into()]
             };
             for base in bases {
                 add(base.join(&folded));
@@ -514,13 +521,20 @@ impl Interpreter {
         dirs
     }
 
-    /// The geometry file of the active object: its name as written, then
-    /// folded, with `.det` or a mesh extension, in [`Self::det_dirs`].
-    fn find_object_file(&self, active: &ActiveObject) -> Result<PathBuf> {
+    /// The geometry file of an object named `written` in a definition in
+    /// a file of folder `det_base`: the name as written, then folded, with
+    /// `.det` or a mesh extension, in [`Self::det_dirs`]; else the paths
+    /// tried.
+    pub(super) fn object_file(
+        &self,
+        written: &str,
+        det_base: &Path,
+    ) -> std::result::Result<PathBuf, Vec<PathBuf>> {
+        let folded = written.to_lowercase();
         let mut tried = Vec::new();
-        for dir in self.det_dirs(active) {
+        for dir in self.det_dirs(det_base) {
             for ext in std::iter::once("det").chain(mesh_import::MESH_EXTENSIONS.iter().copied()) {
-                for name in [&active.written, &active.name] {
+                for name in [written, &folded] {
                     let p = dir.join(format!("{name}.{ext}"));
                     if tried.contains(&p) {
                         continue;
@@ -532,6 +546,15 @@ impl Interpreter {
                 }
             }
         }
+        Err(tried)
+    }
+
+    /// The geometry file of the active object ([`Self::object_file`]).
+    fn find_object_file(&self, active: &ActiveObject) -> Result<PathBuf> {
+        let tried = match self.object_file(&active.written, &active.det_base) {
+            Ok(path) => return Ok(path),
+            Err(tried) => tried,
+        };
         let shown = tried.len().min(6);
         let mut list: Vec<String> = tried[..shown]
             .iter()
@@ -563,7 +586,7 @@ impl Interpreter {
             ColorKind::Vertex => "vcl",
         };
         let folded = name.to_lowercase();
-        for dir in self.det_dirs(active) {
+        for dir in self.det_dirs(&active.det_base) {
             for name in [name, folded.as_str()] {
                 let p = dir.join(format!("{name}.{ext}"));
                 if p.is_file() {
@@ -590,4 +613,20 @@ fn no_object(ctx: &Context, token: &Token) -> Error {
             printable(&token.text, MAX_SHOWN_TOKEN)
         ),
     )
+}
+
+/// Whether `path` names a `.det` object file (any case).
+fn is_det(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("det"))
+}
+
+/// An object file read: a `.det` file, or a mesh format by its extension,
+/// with at most `max_polygons` polygons.
+pub(super) fn read_geometry(path: &Path, max_polygons: usize) -> Result<Mesh> {
+    if is_det(path) {
+        object_file::read_det_within(path, max_polygons)
+    } else {
+        mesh_import::read_mesh_within(path, max_polygons)
+    }
 }

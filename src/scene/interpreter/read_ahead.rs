@@ -1,0 +1,356 @@
+//! Object files read ahead of their `endobj`, on other threads. A scene
+//! file is checked whole before its first statement runs (004 appendix B
+//! reads a descriptor file through), so its `defobj` blocks are known at
+//! once; reading and parsing their geometry files is most of the time
+//! spent reading a furnished scene, and the files do not depend on one
+//! another. They are read in the order they appear, while the
+//! interpreter runs the statements before them.
+//!
+//! What the interpreter takes is exactly what it would have read itself:
+//! a read ahead is used only by the statement reading the same path, and
+//! only when it succeeded within the budget that statement allows; every
+//! other case (an error, a file that does not fit, a read not started
+//! yet) is read again in turn, so the error is the same. The notes the
+//! reading makes (the files an output may not overwrite, the hashes of
+//! the inputs' contents) are entered when the interpreter takes the
+//! mesh, so they stay in statement order. Reading ahead is bounded: files
+//! of at most [`MAX_FILE_BYTES`], at most [`MAX_TOTAL_BYTES`] in all.
+
+use std::collections::{HashMap, VecDeque};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+
+use super::Interpreter;
+use super::objects::read_geometry;
+use crate::input_guard::{self, Notes};
+use crate::model::Mesh;
+use crate::scene::command::{Command, Parsed};
+
+/// The largest object file read ahead.
+pub const MAX_FILE_BYTES: u64 = 8 << 20;
+
+/// The most bytes of object files read ahead by one interpreter.
+pub const MAX_TOTAL_BYTES: u64 = 64 << 20;
+
+impl Interpreter {
+    /// Starts reading the object files that `commands`, a file of folder
+    /// `dir` just parsed, will read at their `endobj` (or `getobj`):
+    /// every definition that neither copies nor generates its object,
+    /// looked up as the interpreter will, following the file's own
+    /// `det_dir`s. A guess that turns out wrong costs a read, not a
+    /// result: the interpreter takes only a read of the path it looks up.
+    pub(super) fn start_reading_ahead(&mut self, commands: &[Parsed], dir: &Path) {
+        let (det_dir, det_base) = (self.det_dir.clone(), self.det_base.clone());
+        let mut paths = Vec::new();
+        for (k, parsed) in commands.iter().enumerate() {
+            let name = match &parsed.command {
+                Command::DetDir(d) => {
+                    self.det_dir = PathBuf::from(d);
+                    self.det_base = dir.to_path_buf();
+                    continue;
+                }
+                Command::Getobj(name) => name,
+                Command::Defobj { name, .. } if reads_file(&commands[k + 1..]) => name,
+                _ => continue,
+            };
+            paths.extend(self.object_file(name, dir).ok());
+        }
+        (self.det_dir, self.det_base) = (det_dir, det_base);
+        let budget = self.budgets.polygons;
+        self.read_ahead.start(paths, budget, read_geometry);
+    }
+}
+
+/// Whether the definition whose body starts `body` reads its object file:
+/// no command before its `endobj` copies or generates the object.
+fn reads_file(body: &[Parsed]) -> bool {
+    use Command as C;
+    for parsed in body {
+        match parsed.command {
+            C::Endobj | C::Defobj { .. } | C::Getobj(_) => return true,
+            C::Callobj(_)
+            | C::Geodesic { .. }
+            | C::Sphere(_)
+            | C::Cylinder(_)
+            | C::Superquadric(_)
+            | C::Bezier(_)
+            | C::Hermite(_)
+            | C::Lathe { .. }
+            | C::Extrude { .. }
+            | C::Union(_)
+            | C::Intersection(_)
+            | C::Difference(_) => return false,
+            _ => {}
+        }
+    }
+    true
+}
+
+/// The reading of one statement's object file.
+#[derive(Debug)]
+struct Slot {
+    path: PathBuf,
+    max_polygons: usize,
+    state: Mutex<State>,
+    done: Condvar,
+}
+
+#[derive(Debug)]
+enum State {
+    /// Not started.
+    Queued,
+    /// Being read.
+    Reading,
+    /// Read; `None` if it failed or was not read.
+    Read(Option<(Mesh, Notes)>),
+    /// Taken by the interpreter, or given up.
+    Taken,
+}
+
+/// The reads still queued, shared with the threads reading them.
+#[derive(Debug, Default)]
+struct Queue {
+    slots: Mutex<VecDeque<Arc<Slot>>>,
+    /// Bytes read ahead so far.
+    bytes: AtomicU64,
+}
+
+/// The object files read ahead for one interpreter, by path, in the
+/// order their statements come.
+#[derive(Debug, Clone, Default)]
+pub struct ReadAhead {
+    by_path: HashMap<PathBuf, VecDeque<Arc<Slot>>>,
+    queue: Arc<Queue>,
+}
+
+impl ReadAhead {
+    /// Starts reading `paths` (object files, in statement order) with at
+    /// most `max_polygons` polygons each, by `read`.
+    pub fn start(&mut self, paths: Vec<PathBuf>, max_polygons: usize, read: Reader) {
+        if paths.is_empty() {
+            return;
+        }
+        let mut queued = self.queue.slots.lock().unwrap_or_else(|e| e.into_inner());
+        for path in paths {
+            let slot = Arc::new(Slot {
+                path: path.clone(),
+                max_polygons,
+                state: Mutex::new(State::Queued),
+                done: Condvar::new(),
+            });
+            queued.push_back(slot.clone());
+            self.by_path.entry(path).or_default().push_back(slot);
+        }
+        let workers = rayon::current_num_threads().min(queued.len());
+        drop(queued);
+        for _ in 0..workers {
+            let queue = self.queue.clone();
+            rayon::spawn(move || queue.run(read));
+        }
+    }
+
+    /// The mesh read ahead for the next statement reading `path`, with
+    /// the notes its reading made, if it was read without error; else
+    /// `None`, and the caller reads the file itself. Waits for a read
+    /// under way; one not started is given up.
+    pub fn take(&mut self, path: &Path) -> Option<(Mesh, Notes)> {
+        let slots = self.by_path.get_mut(path)?;
+        let slot = slots.pop_front()?;
+        if slots.is_empty() {
+            self.by_path.remove(path);
+        }
+        let mut state = slot.state.lock().unwrap_or_else(|e| e.into_inner());
+        while matches!(*state, State::Reading) {
+            state = slot.done.wait(state).unwrap_or_else(|e| e.into_inner());
+        }
+        match std::mem::replace(&mut *state, State::Taken) {
+            State::Read(read) => read,
+            _ => None,
+        }
+    }
+
+    /// Gives up every read not started; reads under way finish unused.
+    pub fn clear(&mut self) {
+        self.queue
+            .slots
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clear();
+        self.by_path.clear();
+    }
+}
+
+/// How a file is read: its path and polygon budget to its mesh.
+pub type Reader = fn(&Path, usize) -> crate::error::Result<Mesh>;
+
+impl Queue {
+    /// Reads queued files, in order, until none is left.
+    fn run(&self, read: Reader) {
+        loop {
+            let next = self
+                .slots
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .pop_front();
+            let Some(slot) = next else {
+                return;
+            };
+            let mut state = slot.state.lock().unwrap_or_else(|e| e.into_inner());
+            if !matches!(*state, State::Queued) {
+                continue;
+            }
+            *state = State::Reading;
+            drop(state);
+            let result = self.read(&slot, read);
+            *slot.state.lock().unwrap_or_else(|e| e.into_inner()) = State::Read(result);
+            slot.done.notify_all();
+        }
+    }
+
+    /// One file read, within the bounds, with its notes held back.
+    fn read(&self, slot: &Slot, read: Reader) -> Option<(Mesh, Notes)> {
+        let size = std::fs::metadata(&slot.path).ok()?.len();
+        if size > MAX_FILE_BYTES
+            || self.bytes.fetch_add(size, Ordering::Relaxed) + size > MAX_TOTAL_BYTES
+        {
+            return None;
+        }
+        // A panic is left to the interpreter's own reading of the file.
+        let run = || input_guard::recording(|| read(&slot.path, slot.max_polygons));
+        let (mesh, notes) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(run)).ok()?;
+        mesh.ok().map(|mesh| (mesh, notes))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::input_guard::{FNV_OFFSET, contents, fnv1a};
+    use crate::scene::NoHost;
+
+    /// Writes `text` at `dir/name`, returning the path and its contents'
+    /// hash.
+    fn write(dir: &Path, name: &str, text: &str) -> (PathBuf, u64) {
+        let path = dir.join(name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, text).unwrap();
+        (path, fnv1a(FNV_OFFSET, text.as_bytes()))
+    }
+
+    /// An ASCII object file of one polygon of `n` points, its first
+    /// point at `x` (so that no other test reads the same contents).
+    fn polygon(n: usize, x: f64) -> String {
+        let mut text = format!("data\n{n} 1\n");
+        for k in 0..n {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            text += &format!("{} {} 0\n", x + a.cos(), -a.sin());
+        }
+        text += &format!("{n}");
+        for k in 1..=n {
+            text += &format!(" {k}");
+        }
+        text + "\n"
+    }
+
+    #[test]
+    fn each_statement_reads_its_own_file_and_notes_it_in_its_turn() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let x = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .subsec_nanos() as f64;
+        let (ax, ax_h) = write(d, "a/x.det", &polygon(3, x));
+        let (ay, ay_h) = write(d, "a/y.det", &polygon(4, x));
+        let (bx, bx_h) = write(d, "b/x.det", &polygon(5, x));
+        let (_, other_h) = write(d, "other.des", &format!("defobj y\nendobj\n# {x}\n"));
+        // `defobj y` with `sphere` generates its object: `a/y.det` is
+        // not read there.
+        let scene_text = format!(
+            "ident\ndet_dir a\ndefobj x\nendobj\ncall other.des\ndet_dir b\ndefobj x\nendobj\n\
+             det_dir a\ndefobj y\nsphere 6 4\nendobj\ngetobj y\n# {x}\n"
+        );
+        let (scene, scene_h) = write(d, "scene.des", &scene_text);
+        let mut interp = Interpreter::new();
+        interp.execute_file(&scene, true, &mut NoHost).unwrap();
+        // In the order the statements read them, whatever the threads.
+        let ours = [scene_h, ax_h, other_h, ay_h, bx_h, ay_h];
+        let noted: Vec<u64> = contents()
+            .into_iter()
+            .filter(|h| ours.contains(h))
+            .collect();
+        assert_eq!(noted, ours);
+        // An output may not overwrite a file read ahead.
+        assert!(input_guard::check(&bx).is_err());
+        let objects = &interp.current().objects;
+        let read = |p: &Path| crate::scene::object_file::read_det(p).unwrap();
+        let expected = [Some(&ax), Some(&ay), Some(&bx), None, Some(&ay)];
+        assert_eq!(objects.len(), expected.len());
+        for (k, (o, path)) in objects.iter().zip(expected).enumerate() {
+            match path {
+                Some(path) => assert_eq!(*o.mesh, read(path), "object {k}"),
+                None => assert_eq!(o.mesh.polygons.len(), 6 * 4, "the sphere"),
+            }
+        }
+    }
+
+    impl ReadAhead {
+        /// Waits until every queued read is done.
+        fn settle(&self) {
+            let busy =
+                |s: &Arc<Slot>| matches!(*s.state.lock().unwrap(), State::Queued | State::Reading);
+            while self.by_path.values().flatten().any(busy) {
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
+        }
+    }
+
+    #[test]
+    fn a_file_past_what_is_left_of_the_budget_fails_as_read_in_turn() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut text = String::from("data\n4 4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n");
+        text += "3 1 2 3\n3 1 3 4\n3 1 4 2\n3 2 4 3\n";
+        write(dir.path(), "det/t.det", &text);
+        let (scene, _) = write(dir.path(), "s.des", "ident\ngetobj t\ngetobj t\n");
+        let mut interp = Interpreter::new();
+        interp.set_budgets(crate::budget::Budgets {
+            polygons: 6,
+            ..Default::default()
+        });
+        let e = interp.execute_file(&scene, true, &mut NoHost).unwrap_err();
+        let e = e.to_string();
+        assert!(
+            e.contains("4 polygons exceed the 2 left of the polygon budget"),
+            "{e}"
+        );
+        assert!(e.contains("t.det:2"), "{e}");
+    }
+
+    #[test]
+    fn a_read_is_taken_once_by_its_path_and_dropped_when_cleared() {
+        let dir = tempfile::tempdir().unwrap();
+        let (p, _) = write(dir.path(), "p.det", &polygon(3, 0.5));
+        let (q, _) = write(dir.path(), "q.det", &polygon(4, 0.5));
+        let bad = dir.path().join("absent.det");
+        let mut ahead = ReadAhead::default();
+        let paths = vec![p.clone(), q.clone(), bad.clone(), p.clone()];
+        ahead.start(paths, 100, read_geometry);
+        ahead.settle();
+        let read = |p: &Path| read_geometry(p, 100).unwrap();
+        assert_eq!(ahead.take(&q).map(|r| r.0), Some(read(&q)));
+        assert!(ahead.take(&bad).is_none(), "an error is read again in turn");
+        assert_eq!(ahead.take(&p).map(|r| r.0), Some(read(&p)));
+        assert_eq!(ahead.take(&p).map(|r| r.0), Some(read(&p)));
+        assert!(ahead.take(&p).is_none(), "two reads queued, two taken");
+        // A budget too small for the file: not read ahead.
+        ahead.start(vec![q.clone()], 0, read_geometry);
+        ahead.settle();
+        assert!(ahead.take(&q).is_none());
+        // Read but not taken when cleared: a later run reads anew.
+        ahead.start(vec![p.clone()], 100, read_geometry);
+        ahead.settle();
+        ahead.clear();
+        assert!(ahead.take(&p).is_none());
+    }
+}
