@@ -14,7 +14,8 @@
 //! reading makes (the files an output may not overwrite, the hashes of
 //! the inputs' contents) are entered when the interpreter takes the
 //! mesh, so they stay in statement order. Reading ahead is bounded: files
-//! of at most [`MAX_FILE_BYTES`], at most [`MAX_TOTAL_BYTES`] in all.
+//! of at most [`MAX_FILE_BYTES`], at most [`MAX_TOTAL_BYTES`] in one run
+//! of a scene, and what a run leaves unread is dropped at its end.
 
 use std::collections::{HashMap, VecDeque};
 use std::path::{Path, PathBuf};
@@ -30,7 +31,7 @@ use crate::scene::command::{Command, Parsed};
 /// The largest object file read ahead.
 pub const MAX_FILE_BYTES: u64 = 8 << 20;
 
-/// The most bytes of object files read ahead by one interpreter.
+/// The most bytes of object files read ahead in one run of a scene.
 pub const MAX_TOTAL_BYTES: u64 = 64 << 20;
 
 impl Interpreter {
@@ -102,6 +103,7 @@ struct Slot {
     done: Condvar,
 }
 
+/// How far a slot's reading is.
 #[derive(Debug)]
 enum State {
     /// Not started.
@@ -176,7 +178,9 @@ impl ReadAhead {
         }
     }
 
-    /// Gives up every read not started; reads under way finish unused.
+    /// Gives up every read not started and drops the reads not taken;
+    /// reads under way finish unused. The next run may read ahead
+    /// [`MAX_TOTAL_BYTES`] again.
     pub fn clear(&mut self) {
         self.queue
             .slots
@@ -184,6 +188,7 @@ impl ReadAhead {
             .unwrap_or_else(|e| e.into_inner())
             .clear();
         self.by_path.clear();
+        self.queue.bytes.store(0, Ordering::Relaxed);
     }
 }
 
