@@ -14,8 +14,9 @@
 //! reading makes (the files an output may not overwrite, the hashes of
 //! the inputs' contents) are entered when the interpreter takes the
 //! mesh, so they stay in statement order. Reading ahead is bounded: files
-//! of at most [`MAX_FILE_BYTES`], at most [`MAX_TOTAL_BYTES`] in one run
-//! of a scene, and what a run leaves unread is dropped at its end.
+//! of at most [`MAX_FILE_BYTES`], at most [`MAX_TOTAL_BYTES`] and
+//! [`MAX_READS`] reads in one run of a scene, and what a run leaves
+//! unread is dropped at its end.
 
 use std::collections::{HashMap, VecDeque};
 use std::path::{Path, PathBuf};
@@ -34,6 +35,10 @@ pub const MAX_FILE_BYTES: u64 = 8 << 20;
 /// The most bytes of object files read ahead in one run of a scene.
 pub const MAX_TOTAL_BYTES: u64 = 64 << 20;
 
+/// The most reads queued in one run of a scene (a scene file of
+/// sixteen million bytes may hold two million `getobj`s).
+pub const MAX_READS: usize = 4096;
+
 impl Interpreter {
     /// Starts reading the object files that `commands`, a file of folder
     /// `dir` just parsed, will read at their `endobj` (or `getobj`):
@@ -47,6 +52,9 @@ impl Interpreter {
         // Each name is looked up once while the folders stay the same.
         let mut found: HashMap<&str, Option<PathBuf>> = HashMap::new();
         for (k, parsed) in commands.iter().enumerate() {
+            if paths.len() >= MAX_READS {
+                break;
+            }
             let name = match &parsed.command {
                 Command::DetDir(d) => {
                     self.det_dir = PathBuf::from(d);
@@ -130,12 +138,16 @@ struct Queue {
 pub struct ReadAhead {
     by_path: HashMap<PathBuf, VecDeque<Arc<Slot>>>,
     queue: Arc<Queue>,
+    /// Reads queued in this run.
+    queued: usize,
 }
 
 impl ReadAhead {
     /// Starts reading `paths` (object files, in statement order) with at
     /// most `max_polygons` polygons each, by `read`.
-    pub fn start(&mut self, paths: Vec<PathBuf>, max_polygons: usize, read: Reader) {
+    pub fn start(&mut self, mut paths: Vec<PathBuf>, max_polygons: usize, read: Reader) {
+        paths.truncate(MAX_READS - self.queued);
+        self.queued += paths.len();
         if paths.is_empty() {
             return;
         }
@@ -180,7 +192,7 @@ impl ReadAhead {
 
     /// Gives up every read not started and drops the reads not taken;
     /// reads under way finish unused. The next run may read ahead
-    /// [`MAX_TOTAL_BYTES`] again.
+    /// [`MAX_TOTAL_BYTES`] and [`MAX_READS`] again.
     pub fn clear(&mut self) {
         self.queue
             .slots
@@ -189,6 +201,7 @@ impl ReadAhead {
             .clear();
         self.by_path.clear();
         self.queue.bytes.store(0, Ordering::Relaxed);
+        self.queued = 0;
     }
 }
 
@@ -336,6 +349,20 @@ mod tests {
             "{e}"
         );
         assert!(e.contains("t.det:2"), "{e}");
+    }
+
+    #[test]
+    fn reads_ahead_are_bounded_in_number_per_run() {
+        let dir = tempfile::tempdir().unwrap();
+        let (p, _) = write(dir.path(), "p.det", &polygon(3, 0.5));
+        let mut ahead = ReadAhead::default();
+        ahead.start(vec![p.clone(); MAX_READS + 10], 100, read_geometry);
+        assert_eq!(ahead.by_path[&p].len(), MAX_READS);
+        ahead.start(vec![p.clone()], 100, read_geometry);
+        assert_eq!(ahead.by_path[&p].len(), MAX_READS);
+        ahead.clear();
+        ahead.start(vec![p.clone(); 3], 100, read_geometry);
+        assert_eq!(ahead.by_path[&p].len(), 3);
     }
 
     #[test]
