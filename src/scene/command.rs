@@ -318,4 +318,25 @@ impl Command {
                 | C::Vcolors(_)
         )
     }
+
+    /// Whether the command, inside a definition, gives the object its
+    /// polygons (copied or generated), so that no object file is read.
+    pub fn makes_object(&self) -> bool {
+        use Command as C;
+        matches!(
+            self,
+            C::Callobj(_)
+                | C::Geodesic { .. }
+                | C::Sphere(_)
+                | C::Cylinder(_)
+                | C::Superquadric(_)
+                | C::Bezier(_)
+                | C::Hermite(_)
+                | C::Lathe { .. }
+                | C::Extrude { .. }
+                | C::Union(_)
+                | C::Intersection(_)
+                | C::Difference(_)
+        )
+    }
 }

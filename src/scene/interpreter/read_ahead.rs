@@ -81,25 +81,10 @@ impl Interpreter {
 /// no command before its `endobj` copies or generates the object.
 fn reads_file(body: &[Parsed]) -> bool {
     use Command as C;
-    for parsed in body {
-        match parsed.command {
-            C::Endobj | C::Defobj { .. } | C::Getobj(_) => return true,
-            C::Callobj(_)
-            | C::Geodesic { .. }
-            | C::Sphere(_)
-            | C::Cylinder(_)
-            | C::Superquadric(_)
-            | C::Bezier(_)
-            | C::Hermite(_)
-            | C::Lathe { .. }
-            | C::Extrude { .. }
-            | C::Union(_)
-            | C::Intersection(_)
-            | C::Difference(_) => return false,
-            _ => {}
-        }
-    }
-    true
+    body.iter()
+        .map(|parsed| &parsed.command)
+        .find(|c| matches!(c, C::Endobj | C::Defobj { .. } | C::Getobj(_)) || c.makes_object())
+        .is_none_or(|c| !c.makes_object())
 }
 
 /// The reading of one statement's object file.
