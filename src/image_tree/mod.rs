@@ -981,10 +981,18 @@ impl<'a> Builder<'a> {
     /// from `c`, pre-blended shade `blended`) that pass the threshold.
     fn queue_branches(&mut self, at: &LevelState<'_>, c: &Candidate, id: usize, blended: Color) {
         let material = self.materials.material(c.object, c.polygon);
+        let weight = at.weight;
+        let threshold = self.options.threshold;
+        let passes = |k: f64| k > 0.0 && weight * k > threshold;
+        // Most polygons neither reflect nor refract: their plane is not
+        // needed (this runs on the builder's one thread).
+        let (reflects, refracts) = (passes(material.reflectance), passes(material.transmittance));
+        if !reflects && !refracts {
+            return;
+        }
         let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
             return;
         };
-        let weight = at.weight;
         let pending = |branch, k: f64, m: &Matrix4| Pending {
             weight: weight * k,
             seq: 0,
@@ -995,13 +1003,11 @@ impl<'a> Builder<'a> {
             plane,
             blend: blended,
         };
-        let threshold = self.options.threshold;
-        let passes = |k: f64| k > 0.0 && weight * k > threshold;
-        if passes(material.reflectance) {
+        if reflects {
             let m = math::reflection(plane);
             self.enqueue(pending(Branch::Reflected, material.reflectance, &m));
         }
-        if passes(material.transmittance) {
+        if refracts {
             let eta = 1.0 / self.materials.resolved[c.object as usize].index;
             if let Some(m) = self.refraction_matrix(c, plane, eta) {
                 self.enqueue(pending(Branch::Refracted, material.transmittance, &m));
