@@ -134,29 +134,46 @@ impl<'a> Scanner<'a> {
 
     /// The next token, or `None` at the end of the file.
     fn next(&mut self) -> Option<Token<'a>> {
-        let rest = &self.text[self.pos..];
-        let skipped = rest.len() - rest.trim_start_matches(is_separator).len();
-        for (i, c) in rest[..skipped].char_indices() {
+        while let Some((c, len)) = self.char_at(self.pos) {
+            if !c.is_whitespace() && c != ',' {
+                break;
+            }
             if c == '\n' {
                 self.line += 1;
-                self.line_start = self.pos + i + 1;
+                self.line_start = self.pos + 1;
             }
+            self.pos += len;
         }
-        self.pos += skipped;
-        let rest = &self.text[self.pos..];
-        if rest.is_empty() {
+        let start = self.pos;
+        while let Some((c, len)) = self.char_at(self.pos) {
+            if c.is_whitespace() || c == ',' {
+                break;
+            }
+            self.pos += len;
+        }
+        if self.pos == start {
             return None;
         }
-        let len = rest.find(is_separator).unwrap_or(rest.len());
-        let token = Token {
-            text: &rest[..len],
-            start: self.pos,
+        self.last_end = (self.pos, self.line, self.line_start);
+        Some(Token {
+            text: &self.text[start..self.pos],
+            start,
             line: self.line,
             line_start: self.line_start,
-        };
-        self.pos += len;
-        self.last_end = (self.pos, self.line, self.line_start);
-        Some(token)
+        })
+    }
+
+    /// The character at byte `pos` and its length, decoded only when it is
+    /// not ASCII: most of a mesh file is digits, signs and spaces, and the
+    /// whole reading of a scene's files is on its critical path.
+    #[inline]
+    fn char_at(&self, pos: usize) -> Option<(char, usize)> {
+        let b = *self.text.as_bytes().get(pos)?;
+        if b.is_ascii() {
+            return Some((char::from(b), 1));
+        }
+        let c = self.text[pos..].chars().next()?;
+        Some((c, c.len_utf8()))
     }
 
     /// The next token; at the end of the file an error saying `ended()`.
@@ -1209,5 +1226,67 @@ mod tests {
         assert!(write_atomically(&blocked, b"abc").is_err());
         let names: Vec<_> = fs::read_dir(dir.path()).unwrap().collect();
         assert_eq!(names.len(), 2);
+    }
+}
+
+#[cfg(test)]
+mod scanner_tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The tokens of `text` by `str`'s own searches (the scanner's first
+    /// form): each token's text, line and line start.
+    fn by_str_search(text: &str) -> Vec<(String, usize, usize)> {
+        let (mut pos, mut line, mut line_start) = (0, 1, 0);
+        let mut out = Vec::new();
+        loop {
+            let rest = &text[pos..];
+            let skipped = rest.len() - rest.trim_start_matches(is_separator).len();
+            for (i, c) in rest[..skipped].char_indices() {
+                if c == '\n' {
+                    line += 1;
+                    line_start = pos + i + 1;
+                }
+            }
+            pos += skipped;
+            let rest = &text[pos..];
+            if rest.is_empty() {
+                return out;
+            }
+            let len = rest.find(is_separator).unwrap_or(rest.len());
+            out.push((rest[..len].to_string(), line, line_start));
+            pos += len;
+        }
+    }
+
+    proptest! {
+        /// Separators of every kind (ASCII, commas, Unicode spaces, a
+        /// control character that is not a space, letters outside ASCII):
+        /// the scanner finds the same tokens on the same lines.
+        #[test]
+        fn the_scanner_splits_as_the_string_searches(
+            picks in prop::collection::vec(0usize..14, 0..80),
+        ) {
+            const ALPHABET: [&str; 14] = [
+                "1", "-2.5e3", ",", " ", "\t", "\n", "\r\n", "\u{85}", "\u{a0}",
+                "\u{2003}", "é", "\u{b}", "\u{1c}", "x\u{3000}y",
+            ];
+            let text: String = picks.iter().map(|&k| ALPHABET[k]).collect();
+            let file = Path::new("t.det");
+            let mut scanner = Scanner {
+                file,
+                text: &text,
+                pos: 0,
+                line: 1,
+                line_start: 0,
+                last_end: (0, 1, 0),
+            };
+            let mut got = Vec::new();
+            while let Some(t) = scanner.next() {
+                prop_assert_eq!(&text[t.start..t.start + t.text.len()], t.text);
+                got.push((t.text.to_string(), t.line, t.line_start));
+            }
+            prop_assert_eq!(got, by_str_search(&text));
+        }
     }
 }
