@@ -218,7 +218,8 @@ pub struct VirtualImageTree {
     /// tree reached its node budget ([`Budgets::tree_nodes`]): the
     /// lightest ones, after the `threshold` cut.
     pub pruned: usize,
-    /// Level-1 polygons left out as hidden ([`TreeOptions::cull_samples`]).
+    /// Polygons left out as hidden, at every level
+    /// ([`TreeOptions::cull_samples`]).
     pub hidden: usize,
 }
 
@@ -369,9 +370,10 @@ pub struct TreeOptions {
     /// The limits: tree fragments ([`Budgets::tree_nodes`]) and NNS splits
     /// per level ([`Budgets::splits`]).
     pub budgets: Budgets,
-    /// With `Some(n)`, leave out the level-1 polygons whose every sample
-    /// of the image's `n x n` grid per pixel is covered by opaque polygons
-    /// later in the order ([`crate::visibility::occlusion`]): right for a
+    /// With `Some(n)`, leave out the polygons of each level whose every
+    /// sample of the image's `n x n` grid per pixel is covered by opaque
+    /// polygons of that level later in its order
+    /// ([`crate::visibility::occlusion`]): right for a
     /// picture made from those samples only, not for exact areas, tree
     /// files or vector output, where what lies behind shows through the
     /// seams of a mesh.
@@ -539,7 +541,9 @@ pub fn build_profiled(
     b.casters = casters;
     let mut sorted = b.sort(level1);
     if let Some(n) = b.options.cull_samples {
-        sorted = b.visible(sorted, n);
+        let hidden;
+        (sorted, hidden) = b.unhidden(sorted, n);
+        b.tree.hidden += hidden;
     }
     let roots = b
         .trace(
@@ -894,17 +898,20 @@ impl<'a> Builder<'a> {
         Some(at.ids)
     }
 
-    /// The level-1 `sorted` polygons (back to front) less those hidden at
+    /// A level's `sorted` polygons (back to front) less those hidden at
     /// every sample (`n x n` per pixel) under opaque ones later in the
-    /// order; counts them in [`VirtualImageTree::hidden`].
+    /// order, and how many were left out. A level below the first lies
+    /// within its parent's outline and is painted there in its own
+    /// priority order, so what its own polygons hide cannot show either;
+    /// leaving it out drops its shadows and branches too.
     ///
     /// A picture whose mask would pass [`occlusion::MAX_BYTES`] keeps
     /// them all.
-    fn visible(&mut self, sorted: Vec<Candidate>, n: u32) -> Vec<Candidate> {
+    fn unhidden(&self, sorted: Vec<Candidate>, n: u32) -> (Vec<Candidate>, usize) {
         let view = self.view;
         let (w, h) = (view.width as u32, view.height as u32);
         if CoverMask::bytes(w, h, n) > occlusion::MAX_BYTES {
-            return sorted;
+            return (sorted, 0);
         }
         let outlines: Vec<Outline> = sorted
             .par_iter()
@@ -924,8 +931,8 @@ impl<'a> Builder<'a> {
             .zip(&hidden)
             .filter_map(|(c, &h)| (!h).then_some(c))
             .collect();
-        self.tree.hidden += hidden.len() - kept.len();
-        kept
+        let left_out = hidden.len() - kept.len();
+        (kept, left_out)
     }
 
     /// Whether the tree has reached its node budget.
@@ -1071,6 +1078,10 @@ impl<'a> Builder<'a> {
                 continue;
             };
             self.count_sort(found.stats);
+            self.tree.hidden += found.hidden;
+            if found.sorted.is_empty() {
+                continue;
+            }
             let reserve = usize::from(p.branch == Branch::Refracted);
             let Some(kids) = self.trace(
                 p.level,
@@ -1154,8 +1165,9 @@ impl<'a> Builder<'a> {
     }
 
     /// The level of branch `p`: the scene mapped and clipped to what is
-    /// seen through its parent, sorted, and for a level of one chunk the
-    /// chunk's shades and shadows. `None` if nothing is seen.
+    /// seen through its parent, sorted, less what its own polygons hide
+    /// ([`TreeOptions::cull_samples`]), and for a level of one chunk the
+    /// chunk's shades and shadows. `None` if nothing is mapped.
     fn find_level(&self, p: &Pending) -> Option<FoundLevel<'a>> {
         let planes = self.volume(&self.tree.nodes[p.parent].virtual_points, p.plane);
         let found = self.mapped_level(&p.t, &planes);
@@ -1163,11 +1175,17 @@ impl<'a> Builder<'a> {
             return None;
         }
         let (sorted, stats) = self.sorted(found);
-        let ready = (sorted.len() <= SHADOW_CHUNK).then(|| self.chunk_work(&p.t).prepare(&sorted));
+        let (sorted, hidden) = match self.options.cull_samples {
+            Some(n) => self.unhidden(sorted, n),
+            None => (sorted, 0),
+        };
+        let ready = (!sorted.is_empty() && sorted.len() <= SHADOW_CHUNK)
+            .then(|| self.chunk_work(&p.t).prepare(&sorted));
         Some(FoundLevel {
             sorted,
             stats,
             ready,
+            hidden,
         })
     }
 
@@ -1494,6 +1512,9 @@ struct FoundLevel<'a> {
     stats: Option<nns::NnsStats>,
     /// The shades and shadows of its only chunk, if it has one.
     ready: Option<PreparedChunk<'a>>,
+    /// Its polygons left out as hidden (all of them when `sorted` is
+    /// empty).
+    hidden: usize,
 }
 
 /// How many pending branches of a small scene are found at once: a few

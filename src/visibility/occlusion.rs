@@ -198,10 +198,18 @@ pub fn hidden(width: u32, height: u32, n: u32, outlines: &[Outline]) -> Vec<bool
             (near, o.opaque && can_cover(&o.points))
         })
         .collect();
-    // Many bands a thread: the polygons crowd some rows more than others.
-    let count = (rayon::current_num_threads() as u32 * 16).clamp(1, rows.max(1));
+    // Only the rows some outline is asked about (a mirror's level lies in
+    // a small part of the picture), in many bands a thread: the polygons
+    // crowd some rows more than others.
+    let span = asked
+        .iter()
+        .filter_map(|(near, _)| near.clone().filter(|r| !r.is_empty()))
+        .reduce(|a, b| a.start.min(b.start)..a.end.max(b.end))
+        .unwrap_or(0..0);
+    let (first, len) = (span.start, span.len() as u32);
+    let count = (rayon::current_num_threads() as u32 * 16).clamp(1, len.max(1));
     let bands: Vec<std::ops::Range<u32>> = (0..count)
-        .map(|b| rows * b / count..rows * (b + 1) / count)
+        .map(|b| first + len * b / count..first + len * (b + 1) / count)
         .collect();
     let seen = |band: &std::ops::Range<u32>| {
         let mut mask = CoverMask::band(width, n, band.clone());
