@@ -135,7 +135,7 @@ impl<'a> Scanner<'a> {
     /// The next token, or `None` at the end of the file.
     fn next(&mut self) -> Option<Token<'a>> {
         while let Some((c, len)) = self.char_at(self.pos) {
-            if !c.is_whitespace() && c != ',' {
+            if !is_separator(c) {
                 break;
             }
             if c == '\n' {
@@ -146,7 +146,7 @@ impl<'a> Scanner<'a> {
         }
         let start = self.pos;
         while let Some((c, len)) = self.char_at(self.pos) {
-            if c.is_whitespace() || c == ',' {
+            if is_separator(c) {
                 break;
             }
             self.pos += len;
