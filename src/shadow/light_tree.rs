@@ -60,7 +60,7 @@ pub(super) struct LightFaces {
 /// Items per leaf.
 const LEAF: usize = 4;
 
-/// Casters whose face boxes are made at once ([`super::CasterIndex::make_faces`]).
+/// Casters whose face boxes are made at once ([`LightFaces::new`]).
 const FACE_BLOCK: usize = 1 << 20;
 /// Casters whose face boxes are made in one task.
 const FACE_CHUNK: usize = 4096;
@@ -288,8 +288,8 @@ impl LightTree {
 impl LightFaces {
     /// The `casters` (polygons of `objects`) that face `light`, as it
     /// sees them, their boxes widened by `tol`: made a block at a time,
-    /// its chunks on all threads, put together in caster order; then a
-    /// hierarchy a face.
+    /// its chunks on all threads (so a block's items are held twice at
+    /// most), put together in caster order; then a hierarchy a face.
     pub(super) fn new(
         objects: &[Object],
         casters: &[Caster],

@@ -126,12 +126,14 @@ impl CasterIndex {
         if !self.own_hierarchy(j) {
             return (
                 self.shared
-                    .get_or_init(|| self.make_tree(objects, |_| true)),
+                    .get_or_init(|| LightTree::of_casters(objects, &self.casters, |_| true)),
                 true,
             );
         }
         let tree = self.lights[j].get_or_init(|| {
-            self.make_tree(objects, |c| CasterRef::of(objects, c).faces(c.open, light))
+            LightTree::of_casters(objects, &self.casters, |c| {
+                CasterRef::of(objects, c).faces(c.open, light)
+            })
         });
         (tree, false)
     }
@@ -151,19 +153,9 @@ impl CasterIndex {
         if !self.light_space || !self.own_hierarchy(j) {
             return None;
         }
-        let faces = self.faces[j].get_or_init(|| self.make_faces(objects, light, tol));
+        let faces =
+            self.faces[j].get_or_init(|| LightFaces::new(objects, &self.casters, light, tol));
         (tol <= faces.tol).then_some(faces)
-    }
-
-    /// Light `j`'s [`LightFaces`]: the casters' boxes made a block at a
-    /// time, its chunks on all threads (so a block's items are held twice
-    /// at most), put together in caster order; then a hierarchy a face.
-    fn make_faces(&self, objects: &[Object], light: DVec3, tol: f64) -> LightFaces {
-        LightFaces::new(objects, &self.casters, light, tol)
-    }
-
-    fn make_tree(&self, objects: &[Object], keep: impl Fn(&Caster) -> bool) -> LightTree {
-        LightTree::of_casters(objects, &self.casters, keep)
     }
 }
 
