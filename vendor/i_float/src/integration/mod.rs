@@ -1,0 +1,2 @@
+#[cfg(feature = "glam")]
+pub mod glam;
