@@ -190,8 +190,8 @@ pub struct CasterReuse {
 impl CasterReuse {
     /// The index for `objects` and `lights` at tolerance `eps`: the kept
     /// one if they are the last call's, else a new one, kept if they are
-    /// the last call's world seen a second time and have at most
-    /// [`MAX_KEPT_POLYGONS`] polygons.
+    /// the last call's world seen a second time and have at most 2^20
+    /// polygons (a bigger index is built again for each frame).
     pub fn index(
         &self,
         objects: &[Object],
