@@ -47,7 +47,11 @@ pub trait UIntNumber:
     fn divide_wide(high: Self, low: Self, divisor: Self) -> (Self, Self) {
         let dn = divisor.leading_zeros();
         let norm_divisor = divisor << dn;
-        let mut rem_high = if dn == 0 { high } else { (high << dn) | (low >> (Self::BITS - dn)) };
+        let mut rem_high = if dn == 0 {
+            high
+        } else {
+            (high << dn) | (low >> (Self::BITS - dn))
+        };
         let mut rem_low = low << dn;
         let mut quotient = Self::ZERO;
         for _ in 0..Self::BITS {
@@ -233,7 +237,11 @@ impl UIntNumber for u128 {
         }
         let s = divisor.leading_zeros();
         let d = divisor << s;
-        let (n_high, n_low) = if s == 0 { (high, low) } else { ((high << s) | (low >> (128 - s)), low << s) };
+        let (n_high, n_low) = if s == 0 {
+            (high, low)
+        } else {
+            ((high << s) | (low >> (128 - s)), low << s)
+        };
         let (q1, r1) = divide_digit(n_high, (n_low >> 64) as u64, d);
         let (q0, r0) = divide_digit(r1, n_low as u64, d);
         (((q1 as u128) << 64) | q0 as u128, r0 >> s)
@@ -246,7 +254,11 @@ impl UIntNumber for u128 {
 fn divide_digit(u: u128, v: u64, d: u128) -> (u64, u128) {
     let d1 = (d >> 64) as u64;
     let d0 = d as u64;
-    let mut q = if (u >> 64) as u64 >= d1 { u64::MAX } else { (u / d1 as u128) as u64 };
+    let mut q = if (u >> 64) as u64 >= d1 {
+        u64::MAX
+    } else {
+        (u / d1 as u128) as u64
+    };
     // q * d as a 192-bit number (p_high: 128 bits, p_low: 64 bits).
     let low = q as u128 * d0 as u128;
     let mut p_high = q as u128 * d1 as u128 + (low >> 64);
