@@ -709,6 +709,62 @@ fn a_failing_sink_stops_every_band_worker() {
     }
 }
 
+/// Runs `f` on a thread of its own and fails if it has not finished
+/// within a minute: a deadlock fails the test rather than hanging it.
+fn within_a_minute<R: Send + 'static>(f: impl FnOnce() -> R + Send + 'static) -> R {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    rx.recv_timeout(std::time::Duration::from_secs(60))
+        .expect("the scan conversion deadlocked (or panicked)")
+}
+
+/// A sink that runs work on rayon's pool for every row, as a caller's
+/// sink may: the band workers, tasks of that pool, must not hold its
+/// threads while they wait for this thread to deliver.
+#[derive(Default)]
+struct UsesThePool(Collect);
+
+impl RowSink for UsesThePool {
+    fn row(&mut self, row: &Row<'_>) -> plytrace::Result<()> {
+        use rayon::prelude::*;
+        let sum: u64 = (0..256u64).into_par_iter().map(|k| k * k).sum();
+        assert_eq!(sum, 5_559_680);
+        self.0.row(row)
+    }
+}
+
+/// The bands' workers are tasks of rayon's pool when the caller is not
+/// in it, and threads of their own when it is (a caller's parallel
+/// work): either way the image is the same and nothing waits forever,
+/// with a sink that uses the pool too, or from a pool of one thread.
+#[test]
+fn band_workers_never_wait_for_the_pool_they_run_in() {
+    let (w, h) = (41, 31);
+    let s = stream(scene(60, 9, true), false);
+    let mut o = opts(w, h, Method::Multilevel);
+    o.paint_background = true;
+    let reference = run(&s, &o).0;
+    (o.threads, o.act_lines) = (rayon::current_num_threads().max(2), 1);
+    let (s2, o2) = (s.clone(), o);
+    let from_outside = within_a_minute(move || {
+        let mut sink = UsesThePool::default();
+        scan_convert(&s2, &o2, &mut sink).unwrap();
+        sink.0.0
+    });
+    assert!(from_outside == reference, "a sink that uses the pool");
+    let (s3, o3) = (s.clone(), o);
+    let from_inside = within_a_minute(move || {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        pool.install(|| run(&s3, &o3).0)
+    });
+    assert!(from_inside == reference, "from a pool of one thread");
+}
+
 // --- Supersampling ----------------------------------------------------------
 
 #[test]

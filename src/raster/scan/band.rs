@@ -9,12 +9,15 @@
 //! scan lines paged in and out because polygons visit the image in any
 //! order. Here every band sees all of its polygons before it is finished,
 //! so a finished band never needs to come back and nothing is paged to
-//! disk. Bands run in parallel on `threads` worker threads, each taking
-//! the next band as it finishes one, while the calling thread hands the
-//! finished bands to the sink in order (PNG encoding overlaps the
-//! scanning). The output does not depend on the thread count; memory is at
-//! most 2 x `threads` + 1 bands of `act_lines` x width pixels plus the
-//! records.
+//! disk. Bands run in parallel on `threads` workers, each taking the next
+//! band as it finishes one, while the calling thread hands the finished
+//! bands to the sink in order (PNG encoding overlaps the scanning). The
+//! workers are tasks of rayon's pool, whose threads are already running,
+//! and never wait in it: one that finds 2 x `threads` bands waiting for
+//! delivery returns, and the calling thread starts it again. A caller
+//! that is itself in the pool gets threads of its own instead. The output
+//! does not depend on the thread count; memory is at most 2 x `threads` +
+//! 1 bands of `act_lines` x width pixels plus the records.
 
 use std::sync::{Condvar, Mutex, MutexGuard};
 
@@ -310,6 +313,16 @@ struct Schedule {
     /// Set when delivery failed, a worker panicked or a stop was
     /// requested ([`crate::cancel`]): everyone stops.
     stop: bool,
+    /// Workers running as tasks of rayon's pool (not as threads).
+    active: usize,
+}
+
+impl Schedule {
+    /// Whether a worker may start the next of `n` bands: fewer than
+    /// `window` wait for delivery.
+    fn can_start(&self, n: usize, window: usize) -> bool {
+        !self.stop && self.next < n && self.next < self.delivered + window
+    }
 }
 
 /// The schedule and its condition variable.
@@ -345,24 +358,28 @@ impl Drop for StopOnPanic<'_> {
     }
 }
 
-/// A worker thread: takes the next band while fewer than `window` bands
-/// wait for delivery, converts it and hands it back.
+/// A worker: takes the next band while fewer than `window` bands wait for
+/// delivery, converts it and hands it back. When the window is full a
+/// thread of its own (`wait`) waits; a task of rayon's pool returns, and
+/// the delivering thread starts it again once a band is delivered, since
+/// a pool thread must not block: the sink may use the pool itself.
 fn work<I: Integrator>(
     worker: &mut Worker<I>,
     plan: &Plan<'_>,
     buckets: &[Vec<u32>],
     shared: &Shared,
     window: usize,
+    wait: bool,
 ) {
     let _guard = StopOnPanic(shared);
     let wanted = plan.wanted();
     let n = wanted.len();
     let mut g = shared.lock();
     loop {
-        while !g.stop && g.next < n && g.next >= g.delivered + window {
+        while wait && !g.stop && g.next < n && !g.can_start(n, window) {
             g = shared.wait(g);
         }
-        if g.stop || g.next >= n {
+        if !g.can_start(n, window) {
             return;
         }
         let band = wanted.start + g.next;
@@ -380,6 +397,24 @@ fn work<I: Integrator>(
         g.done.insert(band, done);
         shared.changed.notify_all();
     }
+}
+
+/// A worker as a task of rayon's pool: an idle worker's state runs
+/// [`work`] until no band can start, then is put back.
+fn task<I: Integrator>(
+    idle: &Mutex<Vec<Worker<I>>>,
+    plan: &Plan<'_>,
+    buckets: &[Vec<u32>],
+    shared: &Shared,
+    window: usize,
+) {
+    let taken = idle.lock().unwrap_or_else(|e| e.into_inner()).pop();
+    if let Some(mut worker) = taken {
+        work(&mut worker, plan, buckets, shared, window, false);
+        idle.lock().unwrap_or_else(|e| e.into_inner()).push(worker);
+    }
+    shared.lock().active -= 1;
+    shared.changed.notify_all();
 }
 
 /// Runs the bands of `plan` with integrators from `make` on `threads`
@@ -408,26 +443,96 @@ pub(crate) fn convert<I: Integrator>(
     };
     let mut stats = ScanStats::default();
     let mut hit = vec![false; plan.records.len()];
-    std::thread::scope(|scope| {
-        for w in &mut workers {
-            let (buckets, shared) = (&buckets, &shared);
-            let started = std::thread::Builder::new()
-                .name("scan band".into())
-                .spawn_scoped(scope, move || work(w, plan, buckets, shared, window));
-            if let Err(e) = started {
-                shared.stop();
-                return Err(Error::Invalid(format!("cannot start a scan thread: {e}")));
-            }
-        }
-        let delivered = deliver_all(plan, nb, &shared, sink, &mut stats, &mut hit);
+    let deliver = |start: &mut dyn FnMut(&mut Schedule)| {
+        let delivered = deliver_all(plan, nb, &shared, sink, &mut stats, &mut hit, start);
         shared.stop();
         delivered
-    })?;
+    };
+    let crew = Crew {
+        plan,
+        buckets: &buckets,
+        shared: &shared,
+        window,
+    };
+    if rayon::current_thread_index().is_none() {
+        crew.as_tasks(workers, deliver)?;
+    } else {
+        crew.on_threads(&mut workers, deliver)?;
+    }
     stats.polygons_tiled = hit.iter().filter(|&&h| h).count();
     Ok(stats)
 }
 
-/// Delivers the `nb` bands in order as the workers finish them.
+/// What every worker shares: the plan, its buckets, the schedule and the
+/// window of bands that may wait for delivery.
+struct Crew<'a, 'p> {
+    plan: &'a Plan<'p>,
+    buckets: &'a [Vec<u32>],
+    shared: &'a Shared,
+    window: usize,
+}
+
+impl Crew<'_, '_> {
+    /// The workers as tasks of rayon's pool, whose threads are already
+    /// running (a new thread could start milliseconds late on cores busy
+    /// with the pool's last work); `deliver` starts them as bands may
+    /// start.
+    fn as_tasks<I: Integrator>(
+        &self,
+        workers: Vec<Worker<I>>,
+        deliver: impl FnOnce(&mut dyn FnMut(&mut Schedule)) -> Result<()>,
+    ) -> Result<()> {
+        let (k, n) = (workers.len(), self.plan.wanted().len());
+        let idle = Mutex::new(workers);
+        let idle = &idle;
+        rayon::in_place_scope(|scope| {
+            deliver(&mut |g: &mut Schedule| {
+                while g.active < k && g.can_start(n, self.window) {
+                    g.active += 1;
+                    let Crew {
+                        plan,
+                        buckets,
+                        shared,
+                        window,
+                    } = *self;
+                    scope.spawn(move |_| task(idle, plan, buckets, shared, window));
+                }
+            })
+        })
+    }
+
+    /// The workers on threads of their own, for a caller within rayon's
+    /// pool (its own parallel work): no worker then waits for a pool
+    /// thread that is waiting for it.
+    fn on_threads<I: Integrator>(
+        &self,
+        workers: &mut [Worker<I>],
+        deliver: impl FnOnce(&mut dyn FnMut(&mut Schedule)) -> Result<()>,
+    ) -> Result<()> {
+        let Crew {
+            plan,
+            buckets,
+            shared,
+            window,
+        } = *self;
+        std::thread::scope(|scope| {
+            for w in workers {
+                let started = std::thread::Builder::new()
+                    .name("scan band".into())
+                    .spawn_scoped(scope, move || work(w, plan, buckets, shared, window, true));
+                if let Err(e) = started {
+                    shared.stop();
+                    return Err(Error::Invalid(format!("cannot start a scan thread: {e}")));
+                }
+            }
+            deliver(&mut |_: &mut Schedule| {})
+        })
+    }
+}
+
+/// Delivers the `nb` bands in order as the workers finish them; `start`
+/// starts workers that are not running, before each wait and after each
+/// delivery.
 fn deliver_all(
     plan: &Plan<'_>,
     nb: usize,
@@ -435,6 +540,7 @@ fn deliver_all(
     sink: &mut dyn RowSink,
     stats: &mut ScanStats,
     hit: &mut [bool],
+    start: &mut dyn FnMut(&mut Schedule),
 ) -> Result<()> {
     for band in plan.wanted().take(nb) {
         crate::cancel::check()?;
@@ -448,6 +554,7 @@ fn deliver_all(
                     crate::cancel::check()?;
                     return Err(Error::Invalid("a scan thread failed".into()));
                 }
+                start(&mut g);
                 g = shared.wait(g);
             }
         };
@@ -461,6 +568,7 @@ fn deliver_all(
         let mut g = shared.lock();
         g.spare.push(done);
         g.delivered += 1;
+        start(&mut g);
         shared.changed.notify_all();
     }
     Ok(())
