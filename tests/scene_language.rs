@@ -110,6 +110,61 @@ fn global_and_object_attributes() {
     assert!(tri.vertex_normals.is_none());
 }
 
+/// One step of a script of objects: defined without a number, with one
+/// (if free), or deleted by number (if there).
+#[derive(Debug, Clone)]
+enum NumberStep {
+    Free,
+    Given(u32),
+    Delete(u32),
+}
+
+mod numbering {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        /// An object defined without a number takes the lowest number no
+        /// object then in the scene uses, however objects were numbered and
+        /// deleted before: against a model that looks at every number.
+        #[test]
+        fn a_new_object_takes_the_lowest_free_number(
+            steps in proptest::collection::vec(
+                prop_oneof![
+                    3 => Just(NumberStep::Free),
+                    1 => (0u32..24).prop_map(NumberStep::Given),
+                    1 => (0u32..24).prop_map(NumberStep::Delete),
+                ],
+                1..60,
+            )
+        ) {
+            let mut model: Vec<u32> = Vec::new();
+            let mut text = String::new();
+            for step in steps {
+                match step {
+                    NumberStep::Free => {
+                        let free = (0..).find(|n| !model.contains(n)).unwrap();
+                        model.push(free);
+                        text += "defobj tri\nendobj\n";
+                    }
+                    NumberStep::Given(n) if !model.contains(&n) => {
+                        model.push(n);
+                        text += &format!("defobj tri {n}\nendobj\n");
+                    }
+                    NumberStep::Delete(n) if model.contains(&n) => {
+                        model.retain(|&m| m != n);
+                        text += &format!("delobj {n}\n");
+                    }
+                    _ => {}
+                }
+            }
+            let numbers: Vec<u32> = Fixture::new().scene(&text).objects.iter().map(|o| o.number).collect();
+            prop_assert_eq!(numbers, model);
+        }
+    }
+}
+
 #[test]
 fn object_numbers_callobj_and_delobj() {
     let f = Fixture::new();

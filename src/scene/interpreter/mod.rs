@@ -176,6 +176,8 @@ pub struct Interpreter {
     /// Geodesic objects by number: the mesh generated and its turned
     /// radial function, for `radial rotate` outside a definition.
     pub(super) geodesics: std::collections::HashMap<u32, (Arc<Mesh>, TurnedRadial)>,
+    /// The objects' numbers, for the next free one.
+    pub(super) numbers: objects::FreeNumbers,
     /// Object files read ahead of their statements.
     read_ahead: read_ahead::ReadAhead,
 }
@@ -206,6 +208,7 @@ impl Interpreter {
             notes: Vec::new(),
             budgets: Budgets::default(),
             geodesics: std::collections::HashMap::new(),
+            numbers: objects::FreeNumbers::default(),
             read_ahead: read_ahead::ReadAhead::default(),
         }
     }

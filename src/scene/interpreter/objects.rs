@@ -14,7 +14,7 @@ use crate::budget::Budgets;
 use crate::error::{
     Diagnostic, Error, Location, MAX_SHOWN_PATH, MAX_SHOWN_TOKEN, Result, printable,
 };
-use crate::model::{ColorEntry, Mesh};
+use crate::model::{ColorEntry, Mesh, Object};
 use crate::modeling::geodesic::{self, Division, Radial, TurnedRadial};
 use crate::scene::arguments::{Context, ObjectRef, Spanned};
 use crate::scene::build::{ObjectParts, build_object, warning_kind};
@@ -96,6 +96,7 @@ impl Interpreter {
             if self.scene.objects.len() == before {
                 return Err(no_object(ctx, &object.token));
             }
+            self.numbers = FreeNumbers::default();
         }
         self.polygons = self.scene.polygon_count();
         Ok(())
@@ -475,18 +476,8 @@ impl Interpreter {
     }
 
     /// The smallest object number not in use.
-    pub(in crate::scene) fn next_free_number(&self) -> u32 {
-        let mut used: Vec<u32> = self.scene.objects.iter().map(|o| o.number).collect();
-        used.sort_unstable();
-        let mut n = 0;
-        for u in used {
-            if u == n {
-                n += 1;
-            } else if u > n {
-                break;
-            }
-        }
-        n
+    pub(in crate::scene) fn next_free_number(&mut self) -> u32 {
+        self.numbers.next_free(&self.scene.objects)
     }
 
     /// The folders an object's files are looked up in: the detail
@@ -628,5 +619,37 @@ pub(super) fn read_geometry(path: &Path, max_polygons: usize) -> Result<Mesh> {
         object_file::read_det_within(path, max_polygons)
     } else {
         mesh_import::read_mesh_within(path, max_polygons)
+    }
+}
+
+/// The numbers the scene's objects use, for [`Interpreter::next_free_number`]:
+/// brought up to date from the objects added since the last call (a
+/// deletion starts it again), with the number below which all are used.
+/// A call is then constant time on average; sorting every number at every
+/// `endobj` made 40,000 objects take 2.4 s to read, growing as n^2.
+#[derive(Debug, Default, Clone)]
+pub(in crate::scene) struct FreeNumbers {
+    used: std::collections::HashSet<u32>,
+    /// How many objects, from the first, have their numbers in `used`.
+    seen: usize,
+    /// Every number below it is used.
+    below: u32,
+}
+
+impl FreeNumbers {
+    /// The lowest number no object of `objects` uses. `objects` must be
+    /// the last call's with objects added at the end (numbers of objects
+    /// replaced in place unchanged); anything else starts afresh.
+    fn next_free(&mut self, objects: &[Object]) -> u32 {
+        if objects.len() < self.seen {
+            *self = FreeNumbers::default();
+        }
+        self.used
+            .extend(objects[self.seen..].iter().map(|o| o.number));
+        self.seen = objects.len();
+        while self.used.contains(&self.below) {
+            self.below += 1;
+        }
+        self.below
     }
 }
