@@ -363,14 +363,13 @@ impl Drop for StopOnPanic<'_> {
 /// thread of its own (`wait`) waits; a task of rayon's pool returns, and
 /// the delivering thread starts it again once a band is delivered, since
 /// a pool thread must not block: the sink may use the pool itself.
-fn work<I: Integrator>(
-    worker: &mut Worker<I>,
-    plan: &Plan<'_>,
-    buckets: &[Vec<u32>],
-    shared: &Shared,
-    window: usize,
-    wait: bool,
-) {
+fn work<I: Integrator>(worker: &mut Worker<I>, crew: &Crew<'_, '_>, wait: bool) {
+    let Crew {
+        plan,
+        buckets,
+        shared,
+        window,
+    } = *crew;
     let _guard = StopOnPanic(shared);
     let wanted = plan.wanted();
     let n = wanted.len();
@@ -401,20 +400,14 @@ fn work<I: Integrator>(
 
 /// A worker as a task of rayon's pool: an idle worker's state runs
 /// [`work`] until no band can start, then is put back.
-fn task<I: Integrator>(
-    idle: &Mutex<Vec<Worker<I>>>,
-    plan: &Plan<'_>,
-    buckets: &[Vec<u32>],
-    shared: &Shared,
-    window: usize,
-) {
+fn task<I: Integrator>(idle: &Mutex<Vec<Worker<I>>>, crew: &Crew<'_, '_>) {
     let taken = idle.lock().unwrap_or_else(|e| e.into_inner()).pop();
     if let Some(mut worker) = taken {
-        work(&mut worker, plan, buckets, shared, window, false);
+        work(&mut worker, crew, false);
         idle.lock().unwrap_or_else(|e| e.into_inner()).push(worker);
     }
-    shared.lock().active -= 1;
-    shared.changed.notify_all();
+    crew.shared.lock().active -= 1;
+    crew.shared.changed.notify_all();
 }
 
 /// Runs the bands of `plan` with integrators from `make` on `threads`
@@ -465,6 +458,7 @@ pub(crate) fn convert<I: Integrator>(
 
 /// What every worker shares: the plan, its buckets, the schedule and the
 /// window of bands that may wait for delivery.
+#[derive(Clone, Copy)]
 struct Crew<'a, 'p> {
     plan: &'a Plan<'p>,
     buckets: &'a [Vec<u32>],
@@ -489,13 +483,8 @@ impl Crew<'_, '_> {
             deliver(&mut |g: &mut Schedule| {
                 while g.active < k && g.can_start(n, self.window) {
                     g.active += 1;
-                    let Crew {
-                        plan,
-                        buckets,
-                        shared,
-                        window,
-                    } = *self;
-                    scope.spawn(move |_| task(idle, plan, buckets, shared, window));
+                    let crew = *self;
+                    scope.spawn(move |_| task(idle, &crew));
                 }
             })
         })
@@ -509,19 +498,14 @@ impl Crew<'_, '_> {
         workers: &mut [Worker<I>],
         deliver: impl FnOnce(&mut dyn FnMut(&mut Schedule)) -> Result<()>,
     ) -> Result<()> {
-        let Crew {
-            plan,
-            buckets,
-            shared,
-            window,
-        } = *self;
+        let crew = *self;
         std::thread::scope(|scope| {
             for w in workers {
                 let started = std::thread::Builder::new()
                     .name("scan band".into())
-                    .spawn_scoped(scope, move || work(w, plan, buckets, shared, window, true));
+                    .spawn_scoped(scope, move || work(w, &crew, true));
                 if let Err(e) = started {
-                    shared.stop();
+                    crew.shared.stop();
                     return Err(Error::Invalid(format!("cannot start a scan thread: {e}")));
                 }
             }
