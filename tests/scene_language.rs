@@ -165,6 +165,20 @@ mod numbering {
     }
 }
 
+/// A CSG result consumes its operands: their numbers are free again,
+/// also when the result is given a number of its own.
+#[test]
+fn csg_operands_free_their_numbers() {
+    let s = Fixture::new().scene(
+        "defobj a\nsphere 8 4\nendobj\n\
+         defobj b\ntranslate 0.5 0 0\nsphere 8 4\nendobj\n\
+         defobj tri\nendobj\ndefobj tri\nendobj\n\
+         defobj r 9\nunion a b\nendobj\ndefobj tri\nendobj\n",
+    );
+    let numbers: Vec<u32> = s.objects.iter().map(|o| o.number).collect();
+    assert_eq!(numbers, vec![2, 3, 9, 0]);
+}
+
 #[test]
 fn object_numbers_callobj_and_delobj() {
     let f = Fixture::new();

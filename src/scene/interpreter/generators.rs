@@ -349,9 +349,7 @@ impl Interpreter {
         let combined = self.combine(op, (ia, ib), names, &loc)?;
         // The operands are consumed.
         let (na, nb) = combined.numbers;
-        self.scene
-            .objects
-            .retain(|o| o.number != na && o.number != nb);
+        self.retain_objects(|o| o.number != na && o.number != nb);
         self.polygons = self.scene.polygon_count();
         let faces = combined.mesh.polygons.len();
         self.check_polygons(faces, &loc, &format!("the CSG result ({faces} faces)"))?;
