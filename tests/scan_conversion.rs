@@ -765,6 +765,50 @@ fn band_workers_never_wait_for_the_pool_they_run_in() {
     assert!(from_inside == reference, "from a pool of one thread");
 }
 
+/// A sink that panics at its fourth row.
+struct PanicsAtRow3;
+
+impl RowSink for PanicsAtRow3 {
+    fn row(&mut self, row: &Row<'_>) -> plytrace::Result<()> {
+        assert!(row.y < 3, "the sink gives up at row {}", row.y);
+        Ok(())
+    }
+}
+
+/// A sink's panic reaches the caller, from outside rayon's pool and from
+/// inside it (where the workers are threads that wait for deliveries):
+/// no worker is left waiting for a delivery that will never come.
+#[test]
+fn a_panicking_sink_stops_every_band_worker() {
+    let s = stream(scene(60, 9, true), false);
+    let mut o = opts(41, 37, Method::Multilevel);
+    (o.threads, o.act_lines) = (2, 1);
+    for inside_the_pool in [false, true] {
+        let (s, o) = (s.clone(), o);
+        let outcome = within_a_minute(move || {
+            let convert = move || {
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    scan_convert(&s, &o, &mut PanicsAtRow3)
+                }))
+                .is_err()
+            };
+            if inside_the_pool {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(1)
+                    .build()
+                    .unwrap();
+                pool.install(convert)
+            } else {
+                convert()
+            }
+        });
+        assert!(
+            outcome,
+            "the panic comes back (inside the pool: {inside_the_pool})"
+        );
+    }
+}
+
 // --- Supersampling ----------------------------------------------------------
 
 #[test]

@@ -346,8 +346,9 @@ impl Shared {
     }
 }
 
-/// Stops everyone if its worker thread unwinds, so that the delivering
-/// thread does not wait for a band that will never come.
+/// Stops everyone if its thread unwinds: a worker's, so that the
+/// delivering thread does not wait for a band that will never come, or
+/// the delivering thread's, so that no worker waits for a delivery.
 struct StopOnPanic<'a>(&'a Shared);
 
 impl Drop for StopOnPanic<'_> {
@@ -437,6 +438,9 @@ pub(crate) fn convert<I: Integrator>(
     let mut stats = ScanStats::default();
     let mut hit = vec![false; plan.records.len()];
     let deliver = |start: &mut dyn FnMut(&mut Schedule)| {
+        // A sink that panics stops the workers too, or threads waiting
+        // for the window would never be joined.
+        let _stop = StopOnPanic(&shared);
         let delivered = deliver_all(plan, nb, &shared, sink, &mut stats, &mut hit, start);
         shared.stop();
         delivered
