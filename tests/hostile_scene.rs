@@ -4,12 +4,14 @@
 //! temporary directory; none reads outside the repository.
 
 use std::path::{Path, PathBuf};
-use std::sync::mpsc;
 use std::time::Duration;
+
+mod support;
 
 use plytrace::budget::Budgets;
 use plytrace::error::Error;
 use plytrace::scene::{Interpreter, NoHost};
+use support::within;
 
 const CUBE: &str = "title cube\ndata\n8 6\n\
 -1 -1 -1\n1 -1 -1\n1 1 -1\n-1 1 -1\n-1 -1 1\n1 -1 1\n1 1 1\n-1 1 1\n\
@@ -53,20 +55,6 @@ fn run_file(path: &Path, budgets: Budgets) -> Result<Interpreter, Error> {
     i.set_budgets(budgets);
     i.execute_file(path, true, &mut NoHost)?;
     Ok(i)
-}
-
-/// Runs `f` on another thread; fails the test if it takes longer than
-/// `secs` seconds (a hang) or panics.
-fn within<T: Send + 'static>(secs: u64, f: impl FnOnce() -> T + Send + 'static) -> T {
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        let _ = tx.send(f());
-    });
-    match rx.recv_timeout(Duration::from_secs(secs)) {
-        Ok(v) => v,
-        Err(mpsc::RecvTimeoutError::Timeout) => panic!("still running after {secs} s: a hang"),
-        Err(mpsc::RecvTimeoutError::Disconnected) => panic!("the run panicked"),
-    }
 }
 
 fn message(e: &Error) -> String {

@@ -1,6 +1,8 @@
 //! The anti-aliasing scan converters (Garcia 1986, 004 chapter 5;
 //! Donovan 1973, 000 section 6) through `raster::scan::scan_convert`.
 
+mod support;
+
 use glam::DVec2;
 use plytrace::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
 use plytrace::raster::scan::{
@@ -10,6 +12,7 @@ use plytrace::raster::scan::{
 use plytrace::shading::PhongVertices;
 use plytrace::tree::{PhongShades, Record, RecordStream, Shades};
 use proptest::prelude::*;
+use support::within;
 
 /// A row as owned data, colours as bits so that comparisons are exact.
 #[derive(Debug, Clone, PartialEq)]
@@ -709,17 +712,6 @@ fn a_failing_sink_stops_every_band_worker() {
     }
 }
 
-/// Runs `f` on a thread of its own and fails if it has not finished
-/// within a minute: a deadlock fails the test rather than hanging it.
-fn within_a_minute<R: Send + 'static>(f: impl FnOnce() -> R + Send + 'static) -> R {
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        let _ = tx.send(f());
-    });
-    rx.recv_timeout(std::time::Duration::from_secs(60))
-        .expect("the scan conversion deadlocked (or panicked)")
-}
-
 /// A sink that runs work on rayon's pool for every row, as a caller's
 /// sink may: the band workers, tasks of that pool, must not hold its
 /// threads while they wait for this thread to deliver.
@@ -748,14 +740,14 @@ fn band_workers_never_wait_for_the_pool_they_run_in() {
     let reference = run(&s, &o).0;
     (o.threads, o.act_lines) = (rayon::current_num_threads().max(2), 1);
     let (s2, o2) = (s.clone(), o);
-    let from_outside = within_a_minute(move || {
+    let from_outside = within(60, move || {
         let mut sink = UsesThePool::default();
         scan_convert(&s2, &o2, &mut sink).unwrap();
         sink.0.0
     });
     assert!(from_outside == reference, "a sink that uses the pool");
     let (s3, o3) = (s.clone(), o);
-    let from_inside = within_a_minute(move || {
+    let from_inside = within(60, move || {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()
@@ -785,7 +777,7 @@ fn a_panicking_sink_stops_every_band_worker() {
     (o.threads, o.act_lines) = (2, 1);
     for inside_the_pool in [false, true] {
         let (s, o) = (s.clone(), o);
-        let outcome = within_a_minute(move || {
+        let outcome = within(60, move || {
             let convert = move || {
                 std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     scan_convert(&s, &o, &mut PanicsAtRow3)

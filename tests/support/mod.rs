@@ -334,3 +334,19 @@ pub fn pixels_off(
     }
     (checked, bad)
 }
+
+/// Runs `f` on another thread; fails the test if it takes longer than
+/// `secs` seconds (a hang) or panics.
+pub fn within<T: Send + 'static>(secs: u64, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    match rx.recv_timeout(std::time::Duration::from_secs(secs)) {
+        Ok(v) => v,
+        Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+            panic!("still running after {secs} s: a hang")
+        }
+        Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => panic!("the run panicked"),
+    }
+}
