@@ -114,7 +114,7 @@ fn record(noted: &Noted) -> bool {
 /// The notes of reading done ahead of its turn, held until the reader
 /// that wanted it takes it: the outputs' fingerprint then lists the
 /// inputs in the order the scene reads them.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub struct Notes(Vec<Noted>);
 
 impl Notes {

@@ -327,7 +327,7 @@ impl Interpreter {
                 notes.enter();
                 Ok(mesh)
             }
-            None => read_geometry(&path, limit),
+            None => read_geometry(&path, limit).map(Arc::new),
         };
         // A problem in the file names the statement that read it.
         let mesh = mesh.map_err(|e| match e {
@@ -337,7 +337,7 @@ impl Interpreter {
             }
             other => other,
         })?;
-        Ok(Arc::new(mesh))
+        Ok(mesh)
     }
 
     /// The colours of `pcolors` and `vcolors` read (replacing those copied

@@ -7,10 +7,12 @@
 //! interpreter runs the statements before them.
 //!
 //! What the interpreter takes is exactly what it would have read itself:
-//! a read ahead is used only by the statement reading the same path, and
+//! a read ahead is used only by a statement reading the same path, and
 //! only when it succeeded within the budget that statement allows; every
 //! other case (an error, a file that does not fit, a read not started
-//! yet) is read again in turn, so the error is the same. The notes the
+//! yet) is read again in turn, so the error is the same. A file that
+//! several statements of one scene file read (office2 reads `cube.det`
+//! 139 times) is read once, and its objects share the mesh. The notes the
 //! reading makes (the files an output may not overwrite, the hashes of
 //! the inputs' contents) are entered when the interpreter takes the
 //! mesh, so they stay in statement order. Reading ahead is bounded: files
@@ -87,11 +89,13 @@ fn reads_file(body: &[Parsed]) -> bool {
         .is_none_or(|c| !c.makes_object())
 }
 
-/// The reading of one statement's object file.
+/// The reading of one object file, for the statements of one scene file
+/// that read its path.
 #[derive(Debug)]
 struct Slot {
     path: PathBuf,
     max_polygons: usize,
+    read: Reader,
     state: Mutex<State>,
     done: Condvar,
 }
@@ -103,10 +107,9 @@ enum State {
     Queued,
     /// Being read.
     Reading,
-    /// Read; `None` if it failed or was not read.
-    Read(Option<(Mesh, Notes)>),
-    /// Taken by the interpreter, or given up.
-    Taken,
+    /// Read; `None` if it failed or was not read. Each statement takes
+    /// a copy of the mesh's handle and of the notes.
+    Read(Option<(Arc<Mesh>, Notes)>),
 }
 
 /// The reads still queued, shared with the threads reading them.
@@ -130,48 +133,68 @@ pub struct ReadAhead {
 impl ReadAhead {
     /// Starts reading `paths` (object files, in statement order) with at
     /// most `max_polygons` polygons each, by `read`.
-    pub fn start(&mut self, mut paths: Vec<PathBuf>, max_polygons: usize, read: Reader) {
+    pub fn start(&mut self, paths: Vec<PathBuf>, max_polygons: usize, read: Reader) {
+        let reads = self.enqueue(paths, max_polygons, read);
+        let workers = rayon::current_num_threads().min(reads);
+        for _ in 0..workers {
+            let queue = self.queue.clone();
+            rayon::spawn(move || queue.run());
+        }
+    }
+
+    /// Queues the reads of `paths` for the statements that will take
+    /// them, one a path; returns how many reads there are now queued.
+    fn enqueue(&mut self, mut paths: Vec<PathBuf>, max_polygons: usize, read: Reader) -> usize {
         paths.truncate(MAX_READS - self.queued);
         self.queued += paths.len();
         if paths.is_empty() {
-            return;
+            return 0;
         }
         let mut queued = self.queue.slots.lock().unwrap_or_else(|e| e.into_inner());
+        // One read a path: each statement reading it is given the slot.
+        let mut slots: HashMap<PathBuf, Arc<Slot>> = HashMap::new();
         for path in paths {
-            let slot = Arc::new(Slot {
-                path: path.clone(),
-                max_polygons,
-                state: Mutex::new(State::Queued),
-                done: Condvar::new(),
+            let slot = slots.entry(path.clone()).or_insert_with_key(|path| {
+                let slot = Arc::new(Slot {
+                    path: path.clone(),
+                    max_polygons,
+                    read,
+                    state: Mutex::new(State::Queued),
+                    done: Condvar::new(),
+                });
+                queued.push_back(slot.clone());
+                slot
             });
-            queued.push_back(slot.clone());
-            self.by_path.entry(path).or_default().push_back(slot);
+            self.by_path
+                .entry(path)
+                .or_default()
+                .push_back(slot.clone());
         }
-        let workers = rayon::current_num_threads().min(queued.len());
-        drop(queued);
-        for _ in 0..workers {
-            let queue = self.queue.clone();
-            rayon::spawn(move || queue.run(read));
-        }
+        queued.len()
     }
 
     /// The mesh read ahead for the next statement reading `path`, with
     /// the notes its reading made, if it was read without error; else
     /// `None`, and the caller reads the file itself. Waits for a read
-    /// under way; one not started is given up.
-    pub fn take(&mut self, path: &Path) -> Option<(Mesh, Notes)> {
+    /// under way; one not started is read now, on this thread, as a
+    /// reading thread would (the statements after that share its path
+    /// share the read).
+    pub fn take(&mut self, path: &Path) -> Option<(Arc<Mesh>, Notes)> {
         let slots = self.by_path.get_mut(path)?;
         let slot = slots.pop_front()?;
         if slots.is_empty() {
             self.by_path.remove(path);
         }
+        if slot.claim() {
+            slot.fill(&self.queue);
+        }
         let mut state = slot.state.lock().unwrap_or_else(|e| e.into_inner());
         while matches!(*state, State::Reading) {
             state = slot.done.wait(state).unwrap_or_else(|e| e.into_inner());
         }
-        match std::mem::replace(&mut *state, State::Taken) {
-            State::Read(read) => read,
-            _ => None,
+        match &*state {
+            State::Read(read) => read.clone(),
+            State::Queued | State::Reading => unreachable!("claimed and waited for"),
         }
     }
 
@@ -193,9 +216,29 @@ impl ReadAhead {
 /// How a file is read: its path and polygon budget to its mesh.
 pub type Reader = fn(&Path, usize) -> crate::error::Result<Mesh>;
 
+impl Slot {
+    /// Whether the caller is the one to read the file: it was not
+    /// started, and is now being read.
+    fn claim(&self) -> bool {
+        let mut state = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        let queued = matches!(*state, State::Queued);
+        if queued {
+            *state = State::Reading;
+        }
+        queued
+    }
+
+    /// Reads the claimed file and wakes the statements waiting for it.
+    fn fill(&self, queue: &Queue) {
+        let result = queue.read(self);
+        *self.state.lock().unwrap_or_else(|e| e.into_inner()) = State::Read(result);
+        self.done.notify_all();
+    }
+}
+
 impl Queue {
     /// Reads queued files, in order, until none is left.
-    fn run(&self, read: Reader) {
+    fn run(&self) {
         loop {
             let next = self
                 .slots
@@ -205,20 +248,15 @@ impl Queue {
             let Some(slot) = next else {
                 return;
             };
-            let mut state = slot.state.lock().unwrap_or_else(|e| e.into_inner());
-            if !matches!(*state, State::Queued) {
-                continue;
+            if slot.claim() {
+                slot.fill(self);
             }
-            *state = State::Reading;
-            drop(state);
-            let result = self.read(&slot, read);
-            *slot.state.lock().unwrap_or_else(|e| e.into_inner()) = State::Read(result);
-            slot.done.notify_all();
         }
     }
 
     /// One file read, within the bounds, with its notes held back.
-    fn read(&self, slot: &Slot, read: Reader) -> Option<(Mesh, Notes)> {
+    fn read(&self, slot: &Slot) -> Option<(Arc<Mesh>, Notes)> {
+        let read = slot.read;
         let size = std::fs::metadata(&slot.path).ok()?.len();
         if size > MAX_FILE_BYTES
             || self.bytes.fetch_add(size, Ordering::Relaxed) + size > MAX_TOTAL_BYTES
@@ -228,7 +266,7 @@ impl Queue {
         // A panic is left to the interpreter's own reading of the file.
         let run = || input_guard::recording(|| read(&slot.path, slot.max_polygons));
         let (mesh, notes) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(run)).ok()?;
-        mesh.ok().map(|mesh| (mesh, notes))
+        mesh.ok().map(|mesh| (Arc::new(mesh), notes))
     }
 }
 
@@ -361,11 +399,12 @@ mod tests {
         ahead.start(paths, 100, read_geometry);
         ahead.settle();
         let read = |p: &Path| read_geometry(p, 100).unwrap();
-        assert_eq!(ahead.take(&q).map(|r| r.0), Some(read(&q)));
+        let taken = |ahead: &mut ReadAhead, p: &Path| ahead.take(p).map(|r| (*r.0).clone());
+        assert_eq!(taken(&mut ahead, &q), Some(read(&q)));
         assert!(ahead.take(&bad).is_none(), "an error is read again in turn");
-        assert_eq!(ahead.take(&p).map(|r| r.0), Some(read(&p)));
-        assert_eq!(ahead.take(&p).map(|r| r.0), Some(read(&p)));
-        assert!(ahead.take(&p).is_none(), "two reads queued, two taken");
+        assert_eq!(taken(&mut ahead, &p), Some(read(&p)));
+        assert_eq!(taken(&mut ahead, &p), Some(read(&p)));
+        assert!(ahead.take(&p).is_none(), "two statements queued, two taken");
         // A budget too small for the file: not read ahead.
         ahead.start(vec![q.clone()], 0, read_geometry);
         ahead.settle();
@@ -375,5 +414,43 @@ mod tests {
         ahead.settle();
         ahead.clear();
         assert!(ahead.take(&p).is_none());
+    }
+
+    #[test]
+    fn statements_reading_one_path_share_one_read_even_one_not_started() {
+        let dir = tempfile::tempdir().unwrap();
+        let (p, p_h) = write(dir.path(), "p.det", &polygon(5, 0.25));
+        let (q, _) = write(dir.path(), "q.det", &polygon(6, 0.25));
+        let read = read_geometry(&p, 100).unwrap();
+        // Queued, and no thread to read them: the first statement to
+        // come reads its file itself, for those after it too.
+        let mut ahead = ReadAhead::default();
+        let reads = ahead.enqueue(
+            vec![p.clone(), q.clone(), p.clone(), p.clone()],
+            100,
+            read_geometry,
+        );
+        assert_eq!(reads, 2, "one read a path");
+        let count = || contents().iter().filter(|h| **h == p_h).count();
+        let before = count();
+        let (first, notes) = ahead
+            .take(&p)
+            .expect("read by the statement that came first");
+        assert_eq!(*first, read);
+        notes.enter();
+        for _ in 0..2 {
+            let (mesh, notes) = ahead.take(&p).expect("the same read");
+            assert!(Arc::ptr_eq(&mesh, &first));
+            notes.enter();
+        }
+        assert!(ahead.take(&p).is_none(), "three statements, three taken");
+        // Each statement enters the file's contents in its own turn.
+        assert_eq!(count(), before + 3);
+        // With threads reading, the same: one mesh for every statement.
+        let mut ahead = ReadAhead::default();
+        ahead.start(vec![q.clone(), p.clone(), q.clone()], 100, read_geometry);
+        let a = ahead.take(&q).unwrap().0;
+        let b = ahead.take(&q).unwrap().0;
+        assert!(Arc::ptr_eq(&a, &b));
     }
 }
