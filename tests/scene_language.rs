@@ -165,6 +165,22 @@ mod numbering {
     }
 }
 
+/// A file that fails can be executed again by the same interpreter: the
+/// error is its own again, not a `get`/`call` cycle.
+#[test]
+fn a_file_that_failed_runs_again() {
+    let f = Fixture::new();
+    let p = f.write("bad.des", "ident\ndefobj tri\nendobj\ndelobj 5\n");
+    let mut i = Interpreter::new();
+    for _ in 0..2 {
+        let e = i
+            .execute_file(&p, false, &mut NoHost)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no object `5`"), "{e}");
+    }
+}
+
 /// A CSG result consumes its operands: their numbers are free again,
 /// also when the result is given a number of its own.
 #[test]

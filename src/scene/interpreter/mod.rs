@@ -328,8 +328,13 @@ impl Interpreter {
                 _ => PathBuf::from(path.to_string_lossy().to_lowercase()),
             }
         });
+        let open_before = self.files.len();
         let frame = self.open_file(path, init, None)?;
-        let flow = self.run_frames(frame, host)?;
+        let flow = self.run_frames(frame, host);
+        // After an error the file is still open (its frame never ended):
+        // the next `execute_file` of it would be refused as a cycle.
+        self.files.truncate(open_before);
+        let flow = flow?;
         if self.files.is_empty()
             && let Some(active) = &self.active
         {
