@@ -152,6 +152,12 @@ mod numbering {
                         model.push(n);
                         text += &format!("defobj tri {n}\nendobj\n");
                     }
+                    NumberStep::Given(n) => {
+                        // A number in use is refused, the scene so far kept.
+                        let f = Fixture::new();
+                        let e = f.run(&format!("{text}defobj tri {n}\n")).unwrap_err();
+                        prop_assert!(e.to_string().contains("is already in use"), "{}", e);
+                    }
                     NumberStep::Delete(n) if model.contains(&n) => {
                         model.retain(|&m| m != n);
                         text += &format!("delobj {n}\n");
@@ -178,6 +184,87 @@ fn a_file_that_failed_runs_again() {
             .unwrap_err()
             .to_string();
         assert!(e.contains("no object `5`"), "{e}");
+    }
+}
+
+mod deleting {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A `delobj` reference: a number or one of three names.
+    fn reference() -> impl Strategy<Value = String> {
+        prop_oneof![
+            (0u32..12).prop_map(|n| n.to_string()),
+            prop::sample::select(vec!["tri", "square", "cube"]).prop_map(String::from),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(96))]
+        /// One `delobj` of many references deletes as the references one
+        /// by one would, and stops with an error at the first that finds
+        /// nothing left, the references before it carried out: against a
+        /// model that deletes in turn.
+        #[test]
+        fn one_delobj_deletes_as_its_references_in_turn(
+            names in proptest::collection::vec(0usize..3, 0..12),
+            refs in proptest::collection::vec(reference(), 1..12),
+        ) {
+            let files = ["tri", "square", "cube"];
+            let mut model: Vec<(u32, String)> = Vec::new();
+            let mut text = String::new();
+            for (n, &k) in names.iter().enumerate() {
+                model.push((n as u32, files[k].to_string()));
+                text += &format!("defobj {} {n}\nendobj\n", files[k]);
+            }
+            let mut missing = None;
+            for r in &refs {
+                let before = model.len();
+                model.retain(|(n, name)| n.to_string() != *r && name != r);
+                if model.len() == before {
+                    missing = Some(r.clone());
+                    break;
+                }
+            }
+            let f = Fixture::new();
+            let mut i = Interpreter::new();
+            let result = f.run_with(&mut i, &format!("{text}delobj {}\n", refs.join(" ")), &mut NoHost);
+            match (&missing, result) {
+                (None, Ok(_)) => {}
+                (Some(r), Err(e)) => prop_assert!(
+                    e.to_string().contains(&format!("no object `{r}`")), "{e}"
+                ),
+                (m, r) => prop_assert!(false, "missing {m:?}, result {:?}", r.map(|_| ())),
+            }
+            let left: Vec<(u32, String)> =
+                i.scene().objects.iter().map(|o| (o.number, o.name.clone())).collect();
+            prop_assert_eq!(left, model);
+        }
+    }
+
+    /// The polygons of deleted objects leave the budget, also those
+    /// deleted before a missing reference.
+    #[test]
+    fn deleted_polygons_leave_the_budget() {
+        let f = Fixture::new();
+        let mut i = Interpreter::new();
+        i.set_budgets(plytrace::budget::Budgets {
+            polygons: 7,
+            ..Default::default()
+        });
+        f.run_with(
+            &mut i,
+            "defobj cube 1\nendobj\ndelobj 1\ndefobj cube\nendobj\n",
+            &mut NoHost,
+        )
+        .expect("a cube (6 polygons) at a time");
+        let e = f
+            .run_with(&mut i, "delobj 1 0 5\n", &mut NoHost)
+            .unwrap_err();
+        assert!(e.to_string().contains("no object `1`"), "{e}");
+        f.run_with(&mut i, "delobj 0 5\n", &mut NoHost).unwrap_err();
+        f.run_with(&mut i, "defobj cube\nendobj\n", &mut NoHost)
+            .expect("cube 0 went before the missing 5");
     }
 }
 

@@ -350,7 +350,6 @@ impl Interpreter {
         // The operands are consumed.
         let (na, nb) = combined.numbers;
         self.retain_objects(|o| o.number != na && o.number != nb);
-        self.polygons = self.scene.polygon_count();
         let faces = combined.mesh.polygons.len();
         self.check_polygons(faces, &loc, &format!("the CSG result ({faces} faces)"))?;
         let end = Ending {

@@ -37,7 +37,7 @@ impl Interpreter {
         number: Option<&Spanned<u32>>,
     ) -> Result<()> {
         if let Some(n) = number
-            && self.scene.objects.iter().any(|o| o.number == n.value)
+            && self.numbers.uses(&self.scene.objects, n.value)
         {
             return Err(ctx.error(
                 &n.token,
@@ -81,24 +81,40 @@ impl Interpreter {
         Ok(())
     }
 
-    /// `delobj n...`, in order; an object that is not there is an error.
+    /// `delobj n...`, in order; an object that is not there is an error
+    /// (those named before it are deleted). Each object goes with the
+    /// first reference to its number or name, in one pass over the
+    /// objects whatever the count named: deleting them one by one shifted
+    /// every object after each (20,000 in one statement took 2.8 s).
     pub(in crate::scene) fn delobj(
         &mut self,
         ctx: &Context,
         objects: &[Spanned<ObjectRef>],
     ) -> Result<()> {
-        for object in objects {
-            let before = self.scene.objects.len();
-            match &object.value {
-                ObjectRef::Number(n) => self.retain_objects(|o| o.number != *n),
-                ObjectRef::Name(name) => self.retain_objects(|o| &o.name != name),
+        let first = FirstRef::new(objects);
+        // The references carried out: those before the first that finds
+        // nothing (a lone reference is tried, and is missing if it
+        // deletes nothing).
+        let before = match objects.len() {
+            1 => 1,
+            n => {
+                let mut deletes = vec![false; n];
+                for i in self.scene.objects.iter().filter_map(|o| first.of(o)) {
+                    deletes[i] = true;
+                }
+                deletes.iter().position(|d| !d).unwrap_or(n)
             }
-            if self.scene.objects.len() == before {
-                return Err(no_object(ctx, &object.token));
-            }
+        };
+        let removed = self.retain_objects(|o| first.of(o).is_none_or(|i| i >= before));
+        let missing = if before < objects.len() {
+            Some(before)
+        } else {
+            (removed == 0).then_some(0)
+        };
+        match missing {
+            Some(i) => Err(no_object(ctx, &objects[i].token)),
+            None => Ok(()),
         }
-        self.polygons = self.scene.polygon_count();
-        Ok(())
     }
 
     /// `geodesic n [equal|angle]` in a definition.
@@ -474,11 +490,28 @@ impl Interpreter {
             .ok_or_else(|| no_object(ctx, &object.token))
     }
 
-    /// Keeps the objects `keep` says to: the one way objects leave the
-    /// scene, so that [`FreeNumbers`] starts again whenever one does.
-    pub(in crate::scene) fn retain_objects(&mut self, keep: impl FnMut(&Object) -> bool) {
-        self.scene.objects.retain(keep);
-        self.numbers = FreeNumbers::default();
+    /// Keeps the objects `keep` says to (called once for each, in order)
+    /// and returns how many went: the one way objects leave the scene, so
+    /// that [`FreeNumbers`] starts again and the scene's polygon count
+    /// goes down whenever one does.
+    pub(in crate::scene) fn retain_objects(
+        &mut self,
+        mut keep: impl FnMut(&Object) -> bool,
+    ) -> usize {
+        let (mut removed, mut polygons) = (0, 0);
+        self.scene.objects.retain(|o| {
+            let kept = keep(o);
+            if !kept {
+                removed += 1;
+                polygons += o.polygons.len();
+            }
+            kept
+        });
+        if removed > 0 {
+            self.numbers = FreeNumbers::default();
+            self.polygons -= polygons;
+        }
+        removed
     }
 
     /// The smallest object number not in use.
@@ -602,6 +635,50 @@ impl Interpreter {
 }
 
 /// "no object `X` is defined", at the word that named it.
+/// The first of a `delobj`'s references to each number and name.
+enum FirstRef<'r> {
+    /// A few references, searched in turn (most statements delete one).
+    Few(&'r [Spanned<ObjectRef>]),
+    /// Many, by number and by name.
+    Many {
+        numbers: std::collections::HashMap<u32, usize>,
+        names: std::collections::HashMap<&'r str, usize>,
+    },
+}
+
+impl<'r> FirstRef<'r> {
+    fn new(refs: &'r [Spanned<ObjectRef>]) -> FirstRef<'r> {
+        if refs.len() <= 8 {
+            return FirstRef::Few(refs);
+        }
+        let (mut numbers, mut names) = (
+            std::collections::HashMap::new(),
+            std::collections::HashMap::new(),
+        );
+        for (i, r) in refs.iter().enumerate() {
+            match &r.value {
+                ObjectRef::Number(n) => numbers.entry(*n).or_insert(i),
+                ObjectRef::Name(name) => names.entry(name.as_str()).or_insert(i),
+            };
+        }
+        FirstRef::Many { numbers, names }
+    }
+
+    /// The first reference to `o`'s number or name.
+    fn of(&self, o: &Object) -> Option<usize> {
+        match self {
+            FirstRef::Few(refs) => refs.iter().position(|r| match &r.value {
+                ObjectRef::Number(n) => *n == o.number,
+                ObjectRef::Name(name) => *name == o.name,
+            }),
+            FirstRef::Many { numbers, names } => {
+                let (a, b) = (numbers.get(&o.number), names.get(o.name.as_str()));
+                a.into_iter().chain(b).min().copied()
+            }
+        }
+    }
+}
+
 fn no_object(ctx: &Context, token: &Token) -> Error {
     ctx.error(
         token,
@@ -628,8 +705,8 @@ pub(super) fn read_geometry(path: &Path, max_polygons: usize) -> Result<Mesh> {
     }
 }
 
-/// The numbers the scene's objects use, for [`Interpreter::next_free_number`]:
-/// brought up to date from the objects added since the last call (a
+/// The numbers the scene's objects use, for [`Interpreter::next_free_number`]
+/// and `defobj n`'s check that `n` is free: brought up to date from the objects added since the last call (a
 /// deletion, by [`Interpreter::retain_objects`], starts it again), with the
 /// number below which all are used.
 /// A call is then constant time on average; sorting every number at every
@@ -644,16 +721,27 @@ pub(in crate::scene) struct FreeNumbers {
 }
 
 impl FreeNumbers {
-    /// The lowest number no object of `objects` uses. `objects` must be
-    /// the last call's with objects added at the end (numbers of objects
+    /// Brings the numbers up to date with `objects`, which must be the
+    /// last call's with objects added at the end (numbers of objects
     /// replaced in place unchanged); anything else starts afresh.
-    fn next_free(&mut self, objects: &[Object]) -> u32 {
+    fn update(&mut self, objects: &[Object]) {
         if objects.len() < self.seen {
             *self = FreeNumbers::default();
         }
         self.used
             .extend(objects[self.seen..].iter().map(|o| o.number));
         self.seen = objects.len();
+    }
+
+    /// Whether an object of `objects` has number `n`.
+    fn uses(&mut self, objects: &[Object], n: u32) -> bool {
+        self.update(objects);
+        self.used.contains(&n)
+    }
+
+    /// The lowest number no object of `objects` uses.
+    fn next_free(&mut self, objects: &[Object]) -> u32 {
+        self.update(objects);
         while self.used.contains(&self.below) {
             self.below += 1;
         }
