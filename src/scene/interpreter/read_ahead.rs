@@ -16,9 +16,9 @@
 //! reading makes (the files an output may not overwrite, the hashes of
 //! the inputs' contents) are entered when the interpreter takes the
 //! mesh, so they stay in statement order. Reading ahead is bounded: files
-//! of at most [`MAX_FILE_BYTES`], at most [`MAX_TOTAL_BYTES`] and
-//! [`MAX_READS`] reads in one run of a scene, and what a run leaves
-//! unread is dropped at its end.
+//! of at most [`MAX_FILE_BYTES`], at most [`MAX_TOTAL_BYTES`],
+//! [`MAX_READS`] files and [`MAX_STATEMENTS`] statements in one run of a
+//! scene, and what a run leaves unread is dropped at its end.
 
 use std::collections::{HashMap, VecDeque};
 use std::path::{Path, PathBuf};
@@ -37,9 +37,13 @@ pub const MAX_FILE_BYTES: u64 = 8 << 20;
 /// The most bytes of object files read ahead in one run of a scene.
 pub const MAX_TOTAL_BYTES: u64 = 64 << 20;
 
-/// The most reads queued in one run of a scene (a scene file of
-/// sixteen million bytes may hold two million `getobj`s).
+/// The most files read ahead in one run of a scene.
 pub const MAX_READS: usize = 4096;
+
+/// The most statements given a read ahead in one run of a scene (a scene
+/// file of sixteen million bytes may hold two million `getobj`s); each
+/// holds its path until it runs.
+pub const MAX_STATEMENTS: usize = 1 << 16;
 
 impl Interpreter {
     /// Starts reading the object files that `commands`, a file of folder
@@ -54,7 +58,7 @@ impl Interpreter {
         // Each name is looked up once while the folders stay the same.
         let mut found: HashMap<&str, Option<PathBuf>> = HashMap::new();
         for (k, parsed) in commands.iter().enumerate() {
-            if paths.len() >= MAX_READS {
+            if paths.len() >= MAX_STATEMENTS {
                 break;
             }
             let name = match &parsed.command {
@@ -126,8 +130,10 @@ struct Queue {
 pub struct ReadAhead {
     by_path: HashMap<PathBuf, VecDeque<Arc<Slot>>>,
     queue: Arc<Queue>,
-    /// Reads queued in this run.
-    queued: usize,
+    /// Files queued in this run.
+    reads: usize,
+    /// Statements given a read in this run.
+    statements: usize,
 }
 
 impl ReadAhead {
@@ -143,32 +149,33 @@ impl ReadAhead {
     }
 
     /// Queues the reads of `paths` for the statements that will take
-    /// them, one a path; returns how many reads there are now queued.
+    /// them, one a path (within the run's bounds: a statement past them
+    /// reads its file itself); returns how many reads are now queued.
     fn enqueue(&mut self, mut paths: Vec<PathBuf>, max_polygons: usize, read: Reader) -> usize {
-        paths.truncate(MAX_READS - self.queued);
-        self.queued += paths.len();
-        if paths.is_empty() {
-            return 0;
-        }
+        paths.truncate(MAX_STATEMENTS - self.statements);
         let mut queued = self.queue.slots.lock().unwrap_or_else(|e| e.into_inner());
         // One read a path: each statement reading it is given the slot.
         let mut slots: HashMap<PathBuf, Arc<Slot>> = HashMap::new();
         for path in paths {
-            let slot = slots.entry(path.clone()).or_insert_with_key(|path| {
-                let slot = Arc::new(Slot {
-                    path: path.clone(),
-                    max_polygons,
-                    read,
-                    state: Mutex::new(State::Queued),
-                    done: Condvar::new(),
-                });
-                queued.push_back(slot.clone());
-                slot
-            });
-            self.by_path
-                .entry(path)
-                .or_default()
-                .push_back(slot.clone());
+            let slot = match slots.get(&path) {
+                Some(slot) => slot.clone(),
+                None if self.reads < MAX_READS => {
+                    let slot = Arc::new(Slot {
+                        path: path.clone(),
+                        max_polygons,
+                        read,
+                        state: Mutex::new(State::Queued),
+                        done: Condvar::new(),
+                    });
+                    self.reads += 1;
+                    queued.push_back(slot.clone());
+                    slots.insert(path.clone(), slot.clone());
+                    slot
+                }
+                None => continue,
+            };
+            self.statements += 1;
+            self.by_path.entry(path).or_default().push_back(slot);
         }
         queued.len()
     }
@@ -200,7 +207,7 @@ impl ReadAhead {
 
     /// Gives up every read not started and drops the reads not taken;
     /// reads under way finish unused. The next run may read ahead
-    /// [`MAX_TOTAL_BYTES`] and [`MAX_READS`] again.
+    /// [`MAX_TOTAL_BYTES`], [`MAX_READS`] and [`MAX_STATEMENTS`] again.
     pub fn clear(&mut self) {
         self.queue
             .slots
@@ -209,7 +216,8 @@ impl ReadAhead {
             .clear();
         self.by_path.clear();
         self.queue.bytes.store(0, Ordering::Relaxed);
-        self.queued = 0;
+        self.reads = 0;
+        self.statements = 0;
     }
 }
 
@@ -379,13 +387,25 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let (p, _) = write(dir.path(), "p.det", &polygon(3, 0.5));
         let mut ahead = ReadAhead::default();
-        ahead.start(vec![p.clone(); MAX_READS + 10], 100, read_geometry);
-        assert_eq!(ahead.by_path[&p].len(), MAX_READS);
+        ahead.start(vec![p.clone(); MAX_STATEMENTS + 10], 100, read_geometry);
+        assert_eq!(ahead.by_path[&p].len(), MAX_STATEMENTS);
         ahead.start(vec![p.clone()], 100, read_geometry);
-        assert_eq!(ahead.by_path[&p].len(), MAX_READS);
+        assert_eq!(ahead.by_path[&p].len(), MAX_STATEMENTS);
         ahead.clear();
         ahead.start(vec![p.clone(); 3], 100, read_geometry);
         assert_eq!(ahead.by_path[&p].len(), 3);
+        // Files: past the bound, a statement of a new file is given none
+        // (it reads its file itself); one of a file queued shares it.
+        ahead.clear();
+        let files: Vec<PathBuf> = (0..MAX_READS + 10)
+            .map(|k| dir.path().join(format!("{k}.det")))
+            .collect();
+        let mut paths = files.clone();
+        paths.push(files[0].clone());
+        assert_eq!(ahead.enqueue(paths, 100, read_geometry), MAX_READS);
+        assert_eq!(ahead.by_path.len(), MAX_READS);
+        assert_eq!(ahead.by_path[&files[0]].len(), 2);
+        assert!(!ahead.by_path.contains_key(&files[MAX_READS]));
     }
 
     #[test]
