@@ -185,6 +185,13 @@ fn a_file_that_failed_runs_again() {
             .to_string();
         assert!(e.contains("no object `5`"), "{e}");
     }
+    // A `quit` ends a file without its definitions' `endobj`: no error.
+    let q = f.write("quit.des", "ident\ndefobj tri\nquit\n");
+    for _ in 0..2 {
+        Interpreter::new()
+            .execute_file(&q, false, &mut NoHost)
+            .expect("quit in a definition");
+    }
 }
 
 mod deleting {
@@ -265,6 +272,21 @@ mod deleting {
         f.run_with(&mut i, "delobj 0 5\n", &mut NoHost).unwrap_err();
         f.run_with(&mut i, "defobj cube\nendobj\n", &mut NoHost)
             .expect("cube 0 went before the missing 5");
+        // Many references in one statement (looked up by number and name).
+        let mut i = Interpreter::new();
+        i.set_budgets(plytrace::budget::Budgets {
+            polygons: 12,
+            ..Default::default()
+        });
+        let tris = "defobj tri\nendobj\n".repeat(10);
+        f.run_with(
+            &mut i,
+            &format!("{tris}delobj 0 1 2 3 4 5 6 7 8\n"),
+            &mut NoHost,
+        )
+        .expect("ten triangles, nine deleted");
+        f.run_with(&mut i, "defobj cube\nendobj\n", &mut NoHost)
+            .expect("a triangle and a cube: 7 polygons");
     }
 }
 

@@ -331,11 +331,14 @@ impl Interpreter {
         let open_before = self.files.len();
         let frame = self.open_file(path, init, None)?;
         let flow = self.run_frames(frame, host);
-        // After an error the file is still open (its frame never ended):
-        // the next `execute_file` of it would be refused as a cycle.
+        // After an error or a `quit` the file is still listed (its frame
+        // never ended); the next `execute_file` of it would be refused as
+        // a cycle.
+        let stopped = self.files.len() > open_before;
         self.files.truncate(open_before);
         let flow = flow?;
-        if self.files.is_empty()
+        if !stopped
+            && self.files.is_empty()
             && let Some(active) = &self.active
         {
             return Err(Error::at(

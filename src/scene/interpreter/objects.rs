@@ -157,7 +157,10 @@ impl Interpreter {
                 active.turn = Some((turned.rotation, loc));
             }
             (RadialCommand::Rotate(angle, axis), None) => {
-                self.turn_geodesics(ctx, cmd, angle, axis)?;
+                let turned = self.turn_geodesics(ctx, cmd, angle, axis);
+                // Objects turned before a failure have their new faces.
+                self.polygons = self.scene.polygon_count();
+                turned?;
             }
         }
         Ok(())
@@ -443,7 +446,6 @@ impl Interpreter {
                 "`radial rotate` outside a definition turns the geodesic objects; there are none",
             ));
         }
-        self.polygons = self.scene.polygon_count();
         Ok(())
     }
 
@@ -509,7 +511,11 @@ impl Interpreter {
         });
         if removed > 0 {
             self.numbers = FreeNumbers::default();
-            self.polygons -= polygons;
+            debug_assert!(
+                polygons <= self.polygons,
+                "the polygon count is the objects'"
+            );
+            self.polygons = self.polygons.saturating_sub(polygons);
         }
         removed
     }
@@ -634,7 +640,6 @@ impl Interpreter {
     }
 }
 
-/// "no object `X` is defined", at the word that named it.
 /// The first of a `delobj`'s references to each number and name.
 enum FirstRef<'r> {
     /// A few references, searched in turn (most statements delete one).
@@ -679,6 +684,7 @@ impl<'r> FirstRef<'r> {
     }
 }
 
+/// "no object `X` is defined", at the word that named it.
 fn no_object(ctx: &Context, token: &Token) -> Error {
     ctx.error(
         token,

@@ -58,7 +58,7 @@ impl Interpreter {
         // Each name is looked up once while the folders stay the same.
         let mut found: HashMap<&str, Option<PathBuf>> = HashMap::new();
         for (k, parsed) in commands.iter().enumerate() {
-            if paths.len() >= MAX_STATEMENTS {
+            if paths.len() >= MAX_STATEMENTS - self.read_ahead.statements {
                 break;
             }
             let name = match &parsed.command {
