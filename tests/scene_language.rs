@@ -208,14 +208,17 @@ mod deleting {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(96))]
-        /// One `delobj` of many references deletes as the references one
-        /// by one would, and stops with an error at the first that finds
-        /// nothing left, the references before it carried out: against a
-        /// model that deletes in turn.
+        /// `delobj` statements of one or many references delete as the
+        /// references one by one would, and stop with an error at the
+        /// first that finds nothing left, the references before it
+        /// carried out, whether they are one statement or several; a
+        /// `defobj` after them sees them gone: against a model that
+        /// deletes in turn.
         #[test]
-        fn one_delobj_deletes_as_its_references_in_turn(
+        fn delobj_deletes_as_its_references_in_turn(
             names in proptest::collection::vec(0usize..3, 0..12),
-            refs in proptest::collection::vec(reference(), 1..12),
+            refs in proptest::collection::vec((reference(), any::<bool>()), 1..12),
+            then_define in any::<bool>(),
         ) {
             let files = ["tri", "square", "cube"];
             let mut model: Vec<(u32, String)> = Vec::new();
@@ -225,7 +228,7 @@ mod deleting {
                 text += &format!("defobj {} {n}\nendobj\n", files[k]);
             }
             let mut missing = None;
-            for r in &refs {
+            for (r, _) in &refs {
                 let before = model.len();
                 model.retain(|(n, name)| n.to_string() != *r && name != r);
                 if model.len() == before {
@@ -233,9 +236,23 @@ mod deleting {
                     break;
                 }
             }
+            // A new statement where the flag says so.
+            text += "delobj";
+            for (k, (r, split)) in refs.iter().enumerate() {
+                if k > 0 && *split {
+                    text += "\ndelobj";
+                }
+                text += &format!(" {r}");
+            }
+            text += "\n";
+            if then_define && missing.is_none() {
+                let free = (0..).find(|n| !model.iter().any(|(m, _)| m == n)).unwrap();
+                model.push((free, "tri".into()));
+                text += "defobj tri\nendobj\n";
+            }
             let f = Fixture::new();
             let mut i = Interpreter::new();
-            let result = f.run_with(&mut i, &format!("{text}delobj {}\n", refs.join(" ")), &mut NoHost);
+            let result = f.run_with(&mut i, &text, &mut NoHost);
             match (&missing, result) {
                 (None, Ok(_)) => {}
                 (Some(r), Err(e)) => prop_assert!(
@@ -247,6 +264,46 @@ mod deleting {
                 i.scene().objects.iter().map(|o| (o.number, o.name.clone())).collect();
             prop_assert_eq!(left, model);
         }
+    }
+
+    /// Objects deleted by statements in a row are gone for the statement
+    /// after them, by number and by name.
+    #[test]
+    fn deleted_objects_are_gone_for_the_next_statement() {
+        let f = Fixture::new();
+        let e = f
+            .run("defobj tri 1\nendobj\ndefobj tri 2\nendobj\ndelobj 1\ndelobj 2\ncallobj 1\n")
+            .unwrap_err();
+        assert!(e.to_string().contains("no object `1`"), "{e}");
+        let e = f
+            .run("defobj tri\nendobj\ndefobj square\nendobj\ndelobj tri\ndelobj square\ncallobj tri\n")
+            .unwrap_err();
+        assert!(e.to_string().contains("no object `tri`"), "{e}");
+        let s = f.scene("defobj tri 4\nendobj\ndefobj square\nendobj\ndelobj 4\ndelobj square\n");
+        assert!(s.objects.is_empty());
+    }
+
+    /// A `get` file that ends with deletions is summed without them.
+    #[test]
+    fn a_file_ending_with_deletions_is_scanned_without_them() {
+        struct Scanned(Vec<usize>);
+        impl Host for Scanned {
+            fn run(&mut self, _: &Scene, _: bool) -> Result<()> {
+                Ok(())
+            }
+            fn scanned(&mut self, _: &Path, scene: &Scene, _: std::time::Duration) {
+                self.0.push(scene.objects.len());
+            }
+        }
+        let f = Fixture::new();
+        f.write(
+            "a.des",
+            "ident\ndefobj tri\nendobj\ndefobj tri\nendobj\ndelobj 0\n",
+        );
+        let mut host = Scanned(Vec::new());
+        f.run_with(&mut Interpreter::new(), "get a.des\n", &mut host)
+            .unwrap();
+        assert_eq!(host.0, [1]);
     }
 
     /// The polygons of deleted objects leave the budget, also those

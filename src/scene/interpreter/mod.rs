@@ -24,6 +24,7 @@
 //! - `files`: `call`, `get`, `det_dir`, `init`, `run`, the display.
 
 mod active;
+mod deleting;
 mod files;
 mod generators;
 mod lighting;
@@ -178,6 +179,8 @@ pub struct Interpreter {
     pub(super) geodesics: std::collections::HashMap<u32, (Arc<Mesh>, TurnedRadial)>,
     /// The objects' numbers, for the next free one.
     pub(super) numbers: objects::FreeNumbers,
+    /// The objects `delobj` statements in a row marked, until they go.
+    pub(super) doomed: Option<deleting::Doomed>,
     /// Object files read ahead of their statements.
     read_ahead: read_ahead::ReadAhead,
 }
@@ -209,6 +212,7 @@ impl Interpreter {
             budgets: Budgets::default(),
             geodesics: std::collections::HashMap::new(),
             numbers: objects::FreeNumbers::default(),
+            doomed: None,
             read_ahead: read_ahead::ReadAhead::default(),
         }
     }
@@ -235,6 +239,7 @@ impl Interpreter {
     /// The scene as it stands, like [`Self::scene`] but borrowed: a render
     /// or a summary needs no copy of every object.
     pub fn current(&mut self) -> &Scene {
+        self.settle_deletions();
         self.scene.projection = self.ctm;
         &self.scene
     }
@@ -242,6 +247,7 @@ impl Interpreter {
     /// [`Interpreter::scene`], moving the scene out: the interpreter is
     /// done with it.
     pub fn into_scene(mut self) -> Scene {
+        self.settle_deletions();
         self.scene.projection = self.ctm;
         std::mem::take(&mut self.scene)
     }
@@ -426,6 +432,7 @@ impl Interpreter {
         let open_before = self.files.len();
         let mut stack = vec![base];
         let result = self.run_stack(&mut stack, host);
+        self.settle_deletions();
         self.files.truncate(open_before);
         // What a run did not read (after an error, a `quit`) is dropped:
         // a later run reads the files as they are then.
@@ -493,6 +500,9 @@ impl Interpreter {
         }
         let verb = command.verb();
         use Command as C;
+        if !matches!(command, C::Delobj(_)) {
+            self.settle_deletions();
+        }
         match command {
             // Viewing and transforms (exec/view.rs).
             C::Ident => self.ctm = Matrix4::IDENTITY,

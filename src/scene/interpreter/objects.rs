@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::active::ActiveObject;
+use super::deleting::Doomed;
 use super::generators::Ending;
 use crate::budget::Budgets;
 use crate::error::{
@@ -82,38 +83,36 @@ impl Interpreter {
     }
 
     /// `delobj n...`, in order; an object that is not there is an error
-    /// (those named before it are deleted). Each object goes with the
-    /// first reference to its number or name, in one pass over the
-    /// objects whatever the count named: deleting them one by one shifted
-    /// every object after each (20,000 in one statement took 2.8 s).
+    /// (those named before it are deleted). The objects are marked, and
+    /// leave the scene at [`Self::settle_deletions`] (see
+    /// [`super::deleting`]).
     pub(in crate::scene) fn delobj(
         &mut self,
         ctx: &Context,
         objects: &[Spanned<ObjectRef>],
     ) -> Result<()> {
-        let first = FirstRef::new(objects);
-        // The references carried out: those before the first that finds
-        // nothing (a lone reference is tried, and is missing if it
-        // deletes nothing).
-        let before = match objects.len() {
-            1 => 1,
-            n => {
-                let mut deletes = vec![false; n];
-                for i in self.scene.objects.iter().filter_map(|o| first.of(o)) {
-                    deletes[i] = true;
-                }
-                deletes.iter().position(|d| !d).unwrap_or(n)
-            }
-        };
-        let removed = self.retain_objects(|o| first.of(o).is_none_or(|i| i >= before));
-        let missing = if before < objects.len() {
-            Some(before)
-        } else {
-            (removed == 0).then_some(0)
-        };
+        let count = self.scene.objects.len();
+        let mut doomed = self.doomed.take().unwrap_or_else(|| Doomed::new(count));
+        let missing = objects
+            .iter()
+            .find(|r| !doomed.mark(&self.scene.objects, &r.value));
+        self.doomed = Some(doomed);
         match missing {
-            Some(i) => Err(no_object(ctx, &objects[i].token)),
+            Some(r) => Err(no_object(ctx, &r.token)),
             None => Ok(()),
+        }
+    }
+
+    /// Removes the objects `delobj` statements marked: before any other
+    /// statement runs, and whenever the interpreter stops or hands out
+    /// its scene.
+    pub(in crate::scene) fn settle_deletions(&mut self) {
+        if let Some(doomed) = self.doomed.take() {
+            let mut k = 0;
+            self.retain_objects(|_| {
+                k += 1;
+                !doomed.is_gone(k - 1)
+            });
         }
     }
 
@@ -637,50 +636,6 @@ impl Interpreter {
                 printable(name, MAX_SHOWN_TOKEN)
             ),
         ))
-    }
-}
-
-/// The first of a `delobj`'s references to each number and name.
-enum FirstRef<'r> {
-    /// A few references, searched in turn (most statements delete one).
-    Few(&'r [Spanned<ObjectRef>]),
-    /// Many, by number and by name.
-    Many {
-        numbers: std::collections::HashMap<u32, usize>,
-        names: std::collections::HashMap<&'r str, usize>,
-    },
-}
-
-impl<'r> FirstRef<'r> {
-    fn new(refs: &'r [Spanned<ObjectRef>]) -> FirstRef<'r> {
-        if refs.len() <= 8 {
-            return FirstRef::Few(refs);
-        }
-        let (mut numbers, mut names) = (
-            std::collections::HashMap::new(),
-            std::collections::HashMap::new(),
-        );
-        for (i, r) in refs.iter().enumerate() {
-            match &r.value {
-                ObjectRef::Number(n) => numbers.entry(*n).or_insert(i),
-                ObjectRef::Name(name) => names.entry(name.as_str()).or_insert(i),
-            };
-        }
-        FirstRef::Many { numbers, names }
-    }
-
-    /// The first reference to `o`'s number or name.
-    fn of(&self, o: &Object) -> Option<usize> {
-        match self {
-            FirstRef::Few(refs) => refs.iter().position(|r| match &r.value {
-                ObjectRef::Number(n) => *n == o.number,
-                ObjectRef::Name(name) => *name == o.name,
-            }),
-            FirstRef::Many { numbers, names } => {
-                let (a, b) = (numbers.get(&o.number), names.get(o.name.as_str()));
-                a.into_iter().chain(b).min().copied()
-            }
-        }
     }
 }
 
