@@ -493,23 +493,26 @@ impl Interpreter {
 
     /// Keeps the objects `keep` says to (called once for each, in order)
     /// and returns how many went: the one way objects leave the scene, so
-    /// that [`FreeNumbers`] starts again and the scene's polygon count
-    /// goes down whenever one does.
+    /// that [`FreeNumbers`] forgets their numbers and the scene's polygon
+    /// count goes down whenever one does.
     pub(in crate::scene) fn retain_objects(
         &mut self,
         mut keep: impl FnMut(&Object) -> bool,
     ) -> usize {
         let (mut removed, mut polygons) = (0, 0);
+        let mut numbers = Vec::new();
+        self.numbers.update(&self.scene.objects);
         self.scene.objects.retain(|o| {
             let kept = keep(o);
             if !kept {
                 removed += 1;
                 polygons += o.polygons.len();
+                numbers.push(o.number);
             }
             kept
         });
         if removed > 0 {
-            self.numbers = FreeNumbers::default();
+            self.numbers.forget(&numbers, self.scene.objects.len());
             debug_assert!(
                 polygons <= self.polygons,
                 "the polygon count is the objects'"
@@ -667,11 +670,13 @@ pub(super) fn read_geometry(path: &Path, max_polygons: usize) -> Result<Mesh> {
 }
 
 /// The numbers the scene's objects use, for [`Interpreter::next_free_number`]
-/// and `defobj n`'s check that `n` is free: brought up to date from the objects added since the last call (a
-/// deletion, by [`Interpreter::retain_objects`], starts it again), with the
-/// number below which all are used.
-/// A call is then constant time on average; sorting every number at every
-/// `endobj` made 40,000 objects take 2.4 s to read, growing as n^2.
+/// and `defobj n`'s check that `n` is free: brought up to date from the
+/// objects added since the last call, told of those that leave (by
+/// [`Interpreter::retain_objects`]), with the number below which all are
+/// used. A call is then constant time on average; sorting every number at
+/// every `endobj` made 40,000 objects take 2.4 s to read, growing as n^2,
+/// and starting again after each deletion made a scene that deletes and
+/// defines by turns pay for every number each time.
 #[derive(Debug, Default, Clone)]
 pub(in crate::scene) struct FreeNumbers {
     used: std::collections::HashSet<u32>,
@@ -692,6 +697,17 @@ impl FreeNumbers {
         self.used
             .extend(objects[self.seen..].iter().map(|o| o.number));
         self.seen = objects.len();
+    }
+
+    /// Forgets `numbers`, of objects that left; `left` objects remain,
+    /// those the numbers were up to date with less these (numbers are
+    /// unique: `defobj n` refuses one in use).
+    fn forget(&mut self, numbers: &[u32], left: usize) {
+        for n in numbers {
+            self.used.remove(n);
+            self.below = self.below.min(*n);
+        }
+        self.seen = left;
     }
 
     /// Whether an object of `objects` has number `n`.
