@@ -18,6 +18,8 @@
 //! The handlers of the commands, grouped by concern, are its submodules:
 //! - `view`: viewing, projections, transforms and the matrix stack;
 //! - `objects`: `defobj` ... `endobj`, `callobj`, `delobj`, geodesics;
+//! - `deleting`: the objects `delobj` statements in a row mark, which
+//!   leave together before the next other statement;
 //! - `generators`: the modeling commands (Firebaugh's primitives, CSG);
 //! - `surface`: surface attributes of the active object or the globals;
 //! - `lighting`: lights, `setmode` and the scene-wide settings;
