@@ -318,10 +318,15 @@ struct Schedule {
 }
 
 impl Schedule {
+    /// Whether bands of the `n` are left to start, and no stop came.
+    fn has_more(&self, n: usize) -> bool {
+        !self.stop && self.next < n
+    }
+
     /// Whether a worker may start the next of `n` bands: fewer than
     /// `window` wait for delivery.
     fn can_start(&self, n: usize, window: usize) -> bool {
-        !self.stop && self.next < n && self.next < self.delivered + window
+        self.has_more(n) && self.next < self.delivered + window
     }
 }
 
@@ -376,7 +381,7 @@ fn work<I: Integrator>(worker: &mut Worker<I>, crew: &Crew<'_, '_>, wait: bool) 
     let n = wanted.len();
     let mut g = shared.lock();
     loop {
-        while wait && !g.stop && g.next < n && !g.can_start(n, window) {
+        while wait && g.has_more(n) && !g.can_start(n, window) {
             g = shared.wait(g);
         }
         if !g.can_start(n, window) {

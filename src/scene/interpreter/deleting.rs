@@ -44,13 +44,8 @@ impl Doomed {
     pub(in crate::scene) fn mark(&mut self, objects: &[Object], r: &ObjectRef) -> bool {
         self.references += 1;
         if self.references == 1 {
-            let mut found = false;
-            for (k, o) in objects.iter().enumerate() {
-                if names(o, r) {
-                    found |= !std::mem::replace(&mut self.gone[k], true);
-                }
-            }
-            return found;
+            let named = objects.iter().enumerate().filter(|(_, o)| names(o, r));
+            return self.mark_all(named.map(|(k, _)| k));
         }
         let named = match r {
             ObjectRef::Number(n) => self
@@ -63,8 +58,13 @@ impl Doomed {
                 .remove(name),
         };
         // Each list is walked once: a second reference to it finds it gone.
+        self.mark_all(named.into_iter().flatten())
+    }
+
+    /// Marks objects `ks`; whether one was not marked already.
+    fn mark_all(&mut self, ks: impl Iterator<Item = usize>) -> bool {
         let mut found = false;
-        for k in named.into_iter().flatten() {
+        for k in ks {
             found |= !std::mem::replace(&mut self.gone[k], true);
         }
         found

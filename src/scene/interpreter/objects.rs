@@ -156,10 +156,7 @@ impl Interpreter {
                 active.turn = Some((turned.rotation, loc));
             }
             (RadialCommand::Rotate(angle, axis), None) => {
-                let turned = self.turn_geodesics(ctx, cmd, angle, axis);
-                // Objects turned before a failure have their new faces.
-                self.polygons = self.scene.polygon_count();
-                turned?;
+                self.turn_geodesics(ctx, cmd, angle, axis)?;
             }
         }
         Ok(())
@@ -435,6 +432,9 @@ impl Interpreter {
                 &mut |_| {},
             )
             .map_err(|msg| ctx.error(cmd, msg))?;
+            // The scene's count follows the faces the turn kept.
+            let before = self.scene.objects[i].polygons.len();
+            self.polygons = (self.polygons + object.polygons.len()).saturating_sub(before);
             self.scene.objects[i] = object;
             self.geodesics.insert(number, (mesh, f));
             turned += 1;
