@@ -153,9 +153,9 @@ pub fn build_profiled(
             < PARALLEL_LEVEL_POLYGONS,
     };
     // The casters' index does not depend on the view: it is built (or
-    // found unchanged) while this thread finds level 1.
-    let (level1, casters) = rayon::join(
-        || b.level_one(),
+    // found unchanged) while this thread finds, sorts and culls level 1.
+    let (sorted, casters) = rayon::join(
+        || b.sorted_level_one(),
         || {
             options.shadows.then(|| {
                 let _t = profile.time(Category::Transform);
@@ -164,12 +164,6 @@ pub fn build_profiled(
         },
     );
     b.casters = casters;
-    let mut sorted = b.sort(level1);
-    if let Some(n) = b.options.cull_samples {
-        let hidden;
-        (sorted, hidden) = b.unhidden(sorted, n);
-        b.tree.hidden += hidden;
-    }
     let roots = b
         .trace(
             1,
@@ -196,6 +190,19 @@ pub fn build_profiled(
 }
 
 impl<'a> Builder<'a> {
+    /// Level 1 in priority order, without the fragments the occlusion
+    /// cull finds hidden at every sample.
+    fn sorted_level_one(&mut self) -> Vec<Candidate> {
+        let level1 = self.level_one();
+        let mut sorted = self.sort(level1);
+        if let Some(n) = self.options.cull_samples {
+            let hidden;
+            (sorted, hidden) = self.unhidden(sorted, n);
+            self.tree.hidden += hidden;
+        }
+        sorted
+    }
+
     /// Level 1: the geometry stage's polygons (homogeneous clipping).
     fn level_one(&mut self) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Expobj);
