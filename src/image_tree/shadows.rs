@@ -121,7 +121,8 @@ impl ShadowCaster<'_> {
 /// The positions in `chunk` of the first fragment of each polygon, and of
 /// the others, in order.
 fn first_of_each_polygon(chunk: &[Candidate]) -> (Vec<usize>, Vec<usize>) {
-    let mut seen = std::collections::HashSet::with_capacity(chunk.len());
+    let mut seen = rustc_hash::FxHashSet::default();
+    seen.reserve(chunk.len());
     (0..chunk.len()).partition(|&i| seen.insert((chunk[i].object, chunk[i].polygon)))
 }
 
@@ -135,7 +136,8 @@ fn facet_terms<'a>(
     shading: ShadingModel,
     chunk: &[Candidate],
 ) -> Vec<FacetTerms<'a>> {
-    let mut first = std::collections::HashMap::new();
+    let mut first = rustc_hash::FxHashMap::default();
+    first.reserve(chunk.len());
     let mut unique = Vec::new();
     let slot: Vec<usize> = chunk
         .iter()

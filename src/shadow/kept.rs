@@ -5,7 +5,7 @@
 //! every fragment, mirror and frame that shows the polygon, within a
 //! memory bound.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
