@@ -212,11 +212,16 @@ fn exact_layer(
     })
 }
 
-/// Runs `f` in `pool` (`--threads N`), or in rayon's global pool.
+/// Runs `f` on a thread of `pool` (`--threads N`), or of rayon's global
+/// pool (`rayon::scope` runs its body there): the tree's many parallel
+/// steps then start from inside the pool. Called from outside, each
+/// step's `join` would be handed to the pool and this thread would wait
+/// for it, and the tree of office2 without shadows took longer on two
+/// threads than on one.
 fn within<R: Send>(pool: &Option<rayon::ThreadPool>, f: impl FnOnce() -> R + Send) -> R {
     match pool {
         Some(pool) => pool.install(f),
-        None => f(),
+        None => rayon::scope(|_| f()),
     }
 }
 
