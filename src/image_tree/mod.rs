@@ -281,21 +281,21 @@ impl<'a> Builder<'a> {
         if outside {
             return out;
         }
-        let verts: Vec<DVec3> = {
+        let mut verts = std::mem::take(&mut clip.verts);
+        verts.clear();
+        {
             let _t = self.profile.time(Category::Transform);
-            object
-                .vertices
-                .iter()
-                .map(|v| t.transform_point(*v))
-                .collect()
-        };
+            verts.extend(object.vertices.iter().map(|v| t.transform_point(*v)));
+        }
+        let mut pts = std::mem::take(&mut clip.points);
         // Polygons in the mirror's (or refracting surface's) own plane,
         // itself included, map onto it: they are not seen through it.
         let front_plane = planes[0];
         let on_front =
             |p: &DVec3| (front_plane.truncate().dot(*p) + front_plane.w).abs() <= self.eps;
         for (pi, poly) in object.polygons.iter().enumerate() {
-            let mut pts: Vec<DVec3> = poly.indices.iter().map(|&i| verts[i as usize]).collect();
+            pts.clear();
+            pts.extend(poly.indices.iter().map(|&i| verts[i as usize]));
             if mirrored {
                 pts.reverse();
             }
@@ -325,6 +325,7 @@ impl<'a> Builder<'a> {
                 Ok(Clipped::Empty) | Err(_) => {}
             }
         }
+        (clip.verts, clip.points) = (verts, pts);
         out
     }
 
@@ -675,6 +676,9 @@ const PARALLEL_LEVEL_POLYGONS: usize = 4096;
 struct ClipBuffers {
     one: ClipScratch,
     many: Vec<Vec<DVec3>>,
+    /// An object's vertices mapped, and one polygon's points.
+    verts: Vec<DVec3>,
+    points: Vec<DVec3>,
 }
 
 /// The plane of `points` with its unit normal towards the eye.
