@@ -154,12 +154,14 @@ pub fn build_profiled(
     };
     // The casters' index does not depend on the view: it is built (or
     // found unchanged) while this thread finds, sorts and culls level 1.
+    let asked_again = may_branch(materials, &options);
     let (sorted, casters) = rayon::join(
         || b.sorted_level_one(),
         || {
             options.shadows.then(|| {
                 let _t = profile.time(Category::Transform);
-                casters.index(materials.objects, materials.lights, materials.eps)
+                let (objects, lights) = (materials.objects, materials.lights);
+                casters.index(objects, lights, materials.eps, asked_again)
             })
         },
     );
@@ -681,6 +683,20 @@ struct ClipBuffers {
     points: Vec<DVec3>,
 }
 
+/// Whether the tree may have levels below the first: a polygon reflects
+/// or transmits more than the threshold and `maxlevel` allows a second
+/// level. Their fragments ask again for the shadows of polygons seen
+/// directly.
+fn may_branch(materials: &Materials<'_>, options: &TreeOptions) -> bool {
+    let passes = |k: f64| k > 0.0 && k > options.threshold;
+    options.max_level > 1
+        && materials.resolved.iter().any(|o| {
+            o.materials
+                .iter()
+                .any(|m| passes(m.reflectance) || passes(m.transmittance))
+        })
+}
+
 /// The plane of `points` with its unit normal towards the eye.
 fn toward_eye_plane(points: &[DVec3], eye: DVec4) -> Option<DVec4> {
     let pl = polygon::newell_plane(points)?;
@@ -689,4 +705,38 @@ fn toward_eye_plane(points: &[DVec3], eye: DVec4) -> Option<DVec4> {
         return None;
     }
     Some(if side > 0.0 { pl } else { -pl })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fixture(name: &str) -> crate::model::Scene {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/scenes")
+            .join(name);
+        crate::scene::load(&path).expect("the fixture loads").0
+    }
+
+    /// Shadows are kept the first time they are cast exactly when levels
+    /// below the first may ask for them again: a polygon reflects more
+    /// than the threshold (`mirror.des`: 0.5) and the depth allows it.
+    #[test]
+    fn only_a_tree_with_mirror_levels_keeps_shadows_the_first_time() {
+        let options = |max_level, threshold| TreeOptions {
+            max_level,
+            threshold,
+            ..TreeOptions::default()
+        };
+        let (mirror, cube) = (fixture("mirror.des"), fixture("ccube.des"));
+        let (mirror, cube) = (Materials::new(&mirror), Materials::new(&cube));
+        assert!(may_branch(&mirror, &options(3, 0.0)));
+        assert!(may_branch(&mirror, &options(2, 0.4)));
+        assert!(!may_branch(&mirror, &options(1, 0.0)), "one level");
+        assert!(
+            !may_branch(&mirror, &options(3, 0.5)),
+            "below the threshold"
+        );
+        assert!(!may_branch(&cube, &options(3, 0.0)), "nothing reflects");
+    }
 }

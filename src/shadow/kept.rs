@@ -17,9 +17,9 @@ use super::overlap::ShadowRegion;
 /// The shadows on whole polygons in world coordinates, by (object,
 /// polygon, light). A polygon's shadows are kept the second time they
 /// are asked for, or the first when the asker knows more will follow (a
-/// piece of a polygon the sort split): a still's polygons seen once (most
-/// of them) keep nothing, those seen again (in a mirror, or in the next
-/// frame of an animation) are cast at most twice. Kept up to
+/// piece of a polygon the sort split, a still whose tree has mirror or
+/// refraction levels, the frames of an animation after its first): the
+/// polygons of a still without such levels, seen once, keep nothing. Kept up to
 /// [`MAX_KEPT_BYTES`]; past it they are cast again when asked, the same.
 pub(super) struct PieceCache<V> {
     shards: [Mutex<HashMap<PieceKey, Kept<V>>>; SHARDS],

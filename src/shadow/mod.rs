@@ -95,7 +95,8 @@ pub struct CasterIndex {
     regions: PieceCache<Arc<WholeRegions>>,
     /// Whether shadows are kept the first time they are asked for, not
     /// the second: an index kept for the next frames of an animation
-    /// (every polygon a moving camera uncovers would else be cast twice).
+    /// (every polygon a moving camera uncovers would else be cast twice),
+    /// or one whose tree has mirror or refraction levels.
     keep_first: bool,
 }
 
@@ -191,12 +192,17 @@ impl CasterReuse {
     /// The index for `objects` and `lights` at tolerance `eps`: the kept
     /// one if they are the last call's, else a new one, kept if they are
     /// the last call's world seen a second time and have at most 2^20
-    /// polygons (a bigger index is built again for each frame).
+    /// polygons (a bigger index is built again for each frame). A new
+    /// index keeps a polygon's shadows the first time they are cast when
+    /// they will be asked for again: in the next frame of the same world,
+    /// or `asked_again` (the frame's tree has mirror or refraction
+    /// levels, which show polygons seen directly again).
     pub fn index(
         &self,
         objects: &[Object],
         lights: &[crate::model::Light],
         eps: f64,
+        asked_again: bool,
     ) -> Arc<CasterIndex> {
         let polygons: usize = objects.iter().map(|o| o.polygons.len()).sum();
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
@@ -206,7 +212,7 @@ impl CasterReuse {
             return index.clone();
         }
         let index = Arc::new(CasterIndex {
-            keep_first: seen,
+            keep_first: seen || asked_again,
             ..CasterIndex::new(objects, lights.len())
         });
         *kept = key.map(|key| (key, seen.then(|| index.clone())));
@@ -520,8 +526,8 @@ impl Casting<'_> {
     /// The shadow regions of every light on `target`'s whole polygon, in
     /// world coordinates, seen from its front or back, as `make` makes
     /// them: kept, when asked for a second time (or at once for an index
-    /// kept across frames, or when `piece`: the target is one of several
-    /// pieces of its polygon), under the polygon and the side, on which
+    /// that keeps the first time, or when `piece`: the target is one of
+    /// several pieces of its polygon), under the polygon and the side, on which
     /// alone they depend in a world that does not change.
     fn whole_regions(
         &self,
@@ -567,8 +573,9 @@ impl Casting<'_> {
     /// The shadows Point light `j` at `light` casts on the whole of
     /// polygon `polygon` of object `object`, in world coordinates, on its
     /// side facing the light; `None` when there are none. Kept in the
-    /// index the second time they are asked for, while its memory bound
-    /// allows; given as cast otherwise.
+    /// index the second time they are asked for (the first, for an index
+    /// that keeps the first time), while its memory bound allows; given
+    /// as cast otherwise.
     pub fn on_polygon(
         &self,
         object: u32,
