@@ -19,8 +19,9 @@ use super::overlap::ShadowRegion;
 /// are asked for, or the first when the asker knows more will follow (a
 /// piece of a polygon the sort split, a still whose tree has mirror or
 /// refraction levels, the frames of an animation after its first): the
-/// polygons of a still without such levels, seen once, keep nothing. Kept up to
-/// [`MAX_KEPT_BYTES`]; past it they are cast again when asked, the same.
+/// polygons of a still without such levels, seen once, keep nothing.
+/// Kept up to [`MAX_KEPT_BYTES`]; past it they are cast again when
+/// asked, the same.
 pub(super) struct PieceCache<V> {
     shards: [Mutex<HashMap<PieceKey, Kept<V>>>; SHARDS],
     bytes: AtomicUsize,

@@ -527,8 +527,8 @@ impl Casting<'_> {
     /// world coordinates, seen from its front or back, as `make` makes
     /// them: kept, when asked for a second time (or at once for an index
     /// that keeps the first time, or when `piece`: the target is one of
-    /// several pieces of its polygon), under the polygon and the side, on which
-    /// alone they depend in a world that does not change.
+    /// several pieces of its polygon), under the polygon and the side, on
+    /// which alone they depend in a world that does not change.
     fn whole_regions(
         &self,
         target: &Target,
