@@ -220,5 +220,28 @@ fn goals(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, tree, antialiasing, goals);
+/// The ASCII object files of the scenes (`tests/data/scenes/det`: the
+/// 42 that office2 reads and a few more, 0.7 MB), parsed one after
+/// another on this thread: the reading threads' work while a scene loads.
+fn object_files(c: &mut Criterion) {
+    let det = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/det");
+    let mut files: Vec<(PathBuf, String)> = std::fs::read_dir(&det)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "det"))
+        .filter_map(|p| std::fs::read_to_string(&p).ok().map(|t| (p, t)))
+        .filter(|(p, t)| plytrace::scene::object_file::parse_det_ascii(t, p).is_ok())
+        .collect();
+    files.sort();
+    assert!(files.len() >= 42, "only {} ASCII object files", files.len());
+    c.bench_function("object-files/parse-ascii", |b| {
+        b.iter(|| {
+            for (path, text) in &files {
+                plytrace::scene::object_file::parse_det_ascii(text, path).unwrap();
+            }
+        })
+    });
+}
+
+criterion_group!(benches, bench, tree, antialiasing, goals, object_files);
 criterion_main!(benches);
