@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-use crate::model::{ColorEntry, Mesh};
+use crate::model::{ColorEntry, IndexList, Mesh};
 
 use crate::error::{Diagnostic, Error, Location, Result};
 
@@ -133,6 +133,7 @@ impl<'a> Scanner<'a> {
     }
 
     /// The next token, or `None` at the end of the file.
+    #[inline(always)]
     fn next(&mut self) -> Option<Token<'a>> {
         while let Some((c, len)) = self.char_at(self.pos) {
             if !is_separator(c) {
@@ -177,6 +178,7 @@ impl<'a> Scanner<'a> {
     }
 
     /// The next token; at the end of the file an error saying `ended()`.
+    #[inline(always)]
     fn next_or(&mut self, ended: impl FnOnce() -> String) -> Result<Token<'a>> {
         match self.next() {
             Some(token) => Ok(token),
@@ -320,8 +322,11 @@ fn read_vertices(scanner: &mut Scanner, count: u64) -> Result<Vec<DVec3>> {
     Ok(vertices)
 }
 
-fn read_polygons(scanner: &mut Scanner, count: u64, num_vtx: u64) -> Result<Vec<Vec<u32>>> {
+/// The polygons, each read into one reused buffer and held as an
+/// [`IndexList`] (a triangle allocates nothing).
+fn read_polygons(scanner: &mut Scanner, count: u64, num_vtx: u64) -> Result<Vec<IndexList>> {
     let mut polygons = Vec::with_capacity(scanner.capacity(count, 4));
+    let mut polygon = Vec::new();
     for number in 1..=count {
         let ended = || format!("expected {count} polygons, file ended after {}", number - 1);
         let token = scanner.next_or(ended)?;
@@ -340,12 +345,13 @@ fn read_polygons(scanner: &mut Scanner, count: u64, num_vtx: u64) -> Result<Vec<
                 format!("polygon {number} has {size} vertices; a polygon needs at least 3"),
             ));
         }
-        let mut polygon = Vec::with_capacity(scanner.capacity(size, 1));
+        polygon.clear();
+        polygon.reserve(scanner.capacity(size, 1));
         for _ in 0..size {
             let token = scanner.next_or(ended)?;
             polygon.push(vertex_index(scanner, &token, number, num_vtx)?);
         }
-        polygons.push(polygon);
+        polygons.push(IndexList::from(polygon.as_slice()));
     }
     Ok(polygons)
 }
