@@ -56,6 +56,16 @@ pub(super) enum ObjectRef {
     Name(String),
 }
 
+impl ObjectRef {
+    /// Whether it names `o`.
+    pub(super) fn names(&self, o: &crate::model::Object) -> bool {
+        match self {
+            ObjectRef::Number(n) => o.number == *n,
+            ObjectRef::Name(name) => o.name == *name,
+        }
+    }
+}
+
 /// The arguments of one statement, with typed accessors that fail with a
 /// located diagnostic.
 pub(super) struct Args<'a> {

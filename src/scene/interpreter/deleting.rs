@@ -44,7 +44,7 @@ impl Doomed {
     pub(in crate::scene) fn mark(&mut self, objects: &[Object], r: &ObjectRef) -> bool {
         self.references += 1;
         if self.references == 1 {
-            let named = objects.iter().enumerate().filter(|(_, o)| names(o, r));
+            let named = objects.iter().enumerate().filter(|(_, o)| r.names(o));
             return self.mark_all(named.map(|(k, _)| k));
         }
         let named = match r {
@@ -73,14 +73,6 @@ impl Doomed {
     /// Whether object `k` is marked.
     pub(in crate::scene) fn is_gone(&self, k: usize) -> bool {
         self.gone[k]
-    }
-}
-
-/// Whether `r` names `o`.
-fn names(o: &Object, r: &ObjectRef) -> bool {
-    match r {
-        ObjectRef::Number(n) => o.number == *n,
-        ObjectRef::Name(name) => o.name == *name,
     }
 }
 

@@ -482,23 +482,22 @@ impl Interpreter {
     /// The number of the object `callobj` names: by number, or by
     /// (case-folded) name, the last defined of that name.
     fn find_object(&self, ctx: &Context, object: &Spanned<ObjectRef>) -> Result<u32> {
-        let found = match &object.value {
-            ObjectRef::Number(n) => self.scene.objects.iter().find(|o| o.number == *n),
-            ObjectRef::Name(name) => self.scene.objects.iter().rev().find(|o| &o.name == name),
+        let r = &object.value;
+        let objects = &self.scene.objects;
+        let found = match r {
+            ObjectRef::Number(_) => objects.iter().find(|o| r.names(o)),
+            ObjectRef::Name(_) => objects.iter().rev().find(|o| r.names(o)),
         };
         found
             .map(|o| o.number)
             .ok_or_else(|| no_object(ctx, &object.token))
     }
 
-    /// Keeps the objects `keep` says to (called once for each, in order)
-    /// and returns how many went: the one way objects leave the scene, so
-    /// that [`FreeNumbers`] forgets their numbers and the scene's polygon
-    /// count goes down whenever one does.
-    pub(in crate::scene) fn retain_objects(
-        &mut self,
-        mut keep: impl FnMut(&Object) -> bool,
-    ) -> usize {
+    /// Keeps the objects `keep` says to (called once for each, in order):
+    /// the one way objects leave the scene, so that [`FreeNumbers`]
+    /// forgets their numbers and the scene's polygon count goes down
+    /// whenever one does.
+    pub(in crate::scene) fn retain_objects(&mut self, mut keep: impl FnMut(&Object) -> bool) {
         let (mut removed, mut polygons) = (0, 0);
         let mut numbers = Vec::new();
         self.numbers.update(&self.scene.objects);
@@ -519,7 +518,6 @@ impl Interpreter {
             );
             self.polygons = self.polygons.saturating_sub(polygons);
         }
-        removed
     }
 
     /// The smallest object number not in use.
