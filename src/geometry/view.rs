@@ -201,6 +201,7 @@ pub fn expand_objects(
     use rayon::prelude::*;
     let expanded: Vec<(Vec<ScreenPolygon>, GeometryStats)> = (0..objects.len())
         .into_par_iter()
+        .with_max_len(1)
         .filter(|&i| !objects[i].surface_type.hidden)
         .map(|i| {
             let (mut out, mut counts) = (Vec::new(), GeometryStats::default());

@@ -230,7 +230,9 @@ pub fn hidden(width: u32, height: u32, n: u32, outlines: &[Outline]) -> Vec<bool
         }
         seen
     };
-    let seen = bands.par_iter().map(seen).reduce(
+    // A band a task: the bands of the crowded rows take longest, and an
+    // idle thread can then take any band left, not only half of a run.
+    let seen = bands.par_iter().with_max_len(1).map(seen).reduce(
         || vec![false; outlines.len()],
         |mut a, b| {
             a.iter_mut().zip(b).for_each(|(a, b)| *a |= b);
