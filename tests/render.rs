@@ -440,12 +440,11 @@ fn image_space_algorithms_refuse_the_tree_by_name() {
 /// The picture's records are made while the tree's points are freed, run
 /// by run (`emit::records_freeing`): they must be the records made from
 /// the whole tree, in every order and blending, on office2 with shadows
-/// and three more lights (some 60,000 fragments: several runs).
+/// and three more lights (some 60,000 fragments: several runs), and
+/// without shadows (one run, the tree freed on another thread).
 #[test]
 fn records_made_while_freeing_the_tree_are_the_records_of_the_tree() {
-    use plytrace::emit::{self, Emit};
     use plytrace::image_tree::{self, TreeOptions};
-    use plytrace::model::SortOrder;
     let office2 = support::scene_fixture("office2.des");
     let dir = tempfile::tempdir().unwrap();
     std::os::unix::fs::symlink(office2.with_file_name("det"), dir.path().join("det")).unwrap();
@@ -460,14 +459,31 @@ fn records_made_while_freeing_the_tree_are_the_records_of_the_tree() {
     std::fs::write(&des, text).unwrap();
     let scene = scene::load(&des).unwrap().0;
     let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
-    let options = TreeOptions {
-        max_level: scene.modes.max_level,
-        shadows: true,
-        ..TreeOptions::default()
-    };
     let materials = Materials::new(&scene);
-    let tree = image_tree::build(&materials, &view, options);
-    assert!(tree.nodes.len() > 40_000, "{}", tree.nodes.len());
+    for shadows in [true, false] {
+        let options = TreeOptions {
+            max_level: scene.modes.max_level,
+            shadows,
+            ..TreeOptions::default()
+        };
+        let tree = image_tree::build(&materials, &view, options);
+        // Runs of 32768 fragments.
+        if shadows {
+            assert!(tree.nodes.len() > 40_000, "{}", tree.nodes.len());
+        } else {
+            assert!(tree.nodes.len() < 32_768, "{}", tree.nodes.len());
+        }
+        same_records_while_freeing(&materials, &tree, &view);
+    }
+}
+
+fn same_records_while_freeing(
+    materials: &Materials,
+    tree: &plytrace::image_tree::VirtualImageTree,
+    view: &plytrace::geometry::view::View,
+) {
+    use plytrace::emit::{self, Emit};
+    use plytrace::model::SortOrder;
     for order in [SortOrder::FrontToBack, SortOrder::BackToFront] {
         for blended in [false, true] {
             let how = Emit {
@@ -476,8 +492,8 @@ fn records_made_while_freeing_the_tree_are_the_records_of_the_tree() {
                 width: 64,
                 height: 64,
             };
-            let whole = emit::records(&materials, &tree, how, &view);
-            let freeing = emit::records_freeing(&materials, tree.clone(), how, &view);
+            let whole = emit::records(materials, tree, how, view);
+            let freeing = emit::records_freeing(materials, tree.clone(), how, view);
             assert!(whole == freeing, "{order:?}, blended {blended}");
         }
     }
