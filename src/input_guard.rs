@@ -50,7 +50,8 @@ pub fn note(path: &Path, meta: &std::fs::Metadata) {
     }
 }
 
-/// FNV-1a 64-bit hashes of the contents of the inputs read, in order.
+/// The hashes ([`content_hash`]) of the contents of the inputs read, in
+/// order.
 static CONTENTS: Mutex<Vec<u64>> = Mutex::new(Vec::new());
 
 /// The FNV-1a 64-bit hash of `bytes`, continuing from `h` (start with
@@ -66,11 +67,46 @@ pub fn fnv1a(mut h: u64, bytes: &[u8]) -> u64 {
 /// FNV-1a's starting value.
 pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 
+/// The hash of an input's contents, eight bytes at a time (little-endian
+/// words, the last one padded with zeros, then the length), by the steps
+/// of MurmurHash3's 64-bit lane: each word is mixed on its own (two odd
+/// multiplications about a rotation) before it enters the running hash,
+/// so that a change of a few bits in one word is never undone by the
+/// next; the result is mixed once more at the end. Byte by byte, FNV-1a
+/// spent a tenth of the time of reading an object file on its chain of
+/// multiplications. Each step is one-to-one in the hash so far and in
+/// the word, so inputs that differ in one word never hash the same.
+pub fn content_hash(bytes: &[u8]) -> u64 {
+    let step = |h: u64, word: u64| {
+        let k = word
+            .wrapping_mul(0x87c3_7b91_1142_53d5)
+            .rotate_left(31)
+            .wrapping_mul(0x4cf5_ad43_2745_937f);
+        (h ^ k)
+            .rotate_left(27)
+            .wrapping_mul(5)
+            .wrapping_add(0x52dc_e729)
+    };
+    let mut words = bytes.chunks_exact(8);
+    let h = (&mut words).fold(FNV_OFFSET, |h, w| {
+        step(h, u64::from_le_bytes(w.try_into().expect("eight bytes")))
+    });
+    let mut last = [0u8; 8];
+    last[..words.remainder().len()].copy_from_slice(words.remainder());
+    let mut h = step(step(h, u64::from_le_bytes(last)), bytes.len() as u64);
+    // MurmurHash3's final mix.
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    h ^ (h >> 33)
+}
+
 /// Notes the contents of an input read (a scene, a called file, an
 /// object file, a tree file, standard input), for the fingerprint of
 /// the outputs.
 pub fn note_contents(bytes: &[u8]) {
-    let noted = Noted::Contents(fnv1a(FNV_OFFSET, bytes));
+    let noted = Noted::Contents(content_hash(bytes));
     if !record(&noted) {
         noted.enter();
     }
@@ -212,13 +248,43 @@ mod tests {
         assert!(check(&fresh).is_ok());
     }
 
+    /// Every change of one or two bits of an input, in any byte of a word
+    /// or of the padded tail, and every change of its length, gives a
+    /// hash of its own.
+    #[test]
+    fn a_changed_input_hashes_differently() {
+        let input: Vec<u8> = (0..37u8).map(|b| b.wrapping_mul(89)).collect();
+        let bits = input.len() * 8;
+        let flipped = |flips: &[usize]| {
+            let mut changed = input.clone();
+            for &k in flips {
+                changed[k / 8] ^= 1 << (k % 8);
+            }
+            content_hash(&changed)
+        };
+        let mut seen = std::collections::HashSet::from([content_hash(&input)]);
+        for a in 0..bits {
+            assert!(seen.insert(flipped(&[a])), "bit {a}");
+            for b in a + 1..bits {
+                assert!(seen.insert(flipped(&[a, b])), "bits {a} and {b}");
+            }
+        }
+        for len in 0..input.len() {
+            assert!(seen.insert(content_hash(&input[..len])), "length {len}");
+        }
+        // A zero byte more is another input, though the padding is zeros.
+        let mut longer = input.clone();
+        longer.push(0);
+        assert!(seen.insert(content_hash(&longer)));
+    }
+
     #[test]
     fn recorded_notes_count_once_entered() {
         let dir = tempfile::tempdir().unwrap();
         let input = dir.path().join("ahead.det");
         std::fs::write(&input, "read ahead").unwrap();
         let bytes = format!("unique contents {:?}", dir.path()).into_bytes();
-        let h = fnv1a(FNV_OFFSET, &bytes);
+        let h = content_hash(&bytes);
         let ((), notes) = recording(|| {
             note(&input, &std::fs::metadata(&input).unwrap());
             note_contents(&bytes);

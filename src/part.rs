@@ -24,8 +24,10 @@
 //!
 //! A part with no rows (more parts than rows) is a 1 x 1 PNG that says
 //! so. The fingerprint hashes (FNV-1a, 64 bits) the program and its
-//! version, the contents of every file read (scene, called files, object
-//! files, tree file) and the flags that decide the pixels; parts of one
+//! version, the hash of the contents of every file read (scene, called
+//! files, object files, tree file:
+//! [`content_hash`](crate::input_guard::content_hash)) and the flags that
+//! decide the pixels; parts of one
 //! render have the same, and a merge refuses parts that do not.
 //!
 //! # Merging

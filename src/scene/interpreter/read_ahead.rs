@@ -281,7 +281,7 @@ impl Queue {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::input_guard::{FNV_OFFSET, contents, fnv1a};
+    use crate::input_guard::{content_hash, contents};
     use crate::scene::NoHost;
 
     /// Writes `text` at `dir/name`, returning the path and its contents'
@@ -290,7 +290,7 @@ mod tests {
         let path = dir.join(name);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(&path, text).unwrap();
-        (path, fnv1a(FNV_OFFSET, text.as_bytes()))
+        (path, content_hash(text.as_bytes()))
     }
 
     /// An ASCII object file of one polygon of `n` points, its first
