@@ -25,9 +25,8 @@
 //! A part with no rows (more parts than rows) is a 1 x 1 PNG that says
 //! so. The fingerprint hashes (FNV-1a, 64 bits) the program and its
 //! version, the hash of the contents of every file read (scene, called
-//! files, object files, tree file:
-//! [`content_hash`](crate::input_guard::content_hash)) and the flags that
-//! decide the pixels; parts of one
+//! files, object files, tree file; MurmurHash3's steps eight bytes at a
+//! time) and the flags that decide the pixels; parts of one
 //! render have the same, and a merge refuses parts that do not.
 //!
 //! # Merging
