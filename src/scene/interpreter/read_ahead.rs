@@ -141,7 +141,10 @@ impl ReadAhead {
     /// most `max_polygons` polygons each, by `read`.
     pub fn start(&mut self, paths: Vec<PathBuf>, max_polygons: usize, read: Reader) {
         let reads = self.enqueue(paths, max_polygons, read);
-        let workers = rayon::current_num_threads().min(reads);
+        // One thread fewer than the pool has: the interpreter, which
+        // builds each object as its statement comes, is the third thread
+        // on two cores otherwise, and waits its turn for a core.
+        let workers = (rayon::current_num_threads() - 1).max(1).min(reads);
         for _ in 0..workers {
             let queue = self.queue.clone();
             rayon::spawn(move || queue.run());
