@@ -34,19 +34,15 @@ pub fn sorted_order(keys: &[f64]) -> Vec<usize> {
 }
 
 fn insertion_sort(keys: &[f64]) -> Vec<usize> {
-    let mut order: Vec<usize> = Vec::with_capacity(keys.len());
-    for i in 0..keys.len() {
-        let mut j = order.len();
-        while j > 0 && keys[order[j - 1]] > keys[i] {
-            j -= 1;
-        }
-        order.insert(j, i);
-    }
+    let mut order: Vec<usize> = (0..keys.len()).collect();
+    insertion_sort_in(&mut order, keys);
     order
 }
 
-/// One bucket per item over the key range; items are appended in input
-/// order and each bucket is insertion sorted, so the sort is stable.
+/// One bucket per item over the key range; items go to their buckets in
+/// input order and each bucket is insertion sorted, so the sort is
+/// stable. The buckets are ranges of one array, placed by counting
+/// (office2's 12,000 polygons once took a small vector each).
 fn bucket_sort(keys: &[f64]) -> Vec<usize> {
     let n = keys.len();
     let (lo, hi) = keys
@@ -58,23 +54,39 @@ fn bucket_sort(keys: &[f64]) -> Vec<usize> {
         return (0..n).collect();
     }
     let scale = n as f64 / (hi - lo);
-    let mut buckets: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for (i, &k) in keys.iter().enumerate() {
-        let b = (((k - lo) * scale) as usize).min(n - 1);
-        buckets[b].push(i);
+    let bucket = |k: f64| (((k - lo) * scale) as usize).min(n - 1);
+    // `start[b]..start[b + 1]`: where bucket `b` lies in the order.
+    let mut start = vec![0; n + 1];
+    for &k in keys {
+        start[bucket(k) + 1] += 1;
     }
-    let mut order = Vec::with_capacity(n);
-    for bucket in &buckets {
-        let start = order.len();
-        for &i in bucket {
-            let mut j = order.len();
-            while j > start && keys[order[j - 1]] > keys[i] {
-                j -= 1;
-            }
-            order.insert(j, i);
-        }
+    for b in 0..n {
+        start[b + 1] += start[b];
+    }
+    let mut order = vec![0; n];
+    let mut next = start.clone();
+    for (i, &k) in keys.iter().enumerate() {
+        let b = bucket(k);
+        order[next[b]] = i;
+        next[b] += 1;
+    }
+    for b in 0..n {
+        insertion_sort_in(&mut order[start[b]..start[b + 1]], keys);
     }
     order
+}
+
+/// `items` (indices of `keys`) sorted by their keys, stably.
+fn insertion_sort_in(items: &mut [usize], keys: &[f64]) {
+    for i in 1..items.len() {
+        let item = items[i];
+        let mut j = i;
+        while j > 0 && keys[items[j - 1]] > keys[item] {
+            items[j] = items[j - 1];
+            j -= 1;
+        }
+        items[j] = item;
+    }
 }
 
 #[cfg(test)]
