@@ -199,6 +199,8 @@ pub fn expand_objects(
     stats: &mut GeometryStats,
 ) -> Vec<Vec<ScreenPolygon>> {
     use rayon::prelude::*;
+    // An object a task: a few heavy objects among many light ones would
+    // else share one thread's run of the iterator.
     let expanded: Vec<(Vec<ScreenPolygon>, GeometryStats)> = (0..objects.len())
         .into_par_iter()
         .with_max_len(1)
