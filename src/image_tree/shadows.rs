@@ -48,11 +48,11 @@ impl ShadowCaster<'_> {
             let done: Vec<(usize, Vec<ShadowRegion>)> = batch
                 .par_iter()
                 .with_max_len(1)
-                .map_init(crate::shadow::Scratch::default, |s, &i| {
+                .map(|&i| {
                     if crate::cancel::requested() {
                         return (i, Vec::new());
                     }
-                    (i, self.shadow_regions(&chunk[i], t, s))
+                    (i, with_scratch(|s| self.shadow_regions(&chunk[i], t, s)))
                 })
                 .collect();
             for (i, r) in done {
@@ -116,6 +116,23 @@ impl ShadowCaster<'_> {
             regions
         })
     }
+}
+
+thread_local! {
+    /// Each thread's buffers for shadow volumes, kept from one fragment to
+    /// the next: a fragment is a task of its own, and buffers made per
+    /// task grew again from nothing for each of office2's 15,000.
+    static SCRATCH: std::cell::Cell<crate::shadow::Scratch> = Default::default();
+}
+
+/// `f` with this thread's kept [`crate::shadow::Scratch`]. It is taken
+/// out while `f` runs, so a task that this thread takes up while `f`
+/// waits on others gets fresh buffers rather than these.
+fn with_scratch<R>(f: impl FnOnce(&mut crate::shadow::Scratch) -> R) -> R {
+    let mut s = SCRATCH.take();
+    let r = f(&mut s);
+    SCRATCH.set(s);
+    r
 }
 
 /// The positions in `chunk` of the first fragment of each polygon, and of
