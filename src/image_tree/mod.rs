@@ -269,11 +269,7 @@ impl<'a> Builder<'a> {
         }
         let outside = {
             let _t = self.profile.time(Category::ChkBbox);
-            let corners: Vec<DVec3> = object
-                .bbox_corners
-                .iter()
-                .map(|c| t.transform_point(*c))
-                .collect();
+            let corners = object.bbox_corners.map(|c| t.transform_point(c));
             planes.iter().any(|pl| {
                 corners
                     .iter()
@@ -283,13 +279,17 @@ impl<'a> Builder<'a> {
         if outside {
             return out;
         }
-        let mut verts = std::mem::take(&mut clip.verts);
+        let ClipBuffers {
+            one,
+            many,
+            verts,
+            points: pts,
+        } = clip;
         verts.clear();
         {
             let _t = self.profile.time(Category::Transform);
             verts.extend(object.vertices.iter().map(|v| t.transform_point(*v)));
         }
-        let mut pts = std::mem::take(&mut clip.points);
         // Polygons in the mirror's (or refracting surface's) own plane,
         // itself included, map onto it: they are not seen through it.
         let front_plane = planes[0];
@@ -301,7 +301,7 @@ impl<'a> Builder<'a> {
             if mirrored {
                 pts.reverse();
             }
-            let Ok(plane) = polygon::outward_plane(&pts) else {
+            let Ok(plane) = polygon::outward_plane(pts) else {
                 continue;
             };
             if pts.iter().all(on_front) {
@@ -313,7 +313,7 @@ impl<'a> Builder<'a> {
             }
             let clipped = {
                 let _t = self.profile.time(Category::Clipping);
-                plane_clip::clip_to_planes(&pts, planes, self.eps, &mut clip.one, &mut clip.many)
+                plane_clip::clip_to_planes(pts, planes, self.eps, one, many)
             };
             let candidate = |points| Candidate {
                 object: oi,
@@ -322,12 +322,11 @@ impl<'a> Builder<'a> {
                 back_facing: !front,
             };
             match clipped {
-                Ok(Clipped::One) => out.push(candidate(clip.one.piece().to_vec())),
-                Ok(Clipped::Many) => out.extend(clip.many.drain(..).map(candidate)),
+                Ok(Clipped::One) => out.push(candidate(one.piece().to_vec())),
+                Ok(Clipped::Many) => out.extend(many.drain(..).map(candidate)),
                 Ok(Clipped::Empty) | Err(_) => {}
             }
         }
-        (clip.verts, clip.points) = (verts, pts);
         out
     }
 
