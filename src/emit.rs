@@ -64,8 +64,10 @@ pub fn records(
 /// [`records`] from a tree that is not needed afterwards: the fragments'
 /// points are freed as their records are made, a run of the output order
 /// at a time, so that the tree and its records are never held whole
-/// together: office2's peak memory falls by a twelfth. A tree of one run
-/// is freed whole, on another thread, after its records are made.
+/// together: office2's peak memory falls by a twelfth. The first run's
+/// records are kept as made (a tree of one run copies none), and the
+/// last run's points go with the tree, freed on another thread while the
+/// picture is scan converted.
 pub fn records_freeing(
     materials: &Materials<'_>,
     mut tree: VirtualImageTree,
@@ -74,24 +76,25 @@ pub fn records_freeing(
 ) -> (RecordStream, Vec<Source>) {
     let order = tree.output_order(how.order);
     let gouraud = blended_vertex_shades(materials, &tree, how, view);
-    if order.len() <= FREEING_RUN {
-        // One run: the records as made, and the tree freed on another
-        // thread while the picture is scan converted.
-        let (records, sources) = some_records(materials, &tree, how, view, &order, &gouraud);
-        rayon::spawn(move || drop(tree));
-        return (stream(materials, how, records), sources);
-    }
-    let mut records = Vec::with_capacity(order.len());
-    let mut sources = Vec::with_capacity(order.len());
-    for run in order.chunks(FREEING_RUN) {
+    let (mut records, mut sources) = (Vec::new(), Vec::new());
+    let mut runs = order.chunks(FREEING_RUN).peekable();
+    while let Some(run) = runs.next() {
         let (r, s) = some_records(materials, &tree, how, view, run, &gouraud);
-        records.extend(r);
-        sources.extend(s);
-        for &n in run {
-            tree.nodes[n].virtual_points = Box::default();
+        if records.is_empty() {
+            (records, sources) = (r, s);
+            records.reserve(order.len() - run.len());
+            sources.reserve(order.len() - run.len());
+        } else {
+            records.extend(r);
+            sources.extend(s);
+        }
+        if runs.peek().is_some() {
+            for &n in run {
+                tree.nodes[n].virtual_points = Box::default();
+            }
         }
     }
-    drop(tree);
+    rayon::spawn(move || drop(tree));
     (stream(materials, how, records), sources)
 }
 
