@@ -54,18 +54,9 @@ pub fn note(path: &Path, meta: &std::fs::Metadata) {
 /// order.
 static CONTENTS: Mutex<Vec<u64>> = Mutex::new(Vec::new());
 
-/// The FNV-1a 64-bit hash of `bytes`, continuing from `h` (start with
-/// [`FNV_OFFSET`]).
-pub fn fnv1a(mut h: u64, bytes: &[u8]) -> u64 {
-    for &b in bytes {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
-
-/// FNV-1a's starting value.
-pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+/// Where [`content_hash`] starts (FNV-1a's offset basis: any constant
+/// would do).
+const SEED: u64 = 0xcbf2_9ce4_8422_2325;
 
 /// The hash of an input's contents, eight bytes at a time (little-endian
 /// words, the last one padded with zeros, then the length), by the steps
@@ -74,7 +65,7 @@ pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 /// so that a change of a few bits in one word is never undone by the
 /// next; the result is mixed once more at the end. Byte by byte, FNV-1a
 /// spent a sixth of the time of reading office2's object files on its
-/// chain of multiplications. Each step is one-to-one in the hash so far and in
+/// chain of multiplications. The fingerprint of parts hashes with it too. Each step is one-to-one in the hash so far and in
 /// the word, so inputs that differ in one word never hash the same.
 pub fn content_hash(bytes: &[u8]) -> u64 {
     let step = |h: u64, word: u64| {
@@ -88,7 +79,7 @@ pub fn content_hash(bytes: &[u8]) -> u64 {
             .wrapping_add(0x52dc_e729)
     };
     let mut words = bytes.chunks_exact(8);
-    let h = (&mut words).fold(FNV_OFFSET, |h, w| {
+    let h = (&mut words).fold(SEED, |h, w| {
         step(h, u64::from_le_bytes(w.try_into().expect("eight bytes")))
     });
     let mut last = [0u8; 8];

@@ -23,10 +23,10 @@
 //! | `plytrace-fingerprint` | 16 hex digits: what decides the pixels |
 //!
 //! A part with no rows (more parts than rows) is a 1 x 1 PNG that says
-//! so. The fingerprint hashes (FNV-1a, 64 bits) the program and its
-//! version, the hash of the contents of every file read (scene, called
-//! files, object files, tree file; MurmurHash3's steps eight bytes at a
-//! time) and the flags that decide the pixels; parts of one
+//! so. The fingerprint hashes (64 bits, MurmurHash3's steps eight bytes
+//! at a time) the program and its version, the hash of the contents of
+//! every file read (scene, called files, object files, tree file) and
+//! the flags that decide the pixels; parts of one
 //! render have the same, and a merge refuses parts that do not.
 //!
 //! # Merging
@@ -99,16 +99,17 @@ impl std::str::FromStr for PartSpec {
 /// program, its version, the contents of every input this process has
 /// read so far and the flags, hashed.
 pub fn fingerprint(program: &str, flags: &str) -> String {
-    use crate::input_guard::{FNV_OFFSET, fnv1a};
-    let mut h = fnv1a(
-        FNV_OFFSET,
-        format!("{program} {}\n", env!("CARGO_PKG_VERSION")).as_bytes(),
-    );
-    for c in crate::input_guard::contents() {
-        h = fnv1a(h, &c.to_le_bytes());
+    fingerprint_of(program, &crate::input_guard::contents(), flags)
+}
+
+/// [`fingerprint`] with the hashes of the inputs' `contents` given.
+fn fingerprint_of(program: &str, contents: &[u64], flags: &str) -> String {
+    let mut bytes = format!("{program} {}\n", env!("CARGO_PKG_VERSION")).into_bytes();
+    for c in contents {
+        bytes.extend(c.to_le_bytes());
     }
-    h = fnv1a(h, flags.as_bytes());
-    format!("{h:016x}")
+    bytes.extend(flags.as_bytes());
+    format!("{:016x}", crate::input_guard::content_hash(&bytes))
 }
 
 /// Notes the contents of an input that is not a file (a scene read from
@@ -697,4 +698,28 @@ fn complete(path: &Path, info: PartInfo, mut reader: Reader) -> Result<PartInfo>
         .finish()
         .map_err(|e| bad(path, format!("truncated or damaged ({e})")))?;
     Ok(info)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fingerprint changes with the program, any input's contents,
+    /// their order and the flags: a merge then refuses parts of another
+    /// render, whatever it was that differed.
+    #[test]
+    fn every_thing_that_decides_the_pixels_changes_the_fingerprint() {
+        let base = fingerprint_of("plytrace", &[1, 2], "--aa 4");
+        assert_eq!(base.len(), 16);
+        assert_eq!(base, fingerprint_of("plytrace", &[1, 2], "--aa 4"));
+        for other in [
+            fingerprint_of("rftb4", &[1, 2], "--aa 4"),
+            fingerprint_of("plytrace", &[1, 3], "--aa 4"),
+            fingerprint_of("plytrace", &[2, 1], "--aa 4"),
+            fingerprint_of("plytrace", &[1], "--aa 4"),
+            fingerprint_of("plytrace", &[1, 2], "--aa 2"),
+        ] {
+            assert_ne!(other, base);
+        }
+    }
 }
