@@ -12,7 +12,7 @@ use super::shadows::{PreparedChunk, SHADOW_CHUNK};
 use super::tree::link;
 use super::{Branch, Builder, Candidate, FragmentKind, LevelState, Refraction, toward_eye_plane};
 use crate::math::{self, Matrix4};
-use crate::model::Color;
+use crate::model::{Color, Material};
 use crate::visibility::nns;
 
 /// A branch waiting to be traced: the scene seen by reflection in (or
@@ -84,11 +84,9 @@ impl<'a> Builder<'a> {
     ) {
         let material = self.materials.material(c.object, c.polygon);
         let weight = at.weight;
-        let threshold = self.options.threshold;
-        let passes = |k: f64| k > 0.0 && weight * k > threshold;
         // Most polygons neither reflect nor refract: their plane is not
         // needed (this runs on the builder's one thread).
-        let (reflects, refracts) = (passes(material.reflectance), passes(material.transmittance));
+        let (reflects, refracts) = self.passes(&material, weight);
         if !reflects && !refracts {
             return;
         }
@@ -115,6 +113,21 @@ impl<'a> Builder<'a> {
                 self.enqueue(pending(Branch::Refracted, material.transmittance, &m));
             }
         }
+    }
+
+    /// Whether `material`, at a branch of weight `weight`, reflects and
+    /// whether it refracts more than the threshold.
+    fn passes(&self, material: &Material, weight: f64) -> (bool, bool) {
+        let passes = |k: f64| k > 0.0 && weight * k > self.options.threshold;
+        (passes(material.reflectance), passes(material.transmittance))
+    }
+
+    /// Whether candidate `c` of a level `level` deep, of weight `weight`,
+    /// would queue a branch ([`Self::queue_branches`]), its plane aside.
+    pub(super) fn branches(&self, c: &Candidate, level: u32, weight: f64) -> bool {
+        let (reflects, refracts) =
+            self.passes(&self.materials.material(c.object, c.polygon), weight);
+        level < self.options.max_level && !c.back_facing && (reflects || refracts)
     }
 
     /// The refraction matrix of the options' model through the plane of
@@ -274,7 +287,7 @@ impl<'a> Builder<'a> {
         }
         let (sorted, stats) = self.sorted(found);
         let (sorted, hidden) = match self.options.cull_samples {
-            Some(n) => self.unhidden(sorted, n),
+            Some(n) => self.unhidden(sorted, n, p.level, p.weight),
             None => (sorted, 0),
         };
         let ready = (!sorted.is_empty() && sorted.len() <= SHADOW_CHUNK)

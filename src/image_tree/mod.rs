@@ -199,7 +199,7 @@ impl<'a> Builder<'a> {
         let mut sorted = self.sort(level1);
         if let Some(n) = self.options.cull_samples {
             let hidden;
-            (sorted, hidden) = self.unhidden(sorted, n);
+            (sorted, hidden) = self.unhidden(sorted, n, 1, 1.0);
             self.tree.hidden += hidden;
         }
         sorted
@@ -541,7 +541,22 @@ impl<'a> Builder<'a> {
     ///
     /// A picture whose mask would pass [`occlusion::MAX_BYTES`] keeps
     /// them all.
-    fn unhidden(&self, sorted: Vec<Candidate>, n: u32) -> (Vec<Candidate>, usize) {
+    ///
+    /// Leaving a hidden polygon out saves its shadows and its branches,
+    /// and its shade and tiling; the cull itself costs about as much as
+    /// shading and tiling the polygons it finds (office2 without shadows:
+    /// 2.4 ms to leave out 1,412 of level 1's 10,641, and the render was
+    /// 3 ms faster without it). So a level that casts no shadows asks only
+    /// about its polygons that branch (at `level`, of weight `weight`) and
+    /// what lies over them on the screen, and a level where nothing
+    /// branches either is not culled.
+    fn unhidden(
+        &self,
+        sorted: Vec<Candidate>,
+        n: u32,
+        level: u32,
+        weight: f64,
+    ) -> (Vec<Candidate>, usize) {
         let view = self.view;
         let (w, h) = (view.width as u32, view.height as u32);
         if CoverMask::bytes(w, h, n) > occlusion::MAX_BYTES {
@@ -558,7 +573,29 @@ impl<'a> Builder<'a> {
                 opaque: !self.materials.is_transparent(c.object),
             })
             .collect();
-        let hidden = occlusion::hidden(w, h, n, &outlines);
+        let hidden = if self.casts_shadows() {
+            occlusion::hidden(w, h, n, &outlines)
+        } else {
+            let boxes = merged(
+                sorted
+                    .iter()
+                    .zip(&outlines)
+                    .filter(|(c, _)| self.branches(c, level, weight))
+                    .filter_map(|(_, o)| screen_box(std::iter::once(&o.points[..]))),
+            );
+            let asked = match boxes {
+                Some(boxes) if boxes.is_empty() => return (sorted, 0),
+                Some(boxes) => overlapping(&outlines, &boxes),
+                // Branching polygons scattered over the picture: all.
+                None => (0..outlines.len()).collect(),
+            };
+            let subset: Vec<Outline> = asked.iter().map(|&k| outlines[k].clone()).collect();
+            let mut hidden = vec![false; sorted.len()];
+            for (&k, h) in asked.iter().zip(occlusion::hidden(w, h, n, &subset)) {
+                hidden[k] = h;
+            }
+            hidden
+        };
         drop(outlines);
         let kept: Vec<Candidate> = sorted
             .into_iter()
@@ -567,6 +604,17 @@ impl<'a> Builder<'a> {
             .collect();
         let left_out = hidden.len() - kept.len();
         (kept, left_out)
+    }
+
+    /// Whether the levels' fragments cast shadows: shadows are asked for
+    /// and a Point light gives them.
+    fn casts_shadows(&self) -> bool {
+        self.options.shadows
+            && self
+                .materials
+                .lights
+                .iter()
+                .any(|l| l.kind == crate::model::LightKind::Point)
     }
 
     /// Whether the tree has reached its node budget.
@@ -696,6 +744,61 @@ fn may_branch(materials: &Materials<'_>, options: &TreeOptions) -> bool {
         })
 }
 
+/// The screen box of `outlines`' points (NaN points left out), `None`
+/// when there are none.
+fn screen_box<'p>(
+    outlines: impl Iterator<Item = &'p [glam::DVec2]>,
+) -> Option<(glam::DVec2, glam::DVec2)> {
+    outlines
+        .flatten()
+        .map(|p| (*p, *p))
+        .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+}
+
+type ScreenBox = (glam::DVec2, glam::DVec2);
+
+/// Whether two screen boxes meet.
+fn meet(a: &ScreenBox, b: &ScreenBox) -> bool {
+    a.0.cmple(b.1).all() && b.0.cmple(a.1).all()
+}
+
+/// Most screen areas [`merged`] keeps apart.
+const MAX_BOXES: usize = 32;
+
+/// `boxes` with those that meet merged into their common box, until no
+/// two meet: the screen areas of a level's mirrors and glasses. `None`
+/// past [`MAX_BOXES`] areas apart (the time stays linear in the boxes).
+fn merged(boxes: impl Iterator<Item = ScreenBox>) -> Option<Vec<ScreenBox>> {
+    let mut out: Vec<ScreenBox> = Vec::new();
+    for mut b in boxes {
+        // Grow `b` by every area it meets, again until none is left.
+        while let Some(k) = out.iter().position(|o| meet(o, &b)) {
+            let o = out.swap_remove(k);
+            b = (b.0.min(o.0), b.1.max(o.1));
+        }
+        out.push(b);
+        if out.len() > MAX_BOXES {
+            return None;
+        }
+    }
+    Some(out)
+}
+
+/// The outlines whose box meets one of `boxes`, in order; those with a
+/// point that is not finite too (the cull never finds them hidden).
+fn overlapping(outlines: &[Outline], boxes: &[ScreenBox]) -> Vec<usize> {
+    (0..outlines.len())
+        .filter(|&k| {
+            let points = &outlines[k].points;
+            if points.iter().any(|p| !p.is_finite()) {
+                return true;
+            }
+            screen_box(std::iter::once(&points[..]))
+                .is_some_and(|own| boxes.iter().any(|b| meet(&own, b)))
+        })
+        .collect()
+}
+
 /// The plane of `points` with its unit normal towards the eye.
 fn toward_eye_plane(points: &[DVec3], eye: DVec4) -> Option<DVec4> {
     let pl = polygon::newell_plane(points)?;
@@ -709,6 +812,40 @@ fn toward_eye_plane(points: &[DVec3], eye: DVec4) -> Option<DVec4> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Boxes that meet, directly or through others, become their common
+    /// box; boxes apart stay apart; every box given lies in one merged.
+    #[test]
+    fn screen_boxes_that_meet_are_merged() {
+        let b = |x0: f64, y0: f64, x1: f64, y1: f64| {
+            (glam::DVec2::new(x0, y0), glam::DVec2::new(x1, y1))
+        };
+        // A chain: the first meets the second, the second the third.
+        let given = vec![
+            b(0.0, 0.0, 2.0, 2.0),
+            b(10.0, 0.0, 12.0, 2.0),
+            b(1.0, 1.0, 5.0, 3.0),
+            b(4.0, 2.5, 6.0, 6.0),
+        ];
+        let mut out = merged(given.iter().copied()).unwrap();
+        out.sort_by(|a, b| a.0.x.total_cmp(&b.0.x));
+        assert_eq!(out, vec![b(0.0, 0.0, 6.0, 6.0), b(10.0, 0.0, 12.0, 2.0)]);
+        for g in &given {
+            assert!(
+                out.iter()
+                    .any(|o| o.0.cmple(g.0).all() && g.1.cmple(o.1).all())
+            );
+        }
+        for (i, x) in out.iter().enumerate() {
+            assert!(out[i + 1..].iter().all(|y| !meet(x, y)));
+        }
+        let apart = (0..=MAX_BOXES).map(|k| b(k as f64 * 2.0, 0.0, k as f64 * 2.0 + 1.0, 1.0));
+        assert_eq!(
+            merged(apart.clone().take(MAX_BOXES)).map(|o| o.len()),
+            Some(MAX_BOXES)
+        );
+        assert_eq!(merged(apart), None, "too many areas apart");
+    }
 
     fn fixture(name: &str) -> crate::model::Scene {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
