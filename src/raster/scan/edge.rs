@@ -14,17 +14,17 @@ pub(crate) struct Edge {
     /// Vertex indices of `lo` and `hi`.
     pub lo_vertex: u32,
     pub hi_vertex: u32,
+    /// `dx / dy` from `lo` to `hi`.
+    pub slope: f64,
 }
 
 impl Edge {
     /// The point sampler's crossing at `y` (`lo.y <= y < hi.y`).
     pub fn cross(&self, y: f64) -> Option<f64> {
-        (self.lo.y <= y && y < self.hi.y).then(|| {
-            self.lo.x + (y - self.lo.y) * (self.hi.x - self.lo.x) / (self.hi.y - self.lo.y)
-        })
+        (self.lo.y <= y && y < self.hi.y).then(|| self.x_at(y))
     }
 
     pub fn x_at(&self, y: f64) -> f64 {
-        self.lo.x + (y - self.lo.y) * (self.hi.x - self.lo.x) / (self.hi.y - self.lo.y)
+        self.lo.x + (y - self.lo.y) * self.slope
     }
 }

@@ -163,6 +163,7 @@ impl Tiler {
                 dir,
                 lo_vertex,
                 hi_vertex,
+                slope: (hi.x - lo.x) / (hi.y - lo.y),
             });
         }
         self.edges.sort_by(|a, b| a.lo.y.total_cmp(&b.lo.y));
