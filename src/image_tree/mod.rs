@@ -562,7 +562,19 @@ impl<'a> Builder<'a> {
         if CoverMask::bytes(w, h, n) > occlusion::MAX_BYTES {
             return (sorted, 0);
         }
-        let outlines: Vec<Outline> = sorted
+        let shadows = self.casts_shadows();
+        // Without shadows, the polygons that branch decide what is asked.
+        let branching: Vec<usize> = if shadows {
+            Vec::new()
+        } else {
+            (0..sorted.len())
+                .filter(|&k| self.branches(&sorted[k], level, weight))
+                .collect()
+        };
+        if !shadows && branching.is_empty() {
+            return (sorted, 0);
+        }
+        let mut outlines: Vec<Outline> = sorted
             .par_iter()
             .map(|c| Outline {
                 points: c
@@ -573,23 +585,26 @@ impl<'a> Builder<'a> {
                 opaque: !self.materials.is_transparent(c.object),
             })
             .collect();
-        let hidden = if self.casts_shadows() {
+        let hidden = if shadows {
             occlusion::hidden(w, h, n, &outlines)
         } else {
             let boxes = merged(
-                sorted
+                branching
                     .iter()
-                    .zip(&outlines)
-                    .filter(|(c, _)| self.branches(c, level, weight))
-                    .filter_map(|(_, o)| screen_box(std::iter::once(&o.points[..]))),
+                    .filter_map(|&k| screen_box(&outlines[k].points)),
             );
             let asked = match boxes {
-                Some(boxes) if boxes.is_empty() => return (sorted, 0),
                 Some(boxes) => overlapping(&outlines, &boxes),
                 // Branching polygons scattered over the picture: all.
                 None => (0..outlines.len()).collect(),
             };
-            let subset: Vec<Outline> = asked.iter().map(|&k| outlines[k].clone()).collect();
+            let subset: Vec<Outline> = asked
+                .iter()
+                .map(|&k| Outline {
+                    points: std::mem::take(&mut outlines[k].points),
+                    opaque: outlines[k].opaque,
+                })
+                .collect();
             let mut hidden = vec![false; sorted.len()];
             for (&k, h) in asked.iter().zip(occlusion::hidden(w, h, n, &subset)) {
                 hidden[k] = h;
@@ -744,18 +759,16 @@ fn may_branch(materials: &Materials<'_>, options: &TreeOptions) -> bool {
         })
 }
 
-/// The screen box of `outlines`' points (NaN points left out), `None`
-/// when there are none.
-fn screen_box<'p>(
-    outlines: impl Iterator<Item = &'p [glam::DVec2]>,
-) -> Option<(glam::DVec2, glam::DVec2)> {
-    outlines
-        .flatten()
+type ScreenBox = (glam::DVec2, glam::DVec2);
+
+/// The screen box of `points` (NaN coordinates left out), `None` when
+/// there are none.
+fn screen_box(points: &[glam::DVec2]) -> Option<ScreenBox> {
+    points
+        .iter()
         .map(|p| (*p, *p))
         .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
 }
-
-type ScreenBox = (glam::DVec2, glam::DVec2);
 
 /// Whether two screen boxes meet.
 fn meet(a: &ScreenBox, b: &ScreenBox) -> bool {
@@ -793,8 +806,7 @@ fn overlapping(outlines: &[Outline], boxes: &[ScreenBox]) -> Vec<usize> {
             if points.iter().any(|p| !p.is_finite()) {
                 return true;
             }
-            screen_box(std::iter::once(&points[..]))
-                .is_some_and(|own| boxes.iter().any(|b| meet(&own, b)))
+            screen_box(points).is_some_and(|own| boxes.iter().any(|b| meet(&own, b)))
         })
         .collect()
 }
