@@ -65,8 +65,9 @@ const SEED: u64 = 0xcbf2_9ce4_8422_2325;
 /// so that a change of a few bits in one word is never undone by the
 /// next; the result is mixed once more at the end. Byte by byte, FNV-1a
 /// spent a sixth of the time of reading office2's object files on its
-/// chain of multiplications. The fingerprint of parts hashes with it too. Each step is one-to-one in the hash so far and in
-/// the word, so inputs that differ in one word never hash the same.
+/// chain of multiplications. The fingerprint of parts hashes with it
+/// too. Each step is one-to-one in the hash so far and in the word, so
+/// inputs that differ in one word never hash the same.
 pub fn content_hash(bytes: &[u8]) -> u64 {
     let step = |h: u64, word: u64| {
         let k = word
