@@ -65,6 +65,12 @@ pub(crate) trait Integrator: Send {
     ) -> bool;
     /// A special record at `level` covers the pixel.
     fn restore(&mut self, _px: usize, _level: u16) {}
+    /// Whether a fragment at tree depth `level` would be hidden in every
+    /// pixel of `pixels` and change none of them: those pixels need not
+    /// be tiled.
+    fn hidden(&self, _pixels: std::ops::Range<usize>, _level: u16) -> bool {
+        false
+    }
     /// The final background pass.
     fn background(&mut self, px: usize, bg: [f32; 3]);
     /// Writes the band's colours and method outputs.
@@ -233,13 +239,26 @@ impl<I: Integrator> Worker<I> {
         } = self;
         let (ids, written) = (&mut done.out.ids, &mut done.written);
         let mut any = false;
-        tiler.tile(poly, rows, |row| {
-            // Stopping: the rows left are walked, not painted.
+        for j in tiler.rows(poly, rows.clone()) {
+            let Some(columns) = tiler.enter(j) else {
+                continue;
+            };
+            // Stopping: the rows left are not painted.
             if crate::cancel::requested() {
-                return;
+                break;
             }
+            let base = (hi - 1 - j) as usize * w;
+            // A row that would change no pixel is skipped, once the
+            // figures know whether the record covers a pixel of the band.
+            let pixels = base + columns.start as usize..base + columns.end as usize;
+            if !special && integ.hidden(pixels, poly.level) {
+                any = any || tiler.covers(j);
+                continue;
+            }
+            let Some(row) = tiler.cover(j) else {
+                continue;
+            };
             shader.setup(poly, row.j, row.edges);
-            let base = (hi - 1 - row.j) as usize * w;
             let mut put = |i: u32, frag: &Fragment| {
                 let px = base + i as usize;
                 if special {
@@ -271,7 +290,7 @@ impl<I: Integrator> Worker<I> {
                     put(p.col, &frag);
                 }
             }
-        });
+        }
         any
     }
 }

@@ -247,6 +247,15 @@ impl Integrator for MultiLevel {
         self.restore_to(px, level as u8);
     }
 
+    /// Case 2 in every pixel: covered at a depth no deeper than `level`
+    /// (a deeper one would first be restored).
+    fn hidden(&self, pixels: std::ops::Range<usize>, level: u16) -> bool {
+        let level = level as u8;
+        self.pixels[pixels]
+            .iter()
+            .all(|p| p.stat & COVERED != 0 && p.stat & DEPTH <= level)
+    }
+
     fn background(&mut self, px: usize, bg: [f32; 3]) {
         let frag = Fragment {
             full: true,
@@ -279,5 +288,47 @@ impl Integrator for MultiLevel {
 
     fn fragments(&self) -> (usize, u64) {
         (self.peak, self.total)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fragment(mask: SampleMask) -> Fragment {
+        Fragment {
+            full: false,
+            area: f64::from(mask.count()) / 16.0,
+            mask,
+            centre: true,
+        }
+    }
+
+    /// `hidden` holds where a fragment is case 2 (covered at a depth no
+    /// deeper than its own), and then blending it changes nothing; a
+    /// pixel partly covered, or covered only deeper, is not hidden.
+    #[test]
+    fn hidden_is_case_two() {
+        let grey = || Shade {
+            rgb: [0.5; 3],
+            t: 0.0,
+        };
+        let mut half = SampleMask::EMPTY;
+        half.set_range(0, 8);
+        let mut m = MultiLevel::new(16, false);
+        m.reset(3);
+        assert!(m.pixel(0, &fragment(SampleMask::full(16)), 1, grey));
+        assert!(m.pixel(1, &fragment(half), 1, grey));
+        assert!(m.pixel(2, &fragment(SampleMask::full(16)), 2, grey));
+        assert!(m.hidden(0..1, 1) && m.hidden(0..1, 2));
+        assert!(!m.hidden(0..2, 1), "half covered");
+        assert!(!m.hidden(2..3, 1), "covered only at depth 2");
+        assert!(m.hidden(2..3, 2) && m.hidden(2..3, 3));
+        assert!(m.hidden(0..0, 1), "no pixels");
+        let before = format!("{:?}", m.pixels);
+        assert!(!m.pixel(0, &fragment(SampleMask::full(16)), 2, grey));
+        assert!(!m.pixel(2, &fragment(half), 3, grey));
+        assert_eq!(format!("{:?}", m.pixels), before);
+        assert!(m.pixel(2, &fragment(half), 1, grey), "restored to depth 1");
     }
 }

@@ -70,10 +70,15 @@ pub(crate) struct Tiler {
     n: u32,
     centre: bool,
     edges: Vec<Edge>,
+    /// The next of `edges` to become active.
+    next: usize,
     active: Vec<Edge>,
     acc: Vec<f64>,
     flags: Vec<u8>,
     touched: Vec<u32>,
+    /// The active edges' segments in the row strip: ends' x and signed
+    /// height.
+    segments: Vec<(f64, f64, f64)>,
     runs: Vec<(u32, u32)>,
     partials: Vec<Partial>,
     xs: Vec<f64>,
@@ -89,10 +94,12 @@ impl Tiler {
             n,
             centre,
             edges: Vec::new(),
+            next: 0,
             active: Vec::new(),
             acc: vec![0.0; w],
             flags: vec![0; w],
             touched: Vec::new(),
+            segments: Vec::new(),
             runs: Vec::new(),
             partials: Vec::new(),
             xs: Vec::new(),
@@ -100,45 +107,75 @@ impl Tiler {
     }
 
     /// Tiles `poly` over screen rows `rows` (from the bottom), calling
-    /// `visit` for each row it touches, bottom row first.
+    /// `visit` for each row it touches, bottom row first: the walk of
+    /// [`Self::rows`], [`Self::enter`] and [`Self::cover`] with no row
+    /// passed over.
+    #[cfg(test)]
     pub fn tile(
         &mut self,
         poly: &Prepared,
         rows: std::ops::Range<u32>,
         mut visit: impl FnMut(&RowCover<'_>),
     ) {
+        for j in self.rows(poly, rows) {
+            if self.enter(j).is_some()
+                && let Some(row) = self.cover(j)
+            {
+                visit(&row);
+            }
+        }
+    }
+
+    /// Starts the walk over `poly`'s rows: the rows within `rows` (from
+    /// the bottom) that it may touch, to be entered bottom row first.
+    pub fn rows(&mut self, poly: &Prepared, rows: std::ops::Range<u32>) -> std::ops::Range<u32> {
         let pts = &poly.points;
+        self.active.clear();
+        self.next = 0;
         if pts.len() < 3 {
-            return;
+            self.edges.clear();
+            return 0..0;
         }
         let first = (poly.ymin.floor().max(rows.start as f64)) as u32;
         let end = (poly.ymax.ceil().min(rows.end as f64)).max(first as f64) as u32;
         if first >= end {
-            return;
+            self.edges.clear();
+            return 0..0;
         }
         self.build_edges(pts);
-        self.active.clear();
-        let mut next = 0;
-        for j in first..end {
-            let (y0, y1) = (j as f64, j as f64 + 1.0);
-            while next < self.edges.len() && self.edges[next].lo.y < y1 {
-                self.active.push(self.edges[next]);
-                next += 1;
-            }
-            self.active.retain(|e| e.hi.y > y0);
-            if self.active.is_empty() {
-                continue;
-            }
-            self.row(j);
-            if !self.runs.is_empty() || !self.partials.is_empty() {
-                visit(&RowCover {
-                    j,
-                    runs: &self.runs,
-                    partials: &self.partials,
-                    edges: &self.active,
-                });
-            }
+        first..end
+    }
+
+    /// Enters row `j`, the next of the walk: the active edges brought up
+    /// to it. `None` when no edge crosses its strip, else the columns its
+    /// coverage can reach, so that a row whose pixels would all stay as
+    /// they are can be passed over before any coverage is found.
+    pub fn enter(&mut self, j: u32) -> Option<std::ops::Range<u32>> {
+        let (y0, y1) = (j as f64, j as f64 + 1.0);
+        while self.next < self.edges.len() && self.edges[self.next].lo.y < y1 {
+            self.active.push(self.edges[self.next]);
+            self.next += 1;
         }
+        self.active.retain(|e| e.hi.y > y0);
+        if self.active.is_empty() {
+            return None;
+        }
+        Some(self.segments(j))
+    }
+
+    /// The coverage of row `j`, the row entered last; `None` when it
+    /// covers nothing.
+    pub fn cover(&mut self, j: u32) -> Option<RowCover<'_>> {
+        self.areas();
+        if !self.partials.is_empty() {
+            self.masks(j);
+        }
+        (!self.runs.is_empty() || !self.partials.is_empty()).then_some(RowCover {
+            j,
+            runs: &self.runs,
+            partials: &self.partials,
+            edges: &self.active,
+        })
     }
 
     /// Non-horizontal edges, sorted by their lower end, oriented so that
@@ -169,21 +206,58 @@ impl Tiler {
         self.edges.sort_by(|a, b| a.lo.y.total_cmp(&b.lo.y));
     }
 
-    /// Coverage of row `j` from the active edges.
-    fn row(&mut self, j: u32) {
+    /// The active edges' segments in the strip of row `j`, and the
+    /// columns their coverage can reach: from the leftmost end's to the
+    /// one right of the rightmost end's, within the image.
+    fn segments(&mut self, j: u32) -> std::ops::Range<u32> {
         let (y0, y1) = (j as f64, j as f64 + 1.0);
-        for k in 0..self.active.len() {
-            let e = self.active[k];
+        self.segments.clear();
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for e in &self.active {
             let (ya, yb) = (e.lo.y.max(y0), e.hi.y.min(y1));
             if yb > ya {
+                let xa = e.x_at(ya);
                 let xb = if yb == e.hi.y { e.hi.x } else { e.x_at(yb) };
-                self.clip_x(e.x_at(ya), xb, (yb - ya) * e.dir);
+                self.segments.push((xa, xb, (yb - ya) * e.dir));
+                lo = lo.min(xa.min(xb));
+                hi = hi.max(xa.max(xb));
             }
         }
-        self.sweep();
-        if !self.partials.is_empty() {
-            self.masks(j);
+        let w = self.width as f64;
+        if self.segments.is_empty() {
+            return 0..0;
         }
+        if lo.is_nan() || hi.is_nan() {
+            return 0..self.width;
+        }
+        let first = lo.clamp(0.0, w) as u32;
+        let end = (ceil_index(hi.clamp(0.0, w)) as u32 + 1).min(self.width);
+        first..end.max(first)
+    }
+
+    /// Whether row `j`, the row entered last, covers some of a pixel:
+    /// area, a sample or the centre. Found from the areas alone unless
+    /// only slivers of no area are partly covered.
+    pub fn covers(&mut self, j: u32) -> bool {
+        self.areas();
+        if !self.runs.is_empty() || self.partials.iter().any(|p| p.area > 0.0) {
+            return true;
+        }
+        if self.partials.is_empty() {
+            return false;
+        }
+        self.masks(j);
+        self.partials.iter().any(|p| !p.mask.is_empty() || p.centre)
+    }
+
+    /// The runs and partial pixels, with their areas, of the row whose
+    /// [`Self::segments`] were found last.
+    fn areas(&mut self) {
+        for k in 0..self.segments.len() {
+            let (xa, xb, d) = self.segments[k];
+            self.clip_x(xa, xb, d);
+        }
+        self.sweep();
     }
 
     /// Splits a strip segment from `x0` to `x1` (signed height `d`) at the
@@ -493,6 +567,48 @@ mod tests {
             let exact = shoelace(&pts);
             let total: f64 = areas(&poly(pts), 32, 32).iter().sum();
             prop_assert!((total - exact).abs() <= 1e-9 * exact.max(1e-3), "{total} {exact}");
+        }
+    }
+
+    proptest! {
+        /// Every pixel a row's coverage reaches lies in the columns the
+        /// row is entered with (the scan converter skips a row by them),
+        /// and `covers` tells whether the coverage has area, a sample or a
+        /// centre. Polygons reach past the image's sides, and with `snap`
+        /// their corners lie on half pixels.
+        #[test]
+        fn rows_reach_only_the_columns_they_are_entered_with(
+            cx in -6.0f64..38.0, cy in 4.0f64..28.0,
+            jitter in prop::collection::vec(0.0f64..0.9, 3..12),
+            radii in prop::collection::vec(0.05f64..12.0, 1..12),
+            snap in any::<bool>(),
+        ) {
+            let mut pts = star((cx, cy), &jitter, &radii);
+            if snap {
+                pts.iter_mut().for_each(|p| *p = (*p * 2.0).round() / 2.0);
+            }
+            let p = poly(pts);
+            let (mut t, mut u) = (Tiler::new(32, 4, true), Tiler::new(32, 4, true));
+            prop_assert_eq!(t.rows(&p, 0..32), u.rows(&p, 0..32));
+            for j in t.rows(&p, 0..32) {
+                let (a, b) = (t.enter(j), u.enter(j));
+                prop_assert_eq!(&a, &b);
+                let Some(columns) = a else { continue };
+                let covers = u.covers(j);
+                let Some(row) = t.cover(j) else {
+                    prop_assert!(!covers);
+                    continue;
+                };
+                for &(i0, i1) in row.runs {
+                    prop_assert!(columns.start <= i0 && i1 <= columns.end, "{i0}..{i1} {columns:?}");
+                }
+                for q in row.partials {
+                    prop_assert!(columns.contains(&q.col), "{} {columns:?}", q.col);
+                }
+                let some = !row.runs.is_empty()
+                    || row.partials.iter().any(|q| q.area > 0.0 || !q.mask.is_empty() || q.centre);
+                prop_assert_eq!(covers, some);
+            }
         }
     }
 
