@@ -417,9 +417,12 @@ pub fn command() -> clap::Command {
     Cli::command().after_long_help(crate::help::after_help())
 }
 
-/// Parses the arguments (without the program name).
+/// Parses the arguments (without the program name). The long help's
+/// closing sections are left out: only `--help`, the man page and the
+/// completions show them, and wrapping the command table took longer
+/// than the parse.
 pub fn parse(args: Vec<OsString>) -> Result<Request, clap::Error> {
-    let mut cmd = command();
+    let mut cmd = Cli::command();
     let normalized = normalize(&cmd, args);
     let matches = cmd
         .try_get_matches_from_mut(std::iter::once(OsString::from("plytrace")).chain(normalized))?;
