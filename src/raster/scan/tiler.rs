@@ -589,8 +589,9 @@ mod tests {
             }
             let p = poly(pts);
             let (mut t, mut u) = (Tiler::new(32, 4, true), Tiler::new(32, 4, true));
-            prop_assert_eq!(t.rows(&p, 0..32), u.rows(&p, 0..32));
-            for j in t.rows(&p, 0..32) {
+            let walk = t.rows(&p, 0..32);
+            prop_assert_eq!(walk.clone(), u.rows(&p, 0..32));
+            for j in walk {
                 let (a, b) = (t.enter(j), u.enter(j));
                 prop_assert_eq!(&a, &b);
                 let Some(columns) = a else { continue };
