@@ -181,6 +181,11 @@ pub fn build_profiled(
         .expect("level 1 is not budgeted here");
     b.tree.roots = roots;
     b.expand();
+    // The casters' shadows kept on whole polygons are many small lists:
+    // freed on the pool while the tree is emitted.
+    if let Some(casters) = b.casters.take() {
+        rayon::spawn(move || drop(casters));
+    }
     if let Some(n) = b.tree.nns
         && n.fallbacks > 0
     {
