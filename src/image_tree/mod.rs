@@ -306,6 +306,14 @@ impl<'a> Builder<'a> {
             if mirrored {
                 pts.reverse();
             }
+            // Wholly beyond one plane by more than the tolerance: the
+            // clipper would keep nothing (its first test of that plane),
+            // so the polygon's own plane is not worth finding. Most of a
+            // scene seen in a mirror lies outside the mirror's volume.
+            let beyond = |pl: &DVec4| pts.iter().all(|p| pl.truncate().dot(*p) + pl.w < -self.eps);
+            if planes.iter().any(beyond) {
+                continue;
+            }
             let Ok(plane) = polygon::outward_plane(pts) else {
                 continue;
             };
