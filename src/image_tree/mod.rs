@@ -306,12 +306,10 @@ impl<'a> Builder<'a> {
             if mirrored {
                 pts.reverse();
             }
-            // Wholly beyond one plane by more than the tolerance: the
-            // clipper would keep nothing (its first test of that plane),
-            // so the polygon's own plane is not worth finding. Most of a
-            // scene seen in a mirror lies outside the mirror's volume.
-            let beyond = |pl: &DVec4| pts.iter().all(|p| pl.truncate().dot(*p) + pl.w < -self.eps);
-            if planes.iter().any(beyond) {
+            // The clipper would keep nothing, so the polygon's own plane
+            // is not worth finding: most of a scene seen in a mirror lies
+            // outside the mirror's volume.
+            if plane_clip::beyond_one(pts, planes, self.eps) {
                 continue;
             }
             let Ok(plane) = polygon::outward_plane(pts) else {
