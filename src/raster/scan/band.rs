@@ -239,7 +239,7 @@ impl<I: Integrator> Worker<I> {
         } = self;
         let (ids, written) = (&mut done.out.ids, &mut done.written);
         let mut any = false;
-        for j in tiler.rows(poly, rows.clone()) {
+        for j in tiler.rows(poly, rows) {
             let Some(columns) = tiler.enter(j) else {
                 continue;
             };
