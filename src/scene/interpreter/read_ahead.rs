@@ -198,6 +198,10 @@ impl ReadAhead {
         if slot.claim() {
             slot.fill(&self.queue);
         }
+        // While another thread reads it, this one reads the files queued
+        // after it rather than wait: a scene of many files is read by
+        // every thread the pool has, not one.
+        while !slot.is_read() && self.queue.read_next() {}
         let mut state = slot.state.lock().unwrap_or_else(|e| e.into_inner());
         while matches!(*state, State::Reading) {
             state = slot.done.wait(state).unwrap_or_else(|e| e.into_inner());
@@ -239,6 +243,12 @@ impl Slot {
         queued
     }
 
+    /// Whether the file's reading is over.
+    fn is_read(&self) -> bool {
+        let state = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        matches!(*state, State::Read(_))
+    }
+
     /// Reads the claimed file and wakes the statements waiting for it.
     fn fill(&self, queue: &Queue) {
         let result = queue.read(self);
@@ -250,19 +260,24 @@ impl Slot {
 impl Queue {
     /// Reads queued files, in order, until none is left.
     fn run(&self) {
-        loop {
-            let next = self
-                .slots
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .pop_front();
-            let Some(slot) = next else {
-                return;
-            };
-            if slot.claim() {
-                slot.fill(self);
-            }
+        while self.read_next() {}
+    }
+
+    /// Reads the next queued file, unless another thread has claimed it;
+    /// `false` when none is queued.
+    fn read_next(&self) -> bool {
+        let next = self
+            .slots
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .pop_front();
+        let Some(slot) = next else {
+            return false;
+        };
+        if slot.claim() {
+            slot.fill(self);
         }
+        true
     }
 
     /// One file read, within the bounds, with its notes held back.
