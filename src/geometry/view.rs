@@ -190,6 +190,40 @@ impl std::ops::AddAssign for GeometryStats {
     }
 }
 
+/// A polygon the view keeps, as [`expand_objects_with`] hands it on: its
+/// vertices after clipping, in clip and world coordinates.
+#[derive(Debug, Clone, Copy)]
+pub struct Kept<'a> {
+    /// Index of the object in `Scene::objects`.
+    pub object: u32,
+    /// Index of the polygon in the object's `polygons`.
+    pub polygon: u32,
+    /// The vertices, clipped to the view volume.
+    pub vertices: &'a [ClipVertex],
+    /// Whether clipping changed the polygon.
+    pub clipped: bool,
+    /// Whether the viewer sees the polygon's back (only for `type open`).
+    pub back_facing: bool,
+}
+
+impl ScreenPolygon {
+    /// The polygon `kept`, in the screen coordinates of `view`.
+    pub fn new(kept: Kept<'_>, view: &View) -> ScreenPolygon {
+        ScreenPolygon {
+            object: kept.object,
+            polygon: kept.polygon,
+            points: kept
+                .vertices
+                .iter()
+                .map(|v| view.screen_point(v.clip))
+                .collect(),
+            world: kept.vertices.iter().map(|v| v.world).collect(),
+            clipped: kept.clipped,
+            back_facing: kept.back_facing,
+        }
+    }
+}
+
 /// The screen polygons of each shown (not `type hidden`) object of
 /// `objects`, one list an object, in order; the objects are expanded in
 /// parallel (a scene of many small objects), each as [`expand_object`].
@@ -198,16 +232,27 @@ pub fn expand_objects(
     view: &View,
     stats: &mut GeometryStats,
 ) -> Vec<Vec<ScreenPolygon>> {
+    expand_objects_with(objects, view, stats, |k| ScreenPolygon::new(k, view))
+}
+
+/// [`expand_objects`], each polygon kept made into a `T` by `make`: a
+/// caller that needs only some of a screen polygon allocates only that.
+pub fn expand_objects_with<T: Send>(
+    objects: &[Object],
+    view: &View,
+    stats: &mut GeometryStats,
+    make: impl Fn(Kept<'_>) -> T + Sync,
+) -> Vec<Vec<T>> {
     use rayon::prelude::*;
     // An object a task: a few heavy objects among many light ones would
     // else share one thread's run of the iterator.
-    let expanded: Vec<(Vec<ScreenPolygon>, GeometryStats)> = (0..objects.len())
+    let expanded: Vec<(Vec<T>, GeometryStats)> = (0..objects.len())
         .into_par_iter()
         .with_max_len(1)
         .filter(|&i| !objects[i].surface_type.hidden)
         .map(|i| {
             let (mut out, mut counts) = (Vec::new(), GeometryStats::default());
-            expand_object(objects, i, view, &mut out, &mut counts);
+            expand_object_with(objects, i, view, &mut out, &mut counts, &make);
             (out, counts)
         })
         .collect();
@@ -230,6 +275,20 @@ pub fn expand_object(
     view: &View,
     out: &mut Vec<ScreenPolygon>,
     stats: &mut GeometryStats,
+) {
+    expand_object_with(objects, index, view, out, stats, &|k| {
+        ScreenPolygon::new(k, view)
+    });
+}
+
+/// [`expand_object`], each polygon kept made into a `T` by `make`.
+fn expand_object_with<T: Send>(
+    objects: &[Object],
+    index: usize,
+    view: &View,
+    out: &mut Vec<T>,
+    stats: &mut GeometryStats,
+    make: &(impl Fn(Kept<'_>) -> T + Sync),
 ) {
     use rayon::prelude::*;
     let object = &objects[index];
@@ -257,19 +316,23 @@ pub fn expand_object(
         clip_coords: &clip_coords,
         codes: &codes,
     };
-    // Back faces (usually half) are only counted.
-    let outcomes: Vec<Outcome> = object
+    // Back faces (usually half) are only counted. Each thread gathers a
+    // polygon's vertices in one reused buffer.
+    let outcomes: Vec<Outcome<T>> = object
         .polygons
         .par_iter()
         .enumerate()
         .with_min_len(PARALLEL_MIN)
-        .filter_map(|(pi, polygon)| expanded.polygon(pi, polygon))
+        .map_init(Vec::new, |scratch, (pi, polygon)| {
+            expanded.polygon(pi, polygon, scratch, make)
+        })
+        .flatten()
         .collect();
     stats.back_faces += object.polygons.len() - outcomes.len();
     out.reserve(
         outcomes
             .iter()
-            .filter(|o| matches!(o, Outcome::Kept(_)))
+            .filter(|o| matches!(o, Outcome::Kept { .. }))
             .count(),
     );
     for outcome in outcomes {
@@ -282,9 +345,9 @@ pub fn expand_object(
                 stats.clipped += usize::from(clipped);
                 stats.too_small += 1;
             }
-            Outcome::Kept(p) => {
-                stats.clipped += usize::from(p.clipped);
-                out.push(p);
+            Outcome::Kept { made, clipped } => {
+                stats.clipped += usize::from(clipped);
+                out.push(made);
             }
         }
     }
@@ -294,10 +357,10 @@ pub fn expand_object(
 const PARALLEL_MIN: usize = 1024;
 
 /// What became of one polygon in [`expand_object`] that is not a back face.
-enum Outcome {
+enum Outcome<T> {
     Outside { clipped: bool },
     TooSmall { clipped: bool },
-    Kept(ScreenPolygon),
+    Kept { made: T, clipped: bool },
 }
 
 /// One object's expansion: what each of its polygons needs.
@@ -311,58 +374,61 @@ struct Expansion<'a> {
 }
 
 impl Expansion<'_> {
-    /// `None` for a back face.
-    fn polygon(&self, pi: usize, polygon: &crate::model::Polygon) -> Option<Outcome> {
+    /// `None` for a back face; the vertices are gathered in `scratch`.
+    fn polygon<T>(
+        &self,
+        pi: usize,
+        polygon: &crate::model::Polygon,
+        scratch: &mut Vec<ClipVertex>,
+        make: &impl Fn(Kept<'_>) -> T,
+    ) -> Option<Outcome<T>> {
         let (object, view) = (self.object, self.view);
         let front = view.faces_eye(polygon.plane);
         if !front && !object.surface_type.open {
             return None;
         }
+        scratch.clear();
+        scratch.extend(polygon.indices.iter().map(|&i| ClipVertex {
+            clip: self.clip_coords[i as usize],
+            world: object.vertices[i as usize],
+        }));
         let mut clipped = false;
-        let points: Vec<ClipVertex> = polygon
-            .indices
-            .iter()
-            .map(|&i| ClipVertex {
-                clip: self.clip_coords[i as usize],
-                world: object.vertices[i as usize],
-            })
-            .collect();
-        let points = if self.containment == Containment::Crossing {
+        let cut;
+        let vertices: &[ClipVertex] = if self.containment == Containment::Crossing {
             match clip::classify(polygon.indices.iter().map(|&i| self.codes[i as usize])) {
-                Containment::Inside => points,
+                Containment::Inside => scratch,
                 Containment::Outside => return Some(Outcome::Outside { clipped: false }),
                 Containment::Crossing => {
                     clipped = true;
-                    let c = clip::clip_polygon(&points, view.epsilon);
-                    if c.is_empty() {
+                    cut = clip::clip_polygon(scratch, view.epsilon);
+                    if cut.is_empty() {
                         return Some(Outcome::Outside { clipped });
                     }
-                    c
+                    &cut
                 }
             }
         } else {
-            points
+            scratch
         };
-        let screen: Vec<DVec3> = points.iter().map(|p| view.screen_point(p.clip)).collect();
-        if is_below_detail(&screen, view) {
+        if is_below_detail(vertices, view) {
             return Some(Outcome::TooSmall { clipped });
         }
-        Some(Outcome::Kept(ScreenPolygon {
+        let made = make(Kept {
             object: self.index,
             polygon: pi as u32,
-            points: screen,
-            world: points.iter().map(|p| p.world).collect(),
+            vertices,
             clipped,
             back_facing: !front,
-        }))
+        });
+        Some(Outcome::Kept { made, clipped })
     }
 }
 
-fn is_below_detail(points: &[DVec3], view: &View) -> bool {
+fn is_below_detail(vertices: &[ClipVertex], view: &View) -> bool {
     if view.min_detail <= 0.0 {
         return false;
     }
-    let (lo, hi) = crate::math::bounds(points.iter().copied());
+    let (lo, hi) = crate::math::bounds(vertices.iter().map(|v| view.screen_point(v.clip)));
     // Extents in normalized units (the image spans 2).
     let dx = (hi.x - lo.x) * 2.0 / view.width;
     let dy = (hi.y - lo.y) * 2.0 / view.height;

@@ -213,16 +213,21 @@ impl<'a> Builder<'a> {
     /// Level 1: the geometry stage's polygons (homogeneous clipping).
     fn level_one(&mut self) -> Vec<Candidate> {
         let _t = self.profile.time(Category::Expobj);
-        let lists =
-            view::expand_objects(self.materials.objects, self.view, &mut self.tree.geometry);
+        // World points alone: the screen's are not kept.
+        let lists = view::expand_objects_with(
+            self.materials.objects,
+            self.view,
+            &mut self.tree.geometry,
+            |p| Candidate {
+                object: p.object,
+                polygon: p.polygon,
+                points: p.vertices.iter().map(|v| v.world).collect(),
+                back_facing: p.back_facing,
+            },
+        );
         // Exactly as many as there are: a mesh's level 1 is millions.
         let mut level = Vec::with_capacity(lists.iter().map(Vec::len).sum());
-        level.extend(lists.into_iter().flatten().map(|p| Candidate {
-            object: p.object,
-            polygon: p.polygon,
-            points: p.world,
-            back_facing: p.back_facing,
-        }));
+        level.extend(lists.into_iter().flatten());
         level
     }
 
