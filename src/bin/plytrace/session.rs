@@ -233,6 +233,10 @@ pub fn run(settings: &Settings, host: &mut CliHost) -> ExitCode {
         let doc = crate::stats::document(scene, counts, &host.stats, code == ExitCode::SUCCESS);
         write_stats(target, &doc);
     }
+    // The process ends next, and the system takes its memory back whole:
+    // freeing office2's scene block by block took 0.5-1.2 ms at the end
+    // of every run. The interpreter owns no file or thread to close.
+    std::mem::forget(interp);
     code
 }
 
