@@ -664,7 +664,8 @@ impl<'a> Builder<'a> {
         ready: PreparedChunk<'a>,
     ) {
         let mut regions = ready.regions.into_iter();
-        for (mut c, terms) in chunk.into_iter().zip(ready.terms) {
+        for (mut c, &slot) in chunk.into_iter().zip(&ready.slots) {
+            let terms = &ready.terms[slot as usize];
             let own = terms.shade();
             let blended = at.parent_blend + own * at.weight;
             let id = self.push(Fragment {
@@ -686,7 +687,7 @@ impl<'a> Builder<'a> {
             at.ids.push(id);
             if let Some(regions) = regions.next() {
                 let start = std::time::Instant::now();
-                let shadows = self.shadows_on(regions, &c, &terms, at, id);
+                let shadows = self.shadows_on(regions, &c, terms, at, id);
                 self.profile.add(Category::Shadows, start.elapsed());
                 self.tree.nodes[id].add_children(shadows);
             }

@@ -144,26 +144,26 @@ fn first_of_each_polygon(chunk: &[Candidate]) -> (Vec<usize>, Vec<usize>) {
 }
 
 /// The shading terms of the fragments of `chunk` seen from `eye` (true
-/// world coordinates), one per fragment: one computed per source polygon
-/// and side (the pieces of a polygon of 200,000 vertices would each
-/// average all its vertices), in parallel.
+/// world coordinates): one computed per source polygon and side (the
+/// pieces of a polygon of 200,000 vertices would each average all its
+/// vertices), in parallel, and for each fragment the index of its terms.
 fn facet_terms<'a>(
     materials: &Materials<'a>,
     eye: DVec4,
     shading: ShadingModel,
     chunk: &[Candidate],
-) -> Vec<FacetTerms<'a>> {
+) -> (Vec<FacetTerms<'a>>, Vec<u32>) {
     let mut first = rustc_hash::FxHashMap::default();
     first.reserve(chunk.len());
     let mut unique = Vec::new();
-    let slot: Vec<usize> = chunk
+    let slots: Vec<u32> = chunk
         .iter()
         .map(|c| {
             *first
                 .entry((c.object, c.polygon, c.back_facing))
                 .or_insert_with(|| {
                     unique.push(c);
-                    unique.len() - 1
+                    (unique.len() - 1) as u32
                 })
         })
         .collect();
@@ -181,7 +181,7 @@ fn facet_terms<'a>(
             )
         })
         .collect();
-    slot.into_iter().map(|k| terms[k].clone()).collect()
+    (terms, slots)
 }
 
 /// What preparing a level's chunks reads: nothing of the tree, so a chunk
@@ -206,11 +206,15 @@ impl<'a> ChunkWork<'a> {
             let _t = self.profile.time(Category::Shading);
             facet_terms(self.materials, self.eye, self.shading, chunk)
         };
-        let (terms, regions) = match &self.caster {
+        let ((terms, slots), regions) = match &self.caster {
             Some(c) => rayon::join(own, || c.level_regions(chunk, &self.t)),
             None => (own(), Vec::new()),
         };
-        PreparedChunk { terms, regions }
+        PreparedChunk {
+            terms,
+            slots,
+            regions,
+        }
     }
 }
 
@@ -231,10 +235,12 @@ pub(super) fn into_chunks(sorted: Vec<Candidate>) -> Vec<Vec<Candidate>> {
 }
 
 /// What a chunk of a level's fragments needs that does not depend on the
-/// tree, one entry per fragment (no shadow regions without `run y`).
+/// tree: the shading terms of its polygons, and for each fragment the
+/// index of its terms and its shadow regions (none without `run y`).
 #[derive(Default)]
 pub(super) struct PreparedChunk<'a> {
     pub(super) terms: Vec<FacetTerms<'a>>,
+    pub(super) slots: Vec<u32>,
     pub(super) regions: Vec<Vec<ShadowRegion>>,
 }
 
