@@ -226,7 +226,7 @@ pub fn scan_rows_into(
     if let Some(p) = &prepared.profile {
         p.add(crate::profile::Category::Misc, stats.paint_time);
     }
-    Ok(Rendered {
+    let rendered = Rendered {
         frame: FrameBuffer::new(0, 0, [0.0; 3]),
         polygons: prepared
             .sources
@@ -237,5 +237,10 @@ pub fn scan_rows_into(
         tree: prepared.file,
         profile: prepared.profile,
         stats,
-    })
+    };
+    // The records, one small block or two each, are freed on the pool
+    // while the image file is finished (0.16-0.3 ms for office2).
+    let (records, sources) = (prepared.picture, prepared.sources);
+    rayon::spawn(move || drop((records, sources)));
+    Ok(rendered)
 }
