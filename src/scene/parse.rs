@@ -23,13 +23,24 @@ use crate::modeling::sweep::{self, Profile};
 /// hostile sizes, not a format limit.
 pub const MAX_IMAGE_SIDE: i64 = 1 << 16;
 
-/// Parses every statement of a text (the check before it runs).
+/// Parses every statement of a text (the check before it runs), into a
+/// list made at its size; each statement's command word is moved into its
+/// parse, not copied.
 pub(super) fn parse_all(ctx: &Context, statements: Vec<Statement>) -> Result<Vec<Parsed>> {
-    statements.iter().map(|s| parse(ctx, s)).collect()
+    let mut parsed = Vec::with_capacity(statements.len());
+    for stmt in statements {
+        let command = command(ctx, &stmt)?;
+        let word = stmt
+            .into_iter()
+            .next()
+            .expect("a parsed statement has its word");
+        parsed.push(Parsed { word, command });
+    }
+    Ok(parsed)
 }
 
-/// Parses one statement: its command word and arguments.
-pub(super) fn parse(ctx: &Context, stmt: &[Token]) -> Result<Parsed> {
+/// The command of one statement, from its word and arguments.
+fn command(ctx: &Context, stmt: &[Token]) -> Result<Command> {
     let Some((word, args)) = stmt.split_first() else {
         return Err(Error::at(Location::file(ctx.file), "empty statement"));
     };
@@ -39,10 +50,7 @@ pub(super) fn parse(ctx: &Context, stmt: &[Token]) -> Result<Parsed> {
         args,
         spec: lookup(ctx, word)?,
     };
-    Ok(Parsed {
-        word: word.clone(),
-        command: arguments(&a)?,
-    })
+    arguments(&a)
 }
 
 /// Parses `setmode mode [value]` given as words (a mode forced on the
@@ -723,7 +731,8 @@ mod tests {
             dir: PathBuf::from("."),
             source: text,
         };
-        parse(&ctx, &statements[0])
+        let first = statements.into_iter().take(1).collect();
+        Ok(parse_all(&ctx, first)?.remove(0))
     }
 
     /// What the manual's rule (the module comment of
