@@ -419,13 +419,12 @@ fn prepare_records(
         let top_row = |j: f64| (hf - 1.0 - j) as u32 / act_lines;
         top_row(end - 1.0) < wanted.end && top_row(first) >= wanted.start
     };
-    let one = |(k, r): (usize, &crate::tree::Record)| -> Result<(Prepared, f64)> {
+    let one = |r: &crate::tree::Record| -> (Prepared, f64) {
         if needed(r) {
-            let p = shade::prepare(r, k, w, h)?;
+            let p = shade::prepare(r, w, h);
             let area = tiled_area_of(p.points.iter().copied(), w, h);
-            return Ok((p, area));
+            return (p, area);
         }
-        shade::validate(r, k, w, h)?;
         let points = r
             .points
             .iter()
@@ -437,29 +436,30 @@ fn prepare_records(
             ymin: 0.0,
             ymax: 0.0,
         };
-        Ok((skipped, tiled_area_of(points, w, h)))
+        (skipped, tiled_area_of(points, w, h))
     };
-    let prepare = || {
+    // Every record checked first (the first bad one, whatever the
+    // threads), then prepared into lists made at their size.
+    let prepare = || -> Result<(Vec<Prepared>, Vec<f64>)> {
         use rayon::prelude::*;
-        stream
-            .records
+        let records = &stream.records;
+        let bad = records
             .par_iter()
             .enumerate()
-            .map(one)
-            .collect::<Vec<Result<_>>>()
-            .into_iter()
-            // The first bad record, whatever the threads.
-            .collect::<Result<Vec<_>>>()
+            .find_map_first(|(k, r)| shade::validate(r, k, w, h).err());
+        match bad {
+            Some(e) => Err(e),
+            None => Ok(records.par_iter().map(one).unzip()),
+        }
     };
-    let prepared = match options.threads {
+    let (prepared, areas) = match options.threads {
         0 => prepare(),
         n => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
             Ok(pool) => pool.install(prepare),
             Err(_) => prepare(),
         },
     }?;
-    let area: f64 = prepared.iter().map(|(_, a)| *a).sum();
-    Ok((prepared.into_iter().map(|(p, _)| p).collect(), area))
+    Ok((prepared, areas.iter().sum()))
 }
 
 /// Method 4 keeps a record's level in a pixel-struct's five bits: a

@@ -135,41 +135,26 @@ pub(crate) fn y_range(rec: &Record, height: u32) -> (f64, f64) {
         })
 }
 
-/// Prepares record `index` for an image of `width` x `height` pixels.
-pub(crate) fn prepare(rec: &Record, index: usize, width: u32, height: u32) -> Result<Prepared> {
+/// Prepares a record that [`validate`] accepts for an image of `width` x
+/// `height` pixels.
+pub(crate) fn prepare(rec: &Record, width: u32, height: u32) -> Prepared {
     let n = rec.points.len();
     let points: Vec<DVec2> = rec
         .points
         .iter()
         .map(|p| DVec2::new(p[0] as f64 * width as f64, p[1] as f64 * height as f64))
         .collect();
-    if points.iter().any(|p| !p.is_finite()) {
-        return Err(invalid(index, "a vertex is not a finite number"));
-    }
     let shading = match &rec.shades {
         Shades::Special => Shading::Special,
         Shades::Faceted(c) => Shading::Flat(Shade {
             rgb: c.map(byte),
             t: 0.0,
         }),
-        Shades::Gouraud(cs) if cs.len() == n => {
+        Shades::Gouraud(cs) => {
             Shading::Interpolated(cs.iter().map(|c| attr(*c, 0)).collect(), None)
         }
-        Shades::Gouraud(_) => return Err(invalid(index, "Gouraud shades are not one per vertex")),
         Shades::Phong(p) => {
             let lights = p.light_colors.len();
-            if lights > MAX_LIGHTS {
-                return Err(invalid(index, "more than 16 highlight lights"));
-            }
-            if p.rgbt.len() != n
-                || p.normals.len() != n
-                || p.normals.iter().any(|v| v.len() != lights)
-            {
-                return Err(invalid(
-                    index,
-                    "Phong values are not one per vertex and light",
-                ));
-            }
             let attrs = (0..n)
                 .map(|k| {
                     let c = p.rgbt[k];
@@ -190,13 +175,13 @@ pub(crate) fn prepare(rec: &Record, index: usize, width: u32, height: u32) -> Re
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(p.y), hi.max(p.y))
         });
-    Ok(Prepared {
+    Prepared {
         points,
         shading,
         level: rec.level,
         ymin,
         ymax,
-    })
+    }
 }
 
 /// Garcia's second step for one row: the polygon's spans on the line
