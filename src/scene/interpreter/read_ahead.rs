@@ -426,6 +426,57 @@ mod tests {
         assert!(!ahead.by_path.contains_key(&files[MAX_READS]));
     }
 
+    /// Set when the reading of `first.det` below has begun, and when
+    /// `second.det` has been read.
+    static FIRST_BEGUN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+    static SECOND_READ: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+    /// Reads a file; `first.det` is not finished until `second.det` has
+    /// been read (or ten seconds have passed: then it fails).
+    fn first_after_second(path: &Path, budget: usize) -> crate::error::Result<Mesh> {
+        if path.ends_with("first.det") {
+            FIRST_BEGUN.store(true, Ordering::SeqCst);
+            let start = std::time::Instant::now();
+            while !SECOND_READ.load(Ordering::SeqCst) {
+                if start.elapsed().as_secs() >= 10 {
+                    return Err(crate::error::Error::Invalid("second never read".into()));
+                }
+                std::thread::yield_now();
+            }
+        }
+        let mesh = read_geometry(path, budget);
+        if path.ends_with("second.det") {
+            SECOND_READ.store(true, Ordering::SeqCst);
+        }
+        mesh
+    }
+
+    /// A statement whose file another thread is reading reads the files
+    /// queued after it meanwhile: here the only reading thread waits for
+    /// the second file, which the statement taking the first reads.
+    #[test]
+    fn a_statement_waiting_for_its_file_reads_the_next_ones() {
+        let dir = tempfile::tempdir().unwrap();
+        let (first, _) = write(dir.path(), "first.det", &polygon(3, 0.25));
+        let (second, _) = write(dir.path(), "second.det", &polygon(4, 0.25));
+        // One reading thread besides the one taking.
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut ahead = ReadAhead::default();
+            ahead.start(vec![first.clone(), second.clone()], 100, first_after_second);
+            while !FIRST_BEGUN.load(Ordering::SeqCst) {
+                std::thread::yield_now();
+            }
+            let read = |p: &Path| read_geometry(p, 100).unwrap();
+            let taken = |ahead: &mut ReadAhead, p: &Path| ahead.take(p).map(|r| (*r.0).clone());
+            assert_eq!(taken(&mut ahead, &first), Some(read(&first)));
+            assert_eq!(taken(&mut ahead, &second), Some(read(&second)));
+        });
+    }
+
     #[test]
     fn a_read_is_taken_once_by_its_path_and_dropped_when_cleared() {
         let dir = tempfile::tempdir().unwrap();
