@@ -590,44 +590,35 @@ impl<'a> Builder<'a> {
         if !shadows && branching.is_empty() {
             return (sorted, 0);
         }
-        let mut outlines: Vec<Outline> = sorted
-            .par_iter()
-            .map(|c| Outline {
-                points: c
-                    .points
-                    .iter()
-                    .map(|p| view.project(*p).truncate())
-                    .collect(),
-                opaque: !self.materials.is_transparent(c.object),
-            })
-            .collect();
+        let outline = |c: &Candidate| Outline {
+            points: screen_points(view, c).collect(),
+            opaque: !self.materials.is_transparent(c.object),
+        };
         let hidden = if shadows {
+            let outlines: Vec<Outline> = sorted.par_iter().map(outline).collect();
             occlusion::hidden(w, h, n, &outlines)
         } else {
             let boxes = merged(
                 branching
                     .iter()
-                    .filter_map(|&k| screen_box(&outlines[k].points)),
+                    .filter_map(|&k| screen_box(screen_points(view, &sorted[k]))),
             );
-            let asked = match boxes {
-                Some(boxes) => overlapping(&outlines, &boxes),
+            // Only the outlines asked about are made.
+            let asked: Vec<usize> = match boxes {
+                Some(boxes) => (0..sorted.len())
+                    .into_par_iter()
+                    .filter(|&k| overlaps(screen_points(view, &sorted[k]), &boxes))
+                    .collect(),
                 // Branching polygons scattered over the picture: all.
-                None => (0..outlines.len()).collect(),
+                None => (0..sorted.len()).collect(),
             };
-            let subset: Vec<Outline> = asked
-                .iter()
-                .map(|&k| Outline {
-                    points: std::mem::take(&mut outlines[k].points),
-                    opaque: outlines[k].opaque,
-                })
-                .collect();
+            let subset: Vec<Outline> = asked.par_iter().map(|&k| outline(&sorted[k])).collect();
             let mut hidden = vec![false; sorted.len()];
             for (&k, h) in asked.iter().zip(occlusion::hidden(w, h, n, &subset)) {
                 hidden[k] = h;
             }
             hidden
         };
-        drop(outlines);
         let kept: Vec<Candidate> = sorted
             .into_iter()
             .zip(&hidden)
@@ -780,10 +771,9 @@ type ScreenBox = (glam::DVec2, glam::DVec2);
 
 /// The screen box of `points` (NaN coordinates left out), `None` when
 /// there are none.
-fn screen_box(points: &[glam::DVec2]) -> Option<ScreenBox> {
+fn screen_box(points: impl Iterator<Item = glam::DVec2>) -> Option<ScreenBox> {
     points
-        .iter()
-        .map(|p| (*p, *p))
+        .map(|p| (p, p))
         .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
 }
 
@@ -814,18 +804,21 @@ fn merged(boxes: impl Iterator<Item = ScreenBox>) -> Option<Vec<ScreenBox>> {
     Some(out)
 }
 
-/// The outlines whose box meets one of `boxes`, in order; those with a
-/// point that is not finite too (the cull never finds them hidden).
-fn overlapping(outlines: &[Outline], boxes: &[ScreenBox]) -> Vec<usize> {
-    (0..outlines.len())
-        .filter(|&k| {
-            let points = &outlines[k].points;
-            if points.iter().any(|p| !p.is_finite()) {
-                return true;
-            }
-            screen_box(points).is_some_and(|own| boxes.iter().any(|b| meet(&own, b)))
-        })
-        .collect()
+/// The screen points of candidate `c`'s outline.
+fn screen_points<'a>(
+    view: &'a View,
+    c: &'a Candidate,
+) -> impl Iterator<Item = glam::DVec2> + Clone + 'a {
+    c.points.iter().map(|p| view.project(*p).truncate())
+}
+
+/// Whether the outline of `points` has a box that meets one of `boxes`,
+/// or a point that is not finite (the cull never finds it hidden).
+fn overlaps(points: impl Iterator<Item = glam::DVec2> + Clone, boxes: &[ScreenBox]) -> bool {
+    if points.clone().any(|p| !p.is_finite()) {
+        return true;
+    }
+    screen_box(points).is_some_and(|own| boxes.iter().any(|b| meet(&own, b)))
 }
 
 /// The plane of `points` with its unit normal towards the eye.
