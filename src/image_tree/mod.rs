@@ -427,7 +427,8 @@ impl<'a> Builder<'a> {
         // emitted front to back, its own order, again).
         let order = self.materials.sort_order;
         let keys: Vec<f64> = candidates
-            .iter()
+            .par_iter()
+            .with_min_len(1024)
             .map(|c| {
                 let range = c
                     .points
@@ -439,45 +440,18 @@ impl<'a> Builder<'a> {
                 depth_sort::sort_key(range, order)
             })
             .collect();
-        let mut slots: Vec<Option<Candidate>> = candidates.into_iter().map(Some).collect();
-        let stored = |mut v: Vec<Candidate>| {
-            if order == SortOrder::FrontToBack {
-                v.reverse();
-            }
-            v
-        };
-        if self.materials.expand {
+        let permutation = if self.materials.expand {
             // `setmode x on`: one composite list.
-            let sorted = depth_sort::sorted_order(&keys)
-                .into_iter()
-                .map(|k| slots[k].take().expect("a permutation"))
-                .collect();
-            return (stored(sorted), None);
+            depth_sort::sorted_order(&keys)
+        } else {
+            object_by_object(&candidates, &keys)
+        };
+        let mut sorted = candidates;
+        depth_sort::put_in_order(&mut sorted, permutation);
+        if order == SortOrder::FrontToBack {
+            sorted.reverse();
         }
-        // `setmode x off` (004 section 4.4): objects one at a time, by the
-        // farthest (btf) or nearest (ftb) depth of their polygons, each
-        // object's polygons sorted. Grouped by object in one sort (stable:
-        // each object's polygons keep their order), objects in increasing
-        // index.
-        let object = |k: usize| slots[k].as_ref().expect("full").object;
-        let mut by_object: Vec<usize> = (0..slots.len()).collect();
-        by_object.sort_by_key(|&k| object(k));
-        let groups: Vec<&[usize]> = by_object
-            .chunk_by(|&a, &b| object(a) == object(b))
-            .collect();
-        let object_keys: Vec<f64> = groups
-            .iter()
-            .map(|g| g.iter().map(|&k| keys[k]).fold(f64::INFINITY, f64::min))
-            .collect();
-        let mut out = Vec::with_capacity(slots.len());
-        for gi in depth_sort::sorted_order(&object_keys) {
-            let members = groups[gi];
-            let member_keys: Vec<f64> = members.iter().map(|&k| keys[k]).collect();
-            for m in depth_sort::sorted_order(&member_keys) {
-                out.push(slots[members[m]].take().expect("each once"));
-            }
-        }
-        (stored(out), None)
+        (sorted, None)
     }
 
     /// Adds `sorted` (the polygons of one level back to front, in virtual
@@ -802,6 +776,40 @@ fn merged(boxes: impl Iterator<Item = ScreenBox>) -> Option<Vec<ScreenBox>> {
         }
     }
     Some(out)
+}
+
+/// `setmode x off` (004 section 4.4): objects one at a time, by the
+/// farthest (btf) or nearest (ftb) depth of their polygons, each object's
+/// polygons sorted by their `keys`; the order of `candidates` that gives
+/// it. Grouped by object in one sort (stable: each object's polygons keep
+/// their order), objects in increasing index; the objects' polygons are
+/// sorted in parallel.
+fn object_by_object(candidates: &[Candidate], keys: &[f64]) -> Vec<usize> {
+    let object = |k: usize| candidates[k].object;
+    let mut by_object: Vec<usize> = (0..candidates.len()).collect();
+    by_object.sort_by_key(|&k| object(k));
+    let groups: Vec<&[usize]> = by_object
+        .chunk_by(|&a, &b| object(a) == object(b))
+        .collect();
+    let object_keys: Vec<f64> = groups
+        .iter()
+        .map(|g| g.iter().map(|&k| keys[k]).fold(f64::INFINITY, f64::min))
+        .collect();
+    let in_groups: Vec<Vec<usize>> = groups
+        .par_iter()
+        .map(|members| {
+            let member_keys: Vec<f64> = members.iter().map(|&k| keys[k]).collect();
+            depth_sort::sorted_order(&member_keys)
+                .into_iter()
+                .map(|m| members[m])
+                .collect()
+        })
+        .collect();
+    let mut permutation = Vec::with_capacity(candidates.len());
+    for gi in depth_sort::sorted_order(&object_keys) {
+        permutation.extend_from_slice(&in_groups[gi]);
+    }
+    permutation
 }
 
 /// The screen points of candidate `c`'s outline.

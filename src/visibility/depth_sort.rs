@@ -89,6 +89,26 @@ fn insertion_sort_in(items: &mut [usize], keys: &[f64]) {
     }
 }
 
+/// Puts `items` in the order `order` (a permutation of their indices:
+/// item `order[i]` goes to place `i`), in place, by following its cycles:
+/// a level of millions of polygons is not copied into a list anew.
+pub fn put_in_order<T>(items: &mut [T], mut order: Vec<usize>) {
+    assert_eq!(order.len(), items.len(), "one place per item");
+    const DONE: usize = usize::MAX;
+    for start in 0..items.len() {
+        let mut place = start;
+        while order[place] != DONE {
+            let from = order[place];
+            order[place] = DONE;
+            if from == start {
+                break;
+            }
+            items.swap(place, from);
+            place = from;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -115,6 +135,18 @@ mod tests {
     }
 
     proptest! {
+        /// Any permutation puts each item where the order says.
+        #[test]
+        fn items_go_where_the_order_puts_them(
+            order in (0usize..200).prop_flat_map(|n| Just((0..n).collect::<Vec<_>>()).prop_shuffle())
+        ) {
+            let items: Vec<usize> = (0..order.len()).map(|k| k * 10).collect();
+            let mut placed = items.clone();
+            put_in_order(&mut placed, order.clone());
+            let expected: Vec<usize> = order.iter().map(|&k| items[k]).collect();
+            prop_assert_eq!(placed, expected);
+        }
+
         #[test]
         fn agrees_with_a_stable_library_sort(keys in prop::collection::vec(-1000i32..1000, 0..300)) {
             let keys: Vec<f64> = keys.into_iter().map(|k| k as f64 / 7.0).collect();
