@@ -813,20 +813,17 @@ fn object_by_object(candidates: &[Candidate], keys: &[f64]) -> Vec<usize> {
 }
 
 /// The screen points of candidate `c`'s outline.
-fn screen_points<'a>(
-    view: &'a View,
-    c: &'a Candidate,
-) -> impl Iterator<Item = glam::DVec2> + Clone + 'a {
+fn screen_points<'a>(view: &'a View, c: &'a Candidate) -> impl Iterator<Item = glam::DVec2> + 'a {
     c.points.iter().map(|p| view.project(*p).truncate())
 }
 
 /// Whether the outline of `points` has a box that meets one of `boxes`,
-/// or a point that is not finite (the cull never finds it hidden).
-fn overlaps(points: impl Iterator<Item = glam::DVec2> + Clone, boxes: &[ScreenBox]) -> bool {
-    if points.clone().any(|p| !p.is_finite()) {
-        return true;
-    }
-    screen_box(points).is_some_and(|own| boxes.iter().any(|b| meet(&own, b)))
+/// or a point that is not finite (the cull never finds it hidden); the
+/// points are made once.
+fn overlaps(points: impl Iterator<Item = glam::DVec2>, boxes: &[ScreenBox]) -> bool {
+    let mut finite = true;
+    let own = screen_box(points.inspect(|p| finite &= p.is_finite()));
+    !finite || own.is_some_and(|own| boxes.iter().any(|b| meet(&own, b)))
 }
 
 /// The plane of `points` with its unit normal towards the eye.
@@ -842,6 +839,20 @@ fn toward_eye_plane(points: &[DVec3], eye: DVec4) -> Option<DVec4> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The cull asks about an outline whose box meets a branching area,
+    /// and about one with a point that is not finite, wherever its box.
+    #[test]
+    fn an_outline_is_asked_about_where_its_box_meets_or_a_point_is_not_finite() {
+        let v = glam::DVec2::new;
+        let boxes = [(v(0.0, 0.0), v(10.0, 10.0))];
+        let asked = |pts: &[glam::DVec2]| overlaps(pts.iter().copied(), &boxes);
+        assert!(asked(&[v(9.0, 9.0), v(20.0, 9.0), v(20.0, 20.0)]));
+        assert!(!asked(&[v(11.0, 0.0), v(20.0, 0.0), v(20.0, 5.0)]));
+        // Far from the box, but a point is not finite.
+        assert!(asked(&[v(11.0, 0.0), v(f64::NAN, 0.0), v(20.0, 5.0)]));
+        assert!(asked(&[v(11.0, 0.0), v(20.0, 0.0), v(f64::INFINITY, 5.0)]));
+    }
 
     /// Boxes that meet, directly or through others, become their common
     /// box; boxes apart stay apart; every box given lies in one merged.
