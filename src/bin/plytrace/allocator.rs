@@ -9,13 +9,19 @@
 static ALLOCATOR: tikv_jemallocator::Jemalloc = tikv_jemallocator::Jemalloc;
 
 /// jemalloc's options (its `malloc_conf`; `_RJEM_MALLOC_CONF` in the
-/// environment still overrides them), chosen for peak memory (issue 10's
-/// 64 MiB for office2), measured on office2 at 512x512:
+/// environment still overrides them), chosen for the time of a frame
+/// within a peak of 64 MiB for office2 at 512x512:
 /// - `dirty_decay_ms:10,muzzy_decay_ms:0`: pages freed for 10 ms go back
 ///   to the system. With the default 10 s, what the tree builder frees
-///   stays resident to the end: 72 MB peak, against 58 MB.
-/// - `thp:never`: huge pages cut the page faults (and a tenth of the
-///   time) but hold 2 MB wherever any of it is used: 74-86 MB.
+///   stays resident to the end: 72 MB peak, against 58 MB (when the
+///   tree was larger than it is now).
+/// - `thp:always`: transparent huge pages where the system allows them
+///   (its `madvise` setting, or `always`). A still faults in far fewer
+///   pages: office2 without shadows took 2 ms less (32.7 against 34.8 ms,
+///   4 ms less CPU), office2 5 ms less and gallery 2.4 ms less. A huge
+///   page is held wherever any of it is used: office2's peak is 40 MB
+///   instead of 27, the ten-million-triangle mesh's 3.36 GB instead of
+///   3.33. The smallest scenes (ccube) take 0.4 ms more.
 ///
 /// Not `percpu_arena:percpu` (one arena per CPU, 57 MB instead of 60): when
 /// the process may run on fewer CPUs than the machine has (`taskset`, a
@@ -23,7 +29,7 @@ static ALLOCATOR: tikv_jemallocator::Jemalloc = tikv_jemallocator::Jemalloc;
 /// run.
 #[unsafe(export_name = "_rjem_malloc_conf")]
 static MALLOC_CONF: MallocConf =
-    MallocConf(c"thp:never,dirty_decay_ms:10,muzzy_decay_ms:0".as_ptr());
+    MallocConf(c"thp:always,dirty_decay_ms:10,muzzy_decay_ms:0".as_ptr());
 
 /// A C string pointer jemalloc reads once at start-up.
 #[repr(transparent)]
