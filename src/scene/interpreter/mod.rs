@@ -185,7 +185,18 @@ pub struct Interpreter {
     pub(super) doomed: Option<deleting::Doomed>,
     /// Object files read ahead of their statements.
     read_ahead: read_ahead::ReadAhead,
+    /// Object files found in this run.
+    found_files: FoundFiles,
 }
+
+/// The object files found in one run (one scene file, or one line of the
+/// console, with what it calls), by the name as written, the detail
+/// directory, the folder that set it and the folder of the definition.
+/// A scene of a thousand `defobj cube` looks `cube.det` up once, not a
+/// thousand times (a `stat` each, on the interpreter's thread), as the
+/// read-ahead reads it once. The next run looks files up again, so it
+/// finds the files as they are then.
+type FoundFiles = std::collections::HashMap<(String, PathBuf, PathBuf, PathBuf), PathBuf>;
 
 impl Default for Interpreter {
     fn default() -> Self {
@@ -216,6 +227,7 @@ impl Interpreter {
             numbers: objects::FreeNumbers::default(),
             doomed: None,
             read_ahead: read_ahead::ReadAhead::default(),
+            found_files: FoundFiles::new(),
         }
     }
 
@@ -305,8 +317,10 @@ impl Interpreter {
         let notes = std::mem::take(&mut self.notes);
         let budgets = self.budgets;
         let read_ahead = std::mem::take(&mut self.read_ahead);
+        let found_files = std::mem::take(&mut self.found_files);
         *self = Interpreter::new();
         self.read_ahead = read_ahead;
+        self.found_files = found_files;
         self.notes = notes;
         self.budgets = budgets;
         self.files = files;
@@ -437,8 +451,9 @@ impl Interpreter {
         self.settle_deletions();
         self.files.truncate(open_before);
         // What a run did not read (after an error, a `quit`) is dropped:
-        // a later run reads the files as they are then.
+        // a later run finds and reads the files as they are then.
         self.read_ahead.clear();
+        self.found_files.clear();
         result
     }
 

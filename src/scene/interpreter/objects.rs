@@ -560,8 +560,29 @@ impl Interpreter {
     /// The geometry file of an object named `written` in a definition in
     /// a file of folder `det_base`: the name as written, then folded, with
     /// `.det` or a mesh extension, in [`Self::det_dirs`]; else the paths
-    /// tried.
+    /// tried. A file found is looked up once for the same name and
+    /// folders until the end of the run (see [`super::FoundFiles`]).
     pub(super) fn object_file(
+        &mut self,
+        written: &str,
+        det_base: &Path,
+    ) -> std::result::Result<PathBuf, Vec<PathBuf>> {
+        let key = (
+            written.to_string(),
+            self.det_dir.clone(),
+            self.det_base.clone(),
+            det_base.to_path_buf(),
+        );
+        if let Some(path) = self.found_files.get(&key) {
+            return Ok(path.clone());
+        }
+        let path = self.look_up_object_file(written, det_base)?;
+        self.found_files.insert(key, path.clone());
+        Ok(path)
+    }
+
+    /// [`Self::object_file`] in the file system.
+    fn look_up_object_file(
         &self,
         written: &str,
         det_base: &Path,
@@ -586,7 +607,7 @@ impl Interpreter {
     }
 
     /// The geometry file of the active object ([`Self::object_file`]).
-    fn find_object_file(&self, active: &ActiveObject) -> Result<PathBuf> {
+    fn find_object_file(&mut self, active: &ActiveObject) -> Result<PathBuf> {
         let tried = match self.object_file(&active.written, &active.det_base) {
             Ok(path) => return Ok(path),
             Err(tried) => tried,

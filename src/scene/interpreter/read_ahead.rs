@@ -379,6 +379,30 @@ mod tests {
         }
     }
 
+    /// A run looks each object file up once, and the next run finds the
+    /// files as they are then: a `.det` file written between two runs
+    /// comes before the `.obj` mesh of the same name the first run found.
+    #[test]
+    fn each_run_finds_the_object_files_as_they_are_then() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        write(d, "det/x.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        let (scene, _) = write(d, "s.des", "ident\ngetobj x\ngetobj x\n");
+        let points = |interp: &mut Interpreter| -> Vec<usize> {
+            let objects = &interp.current().objects;
+            objects
+                .iter()
+                .map(|o| o.polygons[0].indices.len())
+                .collect()
+        };
+        let mut interp = Interpreter::new();
+        interp.execute_file(&scene, true, &mut NoHost).unwrap();
+        assert_eq!(points(&mut interp), [3, 3]);
+        write(d, "det/x.det", &polygon(4, 0.25));
+        interp.execute_file(&scene, true, &mut NoHost).unwrap();
+        assert_eq!(points(&mut interp), [4, 4]);
+    }
+
     #[test]
     fn a_file_past_what_is_left_of_the_budget_fails_as_read_in_turn() {
         let dir = tempfile::tempdir().unwrap();
