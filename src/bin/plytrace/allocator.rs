@@ -17,7 +17,7 @@ static ALLOCATOR: tikv_jemallocator::Jemalloc = tikv_jemallocator::Jemalloc;
 ///   10 ms (when the tree was larger than it is now). 100 ms rather than
 ///   10 gives back less during a still and faults less in again:
 ///   office2 113.5 against 116.3 ms (7 ms less CPU), without shadows 28.2
-///   against 29.5 ms, for a peak of 46 MB instead of 40.
+///   against 29.5 ms, for a peak of 42-46 MB instead of 40.
 /// - `thp:always`: transparent huge pages where the system allows them
 ///   (its `madvise` setting, or `always`). A still faults in far fewer
 ///   pages: office2 without shadows took 2 ms less (32.7 against 34.8 ms,
