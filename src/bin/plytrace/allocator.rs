@@ -1,6 +1,7 @@
 //! The program's allocator: jemalloc, with its options chosen for the
-//! peak memory of one frame, and a second setting for animations, whose
-//! frames free and make the same amount of memory again and again.
+//! time of one frame within a bound on its peak memory, and a second
+//! setting for animations, whose frames free and make the same amount of
+//! memory again and again.
 
 /// jemalloc: the tree and the records are hundreds of thousands of small
 /// blocks made and freed by several threads, where glibc's allocator spent
