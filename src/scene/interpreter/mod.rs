@@ -189,14 +189,14 @@ pub struct Interpreter {
     found_files: FoundFiles,
 }
 
-/// The object files found in one run (one scene file, or one line of the
-/// console, with what it calls), by the name as written, the detail
-/// directory, the folder that set it and the folder of the definition.
-/// A scene of a thousand `defobj cube` looks `cube.det` up once, not a
-/// thousand times (a `stat` each, on the interpreter's thread), as the
-/// read-ahead reads it once. The next run looks files up again, so it
-/// finds the files as they are then.
-type FoundFiles = std::collections::HashMap<(String, PathBuf, PathBuf, PathBuf), PathBuf>;
+/// The object files looked up in one run (one scene file, or one line of
+/// the console, with what it calls), by the name as written, the detail
+/// directory, the folder that set it and the folder of the definition;
+/// `None` for one not found. A scene of a thousand `defobj cube` looks
+/// `cube.det` up once, not a thousand times (a `stat` each, on the
+/// interpreter's thread), as the read-ahead reads it once. The next run
+/// looks files up again, so it finds the files as they are then.
+type FoundFiles = std::collections::HashMap<(String, PathBuf, PathBuf, PathBuf), Option<PathBuf>>;
 
 impl Default for Interpreter {
     fn default() -> Self {

@@ -558,30 +558,28 @@ impl Interpreter {
     }
 
     /// The geometry file of an object named `written` in a definition in
-    /// a file of folder `det_base`: the name as written, then folded, with
-    /// `.det` or a mesh extension, in [`Self::det_dirs`]; else the paths
-    /// tried. A file found is looked up once for the same name and
-    /// folders until the end of the run (see [`super::FoundFiles`]).
-    pub(super) fn object_file(
-        &mut self,
-        written: &str,
-        det_base: &Path,
-    ) -> std::result::Result<PathBuf, Vec<PathBuf>> {
+    /// a file of folder `det_base` ([`Self::look_up_object_file`]), or
+    /// `None`: looked up once for the same name and folders until the end
+    /// of the run, found or not (see [`super::FoundFiles`]).
+    pub(super) fn object_file(&mut self, written: &str, det_base: &Path) -> Option<PathBuf> {
         let key = (
             written.to_string(),
             self.det_dir.clone(),
             self.det_base.clone(),
             det_base.to_path_buf(),
         );
-        if let Some(path) = self.found_files.get(&key) {
-            return Ok(path.clone());
+        if let Some(found) = self.found_files.get(&key) {
+            return found.clone();
         }
-        let path = self.look_up_object_file(written, det_base)?;
-        self.found_files.insert(key, path.clone());
-        Ok(path)
+        let found = self.look_up_object_file(written, det_base).ok();
+        self.found_files.insert(key, found.clone());
+        found
     }
 
-    /// [`Self::object_file`] in the file system.
+    /// The geometry file of an object named `written` in a definition in
+    /// a file of folder `det_base`: the name as written, then folded, with
+    /// `.det` or a mesh extension, in [`Self::det_dirs`]; else the paths
+    /// tried.
     fn look_up_object_file(
         &self,
         written: &str,
@@ -606,9 +604,14 @@ impl Interpreter {
         Err(tried)
     }
 
-    /// The geometry file of the active object ([`Self::object_file`]).
+    /// The geometry file of the active object ([`Self::object_file`]);
+    /// one not found is looked up again, as the files are now, for the
+    /// paths tried.
     fn find_object_file(&mut self, active: &ActiveObject) -> Result<PathBuf> {
-        let tried = match self.object_file(&active.written, &active.det_base) {
+        if let Some(path) = self.object_file(&active.written, &active.det_base) {
+            return Ok(path);
+        }
+        let tried = match self.look_up_object_file(&active.written, &active.det_base) {
             Ok(path) => return Ok(path),
             Err(tried) => tried,
         };

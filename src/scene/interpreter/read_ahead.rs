@@ -55,8 +55,8 @@ impl Interpreter {
     pub(super) fn start_reading_ahead(&mut self, commands: &[Parsed], dir: &Path) {
         let (det_dir, det_base) = (self.det_dir.clone(), self.det_base.clone());
         let mut paths = Vec::new();
-        // Each name is looked up once while the folders stay the same.
-        let mut found: HashMap<&str, Option<PathBuf>> = HashMap::new();
+        // Each name is looked up once for the same folders in a run
+        // (`object_file`), found or not.
         for (k, parsed) in commands.iter().enumerate() {
             if paths.len() >= MAX_STATEMENTS - self.read_ahead.statements {
                 break;
@@ -65,17 +65,13 @@ impl Interpreter {
                 Command::DetDir(d) => {
                     self.det_dir = PathBuf::from(d);
                     self.det_base = dir.to_path_buf();
-                    found.clear();
                     continue;
                 }
                 Command::Getobj(name) => name,
                 Command::Defobj { name, .. } if reads_file(&commands[k + 1..]) => name,
                 _ => continue,
             };
-            let path = found
-                .entry(name)
-                .or_insert_with(|| self.object_file(name, dir).ok());
-            paths.extend(path.clone());
+            paths.extend(self.object_file(name, dir));
         }
         (self.det_dir, self.det_base) = (det_dir, det_base);
         let budget = self.budgets.polygons;
