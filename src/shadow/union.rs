@@ -39,12 +39,15 @@ impl PlaneFrame {
 
     /// The flat ring of `points`, counter-clockwise.
     pub fn counter_clockwise(&self, points: &[DVec3]) -> Vec<Flat> {
-        boolean::counter_clockwise(
-            points
-                .iter()
-                .map(|p| [p[self.axes[0]], p[self.axes[1]]])
-                .collect(),
-        )
+        boolean::counter_clockwise(self.flat(points))
+    }
+
+    /// The flat ring of `points`, turning as they do.
+    pub fn flat(&self, points: &[DVec3]) -> Vec<Flat> {
+        points
+            .iter()
+            .map(|p| [p[self.axes[0]], p[self.axes[1]]])
+            .collect()
     }
 
     /// The points of the plane on a counter-clockwise flat ring,
@@ -82,15 +85,44 @@ pub fn union(pieces: Vec<Vec<DVec3>>, plane: DVec4) -> Vec<Vec<DVec3>> {
         .map(|p| frame.counter_clockwise(&p))
         .collect();
     let lifted = |rings: Vec<Vec<Flat>>| rings.into_iter().map(|r| frame.lift_ring(r)).collect();
-    match boolean::without_holes(boolean::union(&flat)) {
-        Some(rings)
-            if rings.iter().map(Vec::len).sum::<usize>()
-                <= MAX_GROWTH * flat.iter().map(Vec::len).sum::<usize>() =>
-        {
-            lifted(rings)
-        }
-        _ => lifted(flat),
+    match united(&flat, flat.iter().map(Vec::len).sum()) {
+        Some(rings) => lifted(rings),
+        None => lifted(flat),
     }
+}
+
+/// The union of `pieces` and of the region that `loops` wind around
+/// (non-zero), all in the plane `plane`, as [`union`]; `None` when the
+/// engine's union cannot be used ([`union`] then keeps the pieces, which
+/// loops cannot stand for). The loops may cross themselves and each
+/// other; they are turned as a whole, so that the area they wind around
+/// counts positive, never one by one (a loop around a hole turns the
+/// other way).
+pub fn union_with_loops(
+    pieces: Vec<Vec<DVec3>>,
+    loops: Vec<Vec<DVec3>>,
+    plane: DVec4,
+) -> Option<Vec<Vec<DVec3>>> {
+    let frame = PlaneFrame::new(plane);
+    let mut flat: Vec<Vec<Flat>> = pieces
+        .into_iter()
+        .map(|p| frame.counter_clockwise(&p))
+        .collect();
+    let mut rings: Vec<Vec<Flat>> = loops.iter().map(|l| frame.flat(l)).collect();
+    if rings.iter().map(|r| boolean::twice_area(r)).sum::<f64>() < 0.0 {
+        rings.iter_mut().for_each(|r| r.reverse());
+    }
+    let points = flat.iter().chain(&rings).map(Vec::len).sum();
+    flat.append(&mut rings);
+    united(&flat, points).map(|rings| rings.into_iter().map(|r| frame.lift_ring(r)).collect())
+}
+
+/// The engine's union of counter-clockwise `rings` as simple rings
+/// without holes, unless it has more than [`MAX_GROWTH`] times `points`
+/// or keeps a degenerate hole.
+fn united(rings: &[Vec<Flat>], points: usize) -> Option<Vec<Vec<Flat>>> {
+    boolean::without_holes(boolean::union(rings))
+        .filter(|out| out.iter().map(Vec::len).sum::<usize>() <= MAX_GROWTH * points)
 }
 
 /// The intersection of `a` and `b`, simple polygons in the plane
