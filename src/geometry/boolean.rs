@@ -17,8 +17,9 @@
 
 use i_overlay::core::fill_rule::FillRule;
 use i_overlay::core::overlay_rule::OverlayRule;
+use i_overlay::core::solver::{Precision, Solver};
+use i_overlay::float::overlay::{FloatOverlay, OverlayOptions};
 use i_overlay::float::simplify::SimplifyShape;
-use i_overlay::float::single::SingleFloatOverlay;
 
 /// A point in two coordinates.
 pub type Flat = [f64; 2];
@@ -26,6 +27,18 @@ pub type Flat = [f64; 2];
 /// A region as the engine gives it: outlines (counter-clockwise), each
 /// followed by its holes (clockwise).
 pub type Shapes = Vec<Vec<Vec<Flat>>>;
+
+/// The engine's solver. Where rounded crossings meet new ones, it snaps
+/// them to endpoints within a radius it widens each round until none is
+/// left: its default widens the squared radius twofold, and 22 shadow
+/// pieces of a book in office2, sharing long edges and crossing at
+/// grazing angles, took 55 s to unite so; fourfold, 17 ms. The first
+/// round is the same (a squared radius of 1), and office2's 3,147 unions
+/// come out the same, point for point.
+const SOLVER: Solver = Solver {
+    precision: Precision::MEDIUM,
+    ..Solver::AUTO
+};
 
 /// Twice the signed area of a ring (positive counter-clockwise).
 pub fn twice_area(c: &[Flat]) -> f64 {
@@ -48,7 +61,7 @@ pub fn counter_clockwise(mut ring: Vec<Flat>) -> Vec<Flat> {
 
 /// The union of counter-clockwise rings (the non-zero rule).
 pub fn union(rings: &[Vec<Flat>]) -> Shapes {
-    rings.simplify_shape_as::<i64>(FillRule::NonZero)
+    rings.simplify_shape_custom_as::<i64>(FillRule::NonZero, OverlayOptions::default(), SOLVER)
 }
 
 /// The intersection of two regions, each given as counter-clockwise rings
@@ -69,7 +82,8 @@ pub fn intersection(a: &[Vec<Flat>], b: &[Vec<Flat>]) -> Shapes {
             Vec::new()
         };
     }
-    a.overlay_as::<i64>(&b, OverlayRule::Intersect, FillRule::NonZero)
+    FloatOverlay::<Flat, i64>::from_subj_and_clip_custom(&a, &b, OverlayOptions::default(), SOLVER)
+        .overlay(OverlayRule::Intersect, FillRule::NonZero)
 }
 
 /// Whether a ring of at least three points never turns both ways (a
@@ -183,7 +197,59 @@ fn bounds(c: &[Flat]) -> (Flat, Flat) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use i_overlay::float::single::SingleFloatOverlay;
     use proptest::prelude::*;
+
+    /// Whether `p` is inside `ring` (any turning) by its winding number.
+    fn winds_around(ring: &[Flat], p: Flat) -> bool {
+        let mut winding = 0;
+        for k in 0..ring.len() {
+            let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
+            if a[1] <= p[1] && b[1] > p[1] && cross(a, b, p) > 0.0 {
+                winding += 1;
+            } else if a[1] > p[1] && b[1] <= p[1] && cross(a, b, p) < 0.0 {
+                winding -= 1;
+            }
+        }
+        winding != 0
+    }
+
+    /// The 22 shadow pieces of a face of a book in office2 (hidden in
+    /// every view): long shared edges and crossings at grazing angles,
+    /// which the engine's default solver took 55 s to unite. The union
+    /// covers, on a grid of points, what the pieces cover, once.
+    #[test]
+    fn the_pieces_that_once_took_a_minute_unite() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/unions/book_face.json");
+        let text = std::fs::read_to_string(&path).expect("the fixture of 22 pieces");
+        let pieces: Vec<Vec<Flat>> = serde_json::from_str(&text).unwrap();
+        assert_eq!(pieces.len(), 22);
+        let rings = without_holes(union(&pieces)).expect("no degenerate hole");
+        let (lo, hi) = pieces.iter().map(|r| bounds(r)).fold(
+            ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+            |(lo, hi), (l, h)| {
+                (
+                    [lo[0].min(l[0]), lo[1].min(l[1])],
+                    [hi[0].max(h[0]), hi[1].max(h[1])],
+                )
+            },
+        );
+        let mut checked = 0;
+        for i in 0..=40 {
+            for j in 0..=40 {
+                let p = [
+                    lo[0] + (hi[0] - lo[0]) * (i as f64 + 0.31) / 41.0,
+                    lo[1] + (hi[1] - lo[1]) * (j as f64 + 0.47) / 41.0,
+                ];
+                let by_pieces = pieces.iter().any(|r| winds_around(r, p));
+                let by_union = rings.iter().filter(|r| winds_around(r, p)).count();
+                assert_eq!(by_union, usize::from(by_pieces), "at {p:?}");
+                checked += usize::from(by_pieces);
+            }
+        }
+        assert!(checked > 500, "only {checked} covered points");
+    }
 
     fn convex(c: Flat, r: f64, k: usize, turn: f64) -> Vec<Flat> {
         (0..k)
