@@ -970,6 +970,20 @@ mod tests {
         crate::scene::load(&path).expect("the gallery fixture").0
     }
 
+    /// Casting in `scene` with `index`, at the scene's tolerance.
+    fn casting<'a>(
+        scene: &'a crate::model::Scene,
+        index: &'a CasterIndex,
+        profile: &'a Profile,
+    ) -> Casting<'a> {
+        Casting {
+            objects: &scene.objects,
+            index,
+            profile,
+            eps: scene.modes.epsilon * scene.size(),
+        }
+    }
+
     /// Asserts that `a` and `b` cast the same pieces, bit for bit, on
     /// every polygon of `scene` mapped by `t` (as a mirror level sees it),
     /// for every light; returns how many pieces were compared.
@@ -1015,14 +1029,10 @@ mod tests {
         let mut changed = CasterIndex::new(&scene.objects, scene.lights.len());
         change(&mut changed);
         let profile = Profile::new(false);
-        let eps = scene.modes.epsilon * scene.size();
-        let cast = |index| Casting {
-            objects: &scene.objects,
-            index,
-            profile: &profile,
-            eps,
-        };
-        let (a, b) = (cast(&plain), cast(&changed));
+        let (a, b) = (
+            casting(&scene, &plain, &profile),
+            casting(&scene, &changed, &profile),
+        );
         ts.iter().map(|t| same_pieces(&scene, &a, &b, t)).sum()
     }
 
@@ -1061,14 +1071,10 @@ mod tests {
             ..CasterIndex::new(&scene.objects, scene.lights.len())
         };
         let profile = Profile::new(false);
-        let eps = scene.modes.epsilon * scene.size();
-        let cast = |index| Casting {
-            objects: &scene.objects,
-            index,
-            profile: &profile,
-            eps,
-        };
-        let (a, b) = (cast(&with), cast(&without));
+        let (a, b) = (
+            casting(scene, &with, &profile),
+            casting(scene, &without, &profile),
+        );
         let pieces = |c: &Casting, oi: usize, pi: usize, j: usize, s: &mut Scratch| {
             let light = scene.lights[j].position;
             match c.on_polygon(oi as u32, pi as u32, j, light, s) {
@@ -1112,12 +1118,8 @@ mod tests {
         assert_eq!(outlines, 1, "the ring's outline, for the floor");
         assert!(pieces > 0);
         let index = CasterIndex::new(&scene.objects, 1);
-        let casting = Casting {
-            objects: &scene.objects,
-            index: &index,
-            profile: &Profile::new(false),
-            eps: scene.modes.epsilon * scene.size(),
-        };
+        let profile = Profile::new(false);
+        let casting = casting(&scene, &index, &profile);
         let Some(OnPolygon::Cast(shadow)) =
             casting.on_polygon(0, 0, 0, scene.lights[0].position, &mut Scratch::default())
         else {
