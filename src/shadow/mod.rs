@@ -804,11 +804,9 @@ impl Casting<'_> {
             }
             let cell = index.outline_cell(m, j);
             let outline = cell.get_or_init(|| Outline::new(o, light));
-            let mut ring = Vec::new();
             for l in outline.loops() {
-                ring.clear();
-                ring.extend(l.iter().map(|&i| o.vertices[i as usize]));
-                out.push(projected(&ring, target.plane, light));
+                let ring = l.iter().map(|&i| o.vertices[i as usize]);
+                out.push(projected(ring, target.plane, light));
             }
             chosen.push(m);
         }
@@ -865,19 +863,18 @@ fn push_kept(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], eps: f64) {
 /// `piece` projected from the light `lv` onto the `target` plane, kept if
 /// finite and of some area.
 fn push_projected(out: &mut Vec<Vec<DVec3>>, piece: &[DVec3], target: DVec4, lv: DVec3, eps: f64) {
-    let projected = projected(piece, target, lv);
+    let projected = projected(piece.iter().copied(), target, lv);
     if worth_keeping(&projected, eps) {
         out.push(projected);
     }
 }
 
 /// `points` projected from the light `lv` onto the `target` plane.
-fn projected(points: &[DVec3], target: DVec4, lv: DVec3) -> Vec<DVec3> {
+fn projected(points: impl Iterator<Item = DVec3>, target: DVec4, lv: DVec3) -> Vec<DVec3> {
     let n = target.truncate();
     points
-        .iter()
         .map(|p| {
-            let d = *p - lv;
+            let d = p - lv;
             let s = -(n.dot(lv) + target.w) / n.dot(d);
             lv + d * s
         })

@@ -78,17 +78,12 @@ pub fn union(pieces: Vec<Vec<DVec3>>, plane: DVec4) -> Vec<Vec<DVec3>> {
         return pieces;
     }
     let frame = PlaneFrame::new(plane);
-    // Each piece is freed as it is flattened: a ten-million-triangle
-    // mesh casts five million pieces on its floor.
-    let flat: Vec<Vec<Flat>> = pieces
-        .into_iter()
-        .map(|p| frame.counter_clockwise(&p))
-        .collect();
-    let lifted = |rings: Vec<Vec<Flat>>| rings.into_iter().map(|r| frame.lift_ring(r)).collect();
-    match united(&flat, flat.iter().map(Vec::len).sum()) {
-        Some(rings) => lifted(rings),
-        None => lifted(flat),
-    }
+    let flat = flattened(&frame, pieces);
+    let rings = match united(&flat) {
+        Some(rings) => rings,
+        None => flat,
+    };
+    rings.into_iter().map(|r| frame.lift_ring(r)).collect()
 }
 
 /// The union of `pieces` and of the region that `loops` wind around
@@ -104,23 +99,30 @@ pub fn union_with_loops(
     plane: DVec4,
 ) -> Option<Vec<Vec<DVec3>>> {
     let frame = PlaneFrame::new(plane);
-    let mut flat: Vec<Vec<Flat>> = pieces
-        .into_iter()
-        .map(|p| frame.counter_clockwise(&p))
-        .collect();
+    let mut flat = flattened(&frame, pieces);
     let mut rings: Vec<Vec<Flat>> = loops.iter().map(|l| frame.flat(l)).collect();
     if rings.iter().map(|r| boolean::twice_area(r)).sum::<f64>() < 0.0 {
         rings.iter_mut().for_each(|r| r.reverse());
     }
-    let points = flat.iter().chain(&rings).map(Vec::len).sum();
     flat.append(&mut rings);
-    united(&flat, points).map(|rings| rings.into_iter().map(|r| frame.lift_ring(r)).collect())
+    united(&flat).map(|rings| rings.into_iter().map(|r| frame.lift_ring(r)).collect())
 }
 
-/// The engine's union of counter-clockwise `rings` as simple rings
-/// without holes, unless it has more than [`MAX_GROWTH`] times `points`
-/// or keeps a degenerate hole.
-fn united(rings: &[Vec<Flat>], points: usize) -> Option<Vec<Vec<Flat>>> {
+/// `pieces` as counter-clockwise flat rings in `frame`, each freed as it
+/// is flattened: a ten-million-triangle mesh casts five million pieces on
+/// its floor.
+fn flattened(frame: &PlaneFrame, pieces: Vec<Vec<DVec3>>) -> Vec<Vec<Flat>> {
+    pieces
+        .into_iter()
+        .map(|p| frame.counter_clockwise(&p))
+        .collect()
+}
+
+/// The engine's union of the counter-clockwise `rings` as simple rings
+/// without holes, unless it has more than [`MAX_GROWTH`] times their
+/// points or keeps a degenerate hole.
+fn united(rings: &[Vec<Flat>]) -> Option<Vec<Vec<Flat>>> {
+    let points: usize = rings.iter().map(Vec::len).sum();
     boolean::without_holes(boolean::union(rings))
         .filter(|out| out.iter().map(Vec::len).sum::<usize>() <= MAX_GROWTH * points)
 }
