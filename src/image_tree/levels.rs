@@ -290,8 +290,12 @@ impl<'a> Builder<'a> {
             Some(n) => self.unhidden(sorted, n, p.level, p.weight),
             None => (sorted, 0),
         };
-        let ready = (!sorted.is_empty() && sorted.len() <= SHADOW_CHUNK)
-            .then(|| self.chunk_work(&p.t).prepare(&sorted));
+        let (sorted, ready) = if !sorted.is_empty() && sorted.len() <= SHADOW_CHUNK {
+            let (sorted, ready) = self.chunk_work(&p.t).prepare(sorted);
+            (sorted, Some(ready))
+        } else {
+            (sorted, None)
+        };
         Some(FoundLevel {
             sorted,
             stats,

@@ -40,6 +40,7 @@
 mod fragments;
 mod levels;
 mod options;
+mod pipeline;
 mod shadows;
 mod tree;
 
@@ -500,25 +501,14 @@ impl<'a> Builder<'a> {
             space: (self.tree.spaces.len() - 1) as u32,
             ids: Vec::new(),
         };
-        let prepare = |chunk: Option<&[Candidate]>| {
-            chunk.map_or_else(PreparedChunk::default, |chunk| work.prepare(chunk))
-        };
         let mut chunks = into_chunks(sorted);
-        let mut ready = match found {
-            Some(found) => found,
-            None => prepare(chunks.last().map(Vec::as_slice)),
-        };
-        while let Some(chunk) = chunks.pop() {
-            let mut now = std::mem::take(&mut ready);
-            // A full tree takes no more shadows.
-            if !now.regions.is_empty() && self.tree_full() {
-                self.tree.pruned += chunk.len();
-                now.regions.clear();
-            }
-            let next = chunks.last().map(Vec::as_slice);
-            let (next, ()) = rayon::join(|| prepare(next), || self.add_chunk(&mut at, chunk, now));
-            ready = next;
+        if let Some(found) = found {
+            let first = chunks.pop().expect("found ahead for a level not empty");
+            self.add_prepared(&mut at, first, found);
         }
+        work.prepare_in_order(std::iter::from_fn(|| chunks.pop()), |chunk, ready| {
+            self.add_prepared(&mut at, chunk, ready);
+        });
         Some(at.ids)
     }
 
@@ -616,6 +606,21 @@ impl<'a> Builder<'a> {
     /// Whether the tree has reached its node budget.
     fn tree_full(&self) -> bool {
         self.tree.nodes.len() + self.reserved >= self.options.budgets.tree_nodes
+    }
+
+    /// Adds `chunk` as [`Self::add_chunk`], less its shadows once the tree
+    /// is full.
+    fn add_prepared(
+        &mut self,
+        at: &mut LevelState<'_>,
+        chunk: Vec<Candidate>,
+        mut ready: PreparedChunk<'a>,
+    ) {
+        if !ready.regions.is_empty() && self.tree_full() {
+            self.tree.pruned += chunk.len();
+            ready.regions.clear();
+        }
+        self.add_chunk(at, chunk, ready);
     }
 
     /// Adds the fragments of `chunk` (with their shadow `regions`, if

@@ -29,40 +29,6 @@ struct ShadowCaster<'a> {
 }
 
 impl ShadowCaster<'_> {
-    /// The shadow regions of fragments of a level (`chunk`, virtual
-    /// coordinates under `t`), one list per fragment in their order,
-    /// computed in parallel.
-    ///
-    /// One fragment of each polygon goes first, the largest first, each
-    /// a task of its own: a big receiver (a floor under a furnished room)
-    /// starts at once while the other threads take the rest, and the
-    /// pieces of a polygon then find their polygon's regions kept instead
-    /// of casting them again side by side.
-    fn level_regions(&self, chunk: &[Candidate], t: &Matrix4) -> Vec<Vec<ShadowRegion>> {
-        let start = std::time::Instant::now();
-        let (mut first, rest) = first_of_each_polygon(chunk);
-        let area: Vec<f64> = chunk.iter().map(|c| polygon::area(&c.points)).collect();
-        first.sort_by(|&a, &b| area[b].total_cmp(&area[a]).then(a.cmp(&b)));
-        let mut regions = vec![Vec::new(); chunk.len()];
-        for batch in [first, rest] {
-            let done: Vec<(usize, Vec<ShadowRegion>)> = batch
-                .par_iter()
-                .with_max_len(1)
-                .map(|&i| {
-                    if crate::cancel::requested() {
-                        return (i, Vec::new());
-                    }
-                    (i, with_scratch(|s| self.shadow_regions(&chunk[i], t, s)))
-                })
-                .collect();
-            for (i, r) in done {
-                regions[i] = r;
-            }
-        }
-        self.profile.add(Category::Shadows, start.elapsed());
-        regions
-    }
-
     /// The shadow regions on fragment `c` (virtual coordinates under `t`)
     /// from every Point light (004 section 4.7), as overlap regions (see
     /// [`overlap_regions`]): each region carries the lights it is shadowed
@@ -135,12 +101,23 @@ fn with_scratch<R>(f: impl FnOnce(&mut crate::shadow::Scratch) -> R) -> R {
     r
 }
 
-/// The positions in `chunk` of the first fragment of each polygon, and of
-/// the others, in order.
-fn first_of_each_polygon(chunk: &[Candidate]) -> (Vec<usize>, Vec<usize>) {
+/// The order in which the shadows of `chunk`'s fragments are found: the
+/// first fragment of each polygon, the largest first, then the others in
+/// order. A big receiver (a floor under a furnished room) starts at once
+/// while the other threads take the rest, and the pieces of a polygon
+/// mostly find their polygon's regions kept instead of casting them again
+/// side by side.
+fn shadow_order(chunk: &[Candidate]) -> Vec<u32> {
     let mut seen = rustc_hash::FxHashSet::default();
     seen.reserve(chunk.len());
-    (0..chunk.len()).partition(|&i| seen.insert((chunk[i].object, chunk[i].polygon)))
+    let (mut first, rest): (Vec<u32>, Vec<u32>) = (0..chunk.len() as u32).partition(|&i| {
+        let c = &chunk[i as usize];
+        seen.insert((c.object, c.polygon))
+    });
+    let area: Vec<f64> = chunk.iter().map(|c| polygon::area(&c.points)).collect();
+    first.sort_by(|&a, &b| area[b as usize].total_cmp(&area[a as usize]).then(a.cmp(&b)));
+    first.extend(rest);
+    first
 }
 
 /// The shading terms of the fragments of `chunk` seen from `eye` (true
@@ -198,23 +175,69 @@ pub(super) struct ChunkWork<'a> {
     pub(super) eye: DVec4,
 }
 
-impl<'a> ChunkWork<'a> {
-    /// What a chunk's fragments need that does not depend on the tree
-    /// (shades, and shadows with a caster), found in parallel.
-    pub(super) fn prepare(&self, chunk: &[Candidate]) -> PreparedChunk<'a> {
-        let own = || {
-            let _t = self.profile.time(Category::Shading);
-            facet_terms(self.materials, self.eye, self.shading, chunk)
-        };
-        let ((terms, slots), regions) = match &self.caster {
-            Some(c) => rayon::join(own, || c.level_regions(chunk, &self.t)),
-            None => (own(), Vec::new()),
-        };
-        PreparedChunk {
-            terms,
-            slots,
-            regions,
+impl<'a> super::pipeline::Job for ChunkWork<'a> {
+    type Chunk = Vec<Candidate>;
+    /// The shading terms of the chunk's polygons, and each fragment's
+    /// index among them.
+    type Whole = (Vec<FacetTerms<'a>>, Vec<u32>);
+    /// A fragment's shadow regions.
+    type Item = Vec<ShadowRegion>;
+    const AHEAD: usize = 2;
+
+    fn order(&self, chunk: &Vec<Candidate>) -> Vec<u32> {
+        if self.caster.is_some() {
+            shadow_order(chunk)
+        } else {
+            Vec::new()
         }
+    }
+
+    fn whole(&self, chunk: &Vec<Candidate>) -> Self::Whole {
+        let _t = self.profile.time(Category::Shading);
+        facet_terms(self.materials, self.eye, self.shading, chunk)
+    }
+
+    fn item(&self, chunk: &Vec<Candidate>, i: u32) -> Vec<ShadowRegion> {
+        let caster = self.caster.as_ref().expect("ordered only with a caster");
+        if crate::cancel::requested() {
+            return Vec::new();
+        }
+        let _t = self.profile.time(Category::Shadows);
+        with_scratch(|s| caster.shadow_regions(&chunk[i as usize], &self.t, s))
+    }
+}
+
+impl<'a> ChunkWork<'a> {
+    /// Prepares the `chunks` of a level on every thread (see
+    /// [`super::pipeline`]) and hands each to `add`, in order, with what
+    /// its fragments need that does not depend on the tree.
+    pub(super) fn prepare_in_order(
+        &self,
+        chunks: impl IntoIterator<Item = Vec<Candidate>>,
+        mut add: impl FnMut(Vec<Candidate>, PreparedChunk<'a>),
+    ) {
+        let casts = self.caster.is_some();
+        super::pipeline::in_order(self, chunks, Vec::len, |chunk, (terms, slots), items| {
+            let regions = if casts {
+                items.into_iter().map(Option::unwrap_or_default).collect()
+            } else {
+                Vec::new()
+            };
+            let ready = PreparedChunk {
+                terms,
+                slots,
+                regions,
+            };
+            add(chunk, ready);
+        });
+    }
+
+    /// What the fragments of `chunk` need that does not depend on the
+    /// tree, found on every thread; and the chunk back.
+    pub(super) fn prepare(&self, chunk: Vec<Candidate>) -> (Vec<Candidate>, PreparedChunk<'a>) {
+        let mut out = None;
+        self.prepare_in_order([chunk], |chunk, ready| out = Some((chunk, ready)));
+        out.expect("one chunk in, one out")
     }
 }
 
