@@ -115,13 +115,12 @@ impl<J: Job> State<J> {
     }
 
     /// The first chunk, with what was made for it, when it is done.
-    fn done(&mut self) -> Option<(Arc<J::Chunk>, J::Whole, Vec<Option<J::Item>>)> {
+    fn done(&mut self) -> Option<Open<J>> {
         if self.open.front()?.left > 0 {
             return None;
         }
-        let open = self.open.pop_front()?;
         self.first += 1;
-        Some((open.chunk, open.whole?, open.items))
+        self.open.pop_front()
     }
 }
 
@@ -230,12 +229,13 @@ pub(super) fn in_order<J: Job>(
             if st.failed {
                 return;
             }
-            if let Some((chunk, whole, items)) = st.done() {
+            if let Some(done) = st.done() {
                 let held = st.open.len();
                 drop(st);
                 fill(held, &mut chunks);
-                let chunk = Arc::into_inner(chunk).expect("every task let its chunk go");
-                add(chunk, whole, items);
+                let chunk = Arc::into_inner(done.chunk).expect("every task let its chunk go");
+                let whole = done.whole.expect("the whole chunk's task is done");
+                add(chunk, whole, done.items);
             } else if let Some(task) = st.take() {
                 drop(st);
                 shared.run(job, task);
@@ -282,7 +282,7 @@ mod tests {
             let now = self.running.fetch_add(1, Ordering::SeqCst) + 1;
             self.most.fetch_max(now, Ordering::SeqCst);
             let x = chunk[i as usize];
-            if x % 7 == 0 {
+            if x.is_multiple_of(7) {
                 std::thread::sleep(std::time::Duration::from_millis(5));
             }
             self.running.fetch_sub(1, Ordering::SeqCst);
@@ -290,7 +290,10 @@ mod tests {
         }
     }
 
-    fn run(threads: usize, chunks: Vec<Vec<u64>>) -> (Vec<(Vec<u64>, u64, Vec<Option<u64>>)>, usize) {
+    /// Each chunk back, with its sum and its odd items' squares.
+    type Out = Vec<(Vec<u64>, u64, Vec<Option<u64>>)>;
+
+    fn run(threads: usize, chunks: Vec<Vec<u64>>) -> (Out, usize) {
         let job = Squares {
             running: AtomicUsize::new(0),
             most: AtomicUsize::new(0),
@@ -311,7 +314,7 @@ mod tests {
         let chunks: Vec<Vec<u64>> = (0..40u64)
             .map(|c| (0..(c % 9)).map(|i| c * 10 + i).collect())
             .collect();
-        let expected: Vec<(Vec<u64>, u64, Vec<Option<u64>>)> = chunks
+        let expected: Out = chunks
             .iter()
             .map(|c| {
                 let items = c.iter().map(|&x| (x % 2 == 1).then_some(x * x)).collect();
@@ -333,7 +336,10 @@ mod tests {
         let (out, _) = run(3, vec![Vec::new(), vec![2, 4]]);
         assert_eq!(
             out,
-            vec![(Vec::new(), 0, Vec::new()), (vec![2, 4], 6, vec![None, None])]
+            vec![
+                (Vec::new(), 0, Vec::new()),
+                (vec![2, 4], 6, vec![None, None])
+            ]
         );
     }
 

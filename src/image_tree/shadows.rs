@@ -115,7 +115,11 @@ fn shadow_order(chunk: &[Candidate]) -> Vec<u32> {
         seen.insert((c.object, c.polygon))
     });
     let area: Vec<f64> = chunk.iter().map(|c| polygon::area(&c.points)).collect();
-    first.sort_by(|&a, &b| area[b as usize].total_cmp(&area[a as usize]).then(a.cmp(&b)));
+    first.sort_by(|&a, &b| {
+        area[b as usize]
+            .total_cmp(&area[a as usize])
+            .then(a.cmp(&b))
+    });
     first.extend(rest);
     first
 }
