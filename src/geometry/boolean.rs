@@ -103,9 +103,9 @@ fn cross(a: Flat, b: Flat, c: Flat) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
-/// The counter-clockwise ring `subject` clipped to the left of every edge
-/// of the counter-clockwise convex ring `clip`.
-fn clip_convex(subject: &[Flat], clip: &[Flat]) -> Vec<Flat> {
+/// The ring `subject` (either way round) clipped to the left of every
+/// edge of the counter-clockwise convex ring `clip` (Sutherland-Hodgman).
+pub fn clip_convex(subject: &[Flat], clip: &[Flat]) -> Vec<Flat> {
     let mut ring = subject.to_vec();
     let mut next = Vec::with_capacity(ring.len() + clip.len());
     for k in 0..clip.len() {

@@ -111,6 +111,11 @@ impl Outline {
         out
     }
 
+    /// How many points its loops have in all.
+    pub fn point_count(&self) -> usize {
+        self.points.len()
+    }
+
     /// The loops, as slices of vertex indices.
     pub fn loops(&self) -> impl Iterator<Item = &[u32]> {
         let starts = std::iter::once(0).chain(self.ends.iter().copied());

@@ -86,24 +86,54 @@ pub fn union(pieces: Vec<Vec<DVec3>>, plane: DVec4) -> Vec<Vec<DVec3>> {
     rings.into_iter().map(|r| frame.lift_ring(r)).collect()
 }
 
+/// Outline loops (see [`super::outline`]) projected onto a target's
+/// plane: those that stay within the target, and those to be cut to its
+/// outline (of objects that reach beyond its shadow volume's sides).
+#[derive(Debug, Default)]
+pub struct Loops {
+    /// Loops within the target.
+    pub within: Vec<Vec<DVec3>>,
+    /// Loops to be cut to the target's outline.
+    pub cut: Vec<Vec<DVec3>>,
+}
+
+impl Loops {
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.within.is_empty() && self.cut.is_empty()
+    }
+}
+
 /// The union of `pieces` and of the region that `loops` wind around
-/// (non-zero), all in the plane `plane`, as [`union`]; `None` when the
+/// (non-zero), all in the plane `plane`, as [`union`], the loops of
+/// `loops.cut` cut to the convex polygon `target` first; `None` when the
 /// engine's union cannot be used ([`union`] then keeps the pieces, which
 /// loops cannot stand for). The loops may cross themselves and each
 /// other; they are turned as a whole, so that the area they wind around
 /// counts positive, never one by one (a loop around a hole turns the
-/// other way).
+/// other way). Cutting a loop to a convex outline, edge by edge
+/// (Sutherland-Hodgman), keeps its winding number at every point inside:
+/// where the loop leaves, the cut runs along the outline's edge and back.
 pub fn union_with_loops(
     pieces: Vec<Vec<DVec3>>,
-    loops: Vec<Vec<DVec3>>,
+    loops: Loops,
     plane: DVec4,
+    target: &[DVec3],
 ) -> Option<Vec<Vec<DVec3>>> {
     let frame = PlaneFrame::new(plane);
     let mut flat = flattened(&frame, pieces);
-    let mut rings: Vec<Vec<Flat>> = loops.iter().map(|l| frame.flat(l)).collect();
+    let (within, cut) = (loops.within.len(), loops.cut);
+    let mut rings: Vec<Vec<Flat>> = (loops.within.iter().chain(&cut))
+        .map(|l| frame.flat(l))
+        .collect();
     if rings.iter().map(|r| boolean::twice_area(r)).sum::<f64>() < 0.0 {
         rings.iter_mut().for_each(|r| r.reverse());
     }
+    let outline = frame.counter_clockwise(target);
+    for ring in &mut rings[within..] {
+        *ring = boolean::clip_convex(ring, &outline);
+    }
+    rings.retain(|r| r.len() >= 3);
     flat.append(&mut rings);
     united(&flat).map(|rings| rings.into_iter().map(|r| frame.lift_ring(r)).collect())
 }
