@@ -105,13 +105,16 @@ impl<J: Job> State<J> {
         })
     }
 
-    fn store(&mut self, seq: usize, made: Made<J>) {
+    /// Stores what a task of chunk `seq` made; whether that finished the
+    /// first chunk (what the calling thread waits for).
+    fn store(&mut self, seq: usize, made: Made<J>) -> bool {
         let open = &mut self.open[seq - self.first];
         match made {
             Made::Whole(w) => open.whole = Some(w),
             Made::Item(i, r) => open.items[i as usize] = Some(r),
         }
         open.left -= 1;
+        seq == self.first && open.left == 0
     }
 
     /// The first chunk, with what was made for it, when it is done.
@@ -145,8 +148,10 @@ impl<J: Job> Shared<J> {
         // The chunk is let go first, so that once its last task is
         // stored the calling thread holds it alone.
         drop(task);
-        self.lock().store(seq, made);
-        self.changed.notify_all();
+        // Only the calling thread waits, and only for the first chunk.
+        if self.lock().store(seq, made) {
+            self.changed.notify_one();
+        }
     }
 
     /// A worker: tasks until none is left to take.
@@ -176,7 +181,7 @@ impl<J: Job> Drop for OnPanic<'_, J> {
     fn drop(&mut self) {
         if std::thread::panicking() {
             self.0.lock().failed = true;
-            self.0.changed.notify_all();
+            self.0.changed.notify_one();
         }
     }
 }
