@@ -460,9 +460,9 @@ impl<'a> Builder<'a> {
     /// Returns the new fragments' indices, back to front. `found` is what
     /// the first chunk needs, when it was found ahead.
     ///
-    /// The shadow regions of the fragments are found in parallel a chunk
-    /// at a time, the next chunk's while this thread adds the current
-    /// one's fragments to the tree, in order (so the tree does not depend
+    /// The shadow regions and shades of the fragments are found on every
+    /// thread, a few chunks ahead ([`pipeline`]), while this thread adds
+    /// the chunks done to the tree, in order (so the tree does not depend
     /// on the threads).
     #[allow(clippy::too_many_arguments)]
     fn trace(

@@ -271,10 +271,11 @@ pub(super) struct PreparedChunk<'a> {
     pub(super) regions: Vec<Vec<ShadowRegion>>,
 }
 
-/// Fragments whose shadows are cast in parallel at once. It bounds the
-/// regions waiting to be added to the tree: with many Point lights each
-/// fragment may carry up to [`MAX_OVERLAP_PIECES`] overlap regions, and
-/// 4096 fragments of office2 under 50 lights held more than 5 GB.
+/// Fragments of a chunk. With the pipeline's two chunks ahead
+/// ([`super::pipeline::Job::AHEAD`]) and the one being added, it bounds
+/// the regions waiting to be added to the tree: with many Point lights
+/// each fragment may carry up to [`MAX_OVERLAP_PIECES`] overlap regions,
+/// and 4096 fragments of office2 under 50 lights held more than 5 GB.
 pub(super) const SHADOW_CHUNK: usize = 256;
 
 /// At most this many lights are combined into overlap regions on one
