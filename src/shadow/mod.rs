@@ -1164,6 +1164,32 @@ mod tests {
         (total, outlines, cut)
     }
 
+    /// A ring of `n x n` cells less its middle ([`outline::tests::ring_det`])
+    /// at height 1 over `floor` (an object file) at height 0, lit from
+    /// (0.2, 0.1, 5).
+    fn ring_over(floor: &str, n: usize) -> crate::model::Scene {
+        outline::tests::scene(
+            "light 0.2 0.1 5 1 1 1 100 Point\ndefobj floor\nendobj\ndefobj ring\nendobj\n",
+            &[
+                ("floor", floor.to_string()),
+                ("ring", outline::tests::ring_det(n, 1.0)),
+            ],
+        )
+    }
+
+    /// Where the point `(x, y)` of the ring falls on the floor, from the
+    /// light through height 1 to height 0.
+    fn on_floor(x: f64, y: f64) -> DVec3 {
+        DVec3::new(0.2 + (x - 0.2) * 1.25, 0.1 + (y - 0.1) * 1.25, 0.0)
+    }
+
+    /// How many of the polygons of `shadow` (on the floor) cover `p`.
+    fn covered(shadow: &[Vec<DVec3>], p: DVec3) -> usize {
+        (shadow.iter())
+            .filter(|r| union::tests::inside(r, DVec3::Z, p, 1e-9) == Some(true))
+            .count()
+    }
+
     /// A ring of 48 cells over a floor, inside the floor's shadow volume:
     /// the floor takes the ring's outline, two loops turning opposite
     /// ways, and its shadow keeps the ring's hole (the light shines
@@ -1171,13 +1197,7 @@ mod tests {
     #[test]
     fn an_object_inside_a_shadow_volume_casts_its_outline() {
         let floor = "title floor\ndata\n4 1\n-5 -5 0\n5 -5 0\n5 5 0\n-5 5 0\n4 4 3 2 1\n";
-        let scene = outline::tests::scene(
-            "light 0.2 0.1 5 1 1 1 100 Point\ndefobj floor\nendobj\ndefobj ring\nendobj\n",
-            &[
-                ("floor", floor.to_string()),
-                ("ring", outline::tests::ring_det(8, 1.0)),
-            ],
-        );
+        let scene = ring_over(floor, 8);
         let (pieces, outlines, cut) = same_with_outlines(&scene);
         assert_eq!(outlines, 1, "the ring's outline, for the floor");
         assert_eq!(cut, 0, "the outline within the floor's volume is not cut");
@@ -1190,18 +1210,11 @@ mod tests {
         else {
             panic!("the ring shadows the floor");
         };
-        // From the light at (0.2, 0.1, 5) through height 1 to height 0.
-        let on_floor =
-            |x: f64, y: f64| DVec3::new(0.2 + (x - 0.2) * 1.25, 0.1 + (y - 0.1) * 1.25, 0.0);
-        let covered = |p: DVec3| {
-            shadow
-                .iter()
-                .filter(|r| union::tests::inside(r, DVec3::Z, p, 1e-9) == Some(true))
-                .count()
-        };
-        assert_eq!(covered(on_floor(0.0, 0.0)), 0, "the hole is lit");
-        assert_eq!(covered(on_floor(0.75, 0.1)), 1, "under the ring is shadow");
-        assert_eq!(covered(on_floor(1.5, 0.0)), 0, "beyond the ring is lit");
+        assert_eq!(covered(&shadow, on_floor(0.0, 0.0)), 0, "the hole is lit");
+        let under = covered(&shadow, on_floor(0.75, 0.1));
+        assert_eq!(under, 1, "under the ring is shadow");
+        let beyond = covered(&shadow, on_floor(1.5, 0.0));
+        assert_eq!(beyond, 0, "beyond the ring is lit");
     }
 
     /// A ring of 192 cells over a floor of two halves, reaching over both:
@@ -1210,13 +1223,7 @@ mod tests {
     #[test]
     fn an_object_beside_a_shadow_volume_casts_its_outline_cut() {
         let floor = "title floor\ndata\n6 2\n-5 -5 0\n0.3 -5 0\n5 -5 0\n5 5 0\n0.3 5 0\n-5 5 0\n4 5 2 1 6\n4 4 3 2 5\n";
-        let scene = outline::tests::scene(
-            "light 0.2 0.1 5 1 1 1 100 Point\ndefobj floor\nendobj\ndefobj ring\nendobj\n",
-            &[
-                ("floor", floor.to_string()),
-                ("ring", outline::tests::ring_det(16, 1.0)),
-            ],
-        );
+        let scene = ring_over(floor, 16);
         let (pieces, outlines, _) = same_with_outlines(&scene);
         assert_eq!(outlines, 1, "the ring's outline, for both halves");
         assert!(pieces > 0);
@@ -1224,11 +1231,8 @@ mod tests {
         let profile = Profile::new(false);
         let casting = casting(&scene, &index, &profile);
         let light = scene.lights[0].position;
-        // From the light at (0.2, 0.1, 5) through height 1 to height 0.
-        let on_floor =
-            |x: f64, y: f64| DVec3::new(0.2 + (x - 0.2) * 1.25, 0.1 + (y - 0.1) * 1.25, 0.0);
         let mut s = Scratch::default();
-        let mut covered = [0, 0, 0];
+        let mut under = [0, 0, 0];
         for polygon in 0..2 {
             let points: Vec<DVec3> = CasterRef::new(&scene.objects, 0, polygon)
                 .points()
@@ -1250,25 +1254,13 @@ mod tests {
             else {
                 panic!("the ring shadows half {polygon}");
             };
-            let at = |p: DVec3| {
-                shadow
-                    .iter()
-                    .filter(|r| union::tests::inside(r, DVec3::Z, p, 1e-9) == Some(true))
-                    .count()
-            };
-            for (k, p) in [
-                on_floor(0.0, 0.0),
-                on_floor(0.75, 0.1),
-                on_floor(-0.75, 0.1),
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                covered[k] += at(p);
+            let points = [(0.0, 0.0), (0.75, 0.1), (-0.75, 0.1)];
+            for (k, (x, y)) in points.into_iter().enumerate() {
+                under[k] += covered(&shadow, on_floor(x, y));
             }
         }
         assert_eq!(
-            covered,
+            under,
             [0, 1, 1],
             "the hole lit, the ring's two sides shadow"
         );
