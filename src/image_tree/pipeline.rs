@@ -28,6 +28,8 @@ pub(super) trait Job: Sync {
     type Item: Send;
     /// Chunks prepared at once, beside the one being added (at least 1).
     const AHEAD: usize;
+    /// How many items the chunk has.
+    fn items(&self, chunk: &Self::Chunk) -> usize;
     /// The positions of the chunk's items to make, in the order to take
     /// them; the others get none.
     fn order(&self, chunk: &Self::Chunk) -> Vec<u32>;
@@ -51,8 +53,8 @@ struct Open<J: Job> {
 }
 
 impl<J: Job> Open<J> {
-    fn new(job: &J, chunk: J::Chunk, len: usize) -> Open<J> {
-        let order = job.order(&chunk);
+    fn new(job: &J, chunk: J::Chunk) -> Open<J> {
+        let (order, len) = (job.order(&chunk), job.items(&chunk));
         let left = order.len() + 1;
         Open {
             chunk: Arc::new(chunk),
@@ -186,14 +188,13 @@ impl<J: Job> Drop for OnPanic<'_, J> {
     }
 }
 
-/// Prepares `chunks` (of `len` items each) by `job` on every thread of
+/// Prepares `chunks` by `job` on every thread of
 /// the pool and hands each, with what was made for it, to `add` on this
 /// thread, in order. Item positions left out of the job's order get
 /// `None`.
 pub(super) fn in_order<J: Job>(
     job: &J,
     chunks: impl IntoIterator<Item = J::Chunk>,
-    len: impl Fn(&J::Chunk) -> usize,
     mut add: impl FnMut(J::Chunk, J::Whole, Vec<Option<J::Item>>),
 ) {
     let mut chunks = chunks.into_iter();
@@ -212,8 +213,7 @@ pub(super) fn in_order<J: Job>(
         let fill = |held: usize, chunks: &mut dyn Iterator<Item = J::Chunk>| {
             let mut opened = Vec::new();
             for chunk in chunks.take(J::AHEAD.max(1).saturating_sub(held)) {
-                let n = len(&chunk);
-                opened.push(Open::new(job, chunk, n));
+                opened.push(Open::new(job, chunk));
             }
             let mut st = shared.lock();
             st.open.extend(opened);
@@ -272,6 +272,9 @@ mod tests {
         type Whole = u64;
         type Item = u64;
         const AHEAD: usize = 2;
+        fn items(&self, chunk: &Vec<u64>) -> usize {
+            chunk.len()
+        }
         fn order(&self, chunk: &Vec<u64>) -> Vec<u32> {
             // Largest first, the odd ones only.
             let mut order: Vec<u32> = (0..chunk.len() as u32)
@@ -308,7 +311,7 @@ mod tests {
             .build()
             .unwrap();
         let mut out = Vec::new();
-        pool.install(|| in_order(&job, chunks, Vec::len, |c, w, i| out.push((c, w, i))));
+        pool.install(|| in_order(&job, chunks, |c, w, i| out.push((c, w, i))));
         (out, job.most.load(Ordering::SeqCst))
     }
 
@@ -357,6 +360,9 @@ mod tests {
             type Whole = ();
             type Item = ();
             const AHEAD: usize = 1;
+            fn items(&self, chunk: &Vec<u64>) -> usize {
+                chunk.len()
+            }
             fn order(&self, chunk: &Vec<u64>) -> Vec<u32> {
                 (0..chunk.len() as u32).collect()
             }
@@ -371,7 +377,7 @@ mod tests {
             .unwrap();
         let chunks: Vec<Vec<u64>> = (0..10u64).map(|c| vec![c, c + 10]).collect();
         let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            pool.install(|| in_order(&Fails, chunks, Vec::len, |_, (), _| {}))
+            pool.install(|| in_order(&Fails, chunks, |_, (), _| {}))
         }));
         assert!(r.is_err());
     }

@@ -188,6 +188,10 @@ impl<'a> super::pipeline::Job for ChunkWork<'a> {
     type Item = Vec<ShadowRegion>;
     const AHEAD: usize = 2;
 
+    fn items(&self, chunk: &Vec<Candidate>) -> usize {
+        chunk.len()
+    }
+
     fn order(&self, chunk: &Vec<Candidate>) -> Vec<u32> {
         if self.caster.is_some() {
             shadow_order(chunk)
@@ -221,7 +225,7 @@ impl<'a> ChunkWork<'a> {
         mut add: impl FnMut(Vec<Candidate>, PreparedChunk<'a>),
     ) {
         let casts = self.caster.is_some();
-        super::pipeline::in_order(self, chunks, Vec::len, |chunk, (terms, slots), items| {
+        super::pipeline::in_order(self, chunks, |chunk, (terms, slots), items| {
             let regions = if casts {
                 items.into_iter().map(Option::unwrap_or_default).collect()
             } else {

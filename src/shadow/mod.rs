@@ -21,14 +21,14 @@
 //! projected from the light onto the target's plane. Nothing is allocated
 //! per caster except the shadow pieces that are kept.
 //!
-//! An object that lies wholly between the light and a whole convex
-//! polygon, by more than the tolerance, with many of its polygons found
-//! in the polygon's shadow volume, is cast by its outline as the light
-//! sees it instead ([`outline`]): the loops of the edges of its polygons
-//! facing the light that no two of them share, projected, cut to the
-//! polygon's outline unless the object lies inside the volume's sides
-//! too, and united with the other pieces under the non-zero rule
-//! ([`union::union_with_loops`]). The region is the same in far fewer
+//! An object that lies wholly between the light and a whole polygon, by
+//! more than the tolerance, with many of its polygons found in the
+//! polygon's shadow volume, is cast by its outline as the light sees it
+//! instead ([`outline`]): the loops of the edges of its polygons facing
+//! the light that no two of them share, projected, and united with the
+//! other pieces under the non-zero rule. When the object reaches past the
+//! volume's sides the polygon must be convex, and the loops are cut to
+//! its outline first ([`union::union_with_loops`]). The region is the same in far fewer
 //! points: office2's sculpture casts a few hundred on its floor instead of
 //! ten thousand pieces, and a mesh of ten million triangles a few thousand
 //! on its floor instead of five million.
@@ -110,8 +110,8 @@ pub struct CasterIndex {
     /// The outlines of objects as each light sees them, by (object,
     /// light), each made once, when first asked for.
     outlines: Mutex<rustc_hash::FxHashMap<(u32, u32), OutlineCell>>,
-    /// Whether an object inside a whole shadow volume is cast by its
-    /// outline (off only to test the outlines against the polygons).
+    /// Whether an object between the light and a whole polygon is cast by
+    /// its outline (off only to test the outlines against the polygons).
     cast_outlines: bool,
     /// Whether shadows are kept the first time they are asked for, not
     /// the second: an index kept for the next frames of an animation

@@ -122,8 +122,8 @@ pub fn union_with_loops(
 ) -> Option<Vec<Vec<DVec3>>> {
     let frame = PlaneFrame::new(plane);
     let mut flat = flattened(&frame, pieces);
-    let (within, cut) = (loops.within.len(), loops.cut);
-    let mut rings: Vec<Vec<Flat>> = (loops.within.iter().chain(&cut))
+    let within = loops.within.len();
+    let mut rings: Vec<Vec<Flat>> = (loops.within.iter().chain(&loops.cut))
         .map(|l| frame.flat(l))
         .collect();
     if rings.iter().map(|r| boolean::twice_area(r)).sum::<f64>() < 0.0 {
