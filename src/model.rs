@@ -325,7 +325,9 @@ pub struct Modes {
     pub shadow_shades: bool,
     /// `l` (and `depth`): maximum recursion level 1-14.
     pub max_level: u32,
-    /// `n`: Newell, Newell and Sancha sorting.
+    /// `n`: Newell, Newell and Sancha sorting (on unless the scene or
+    /// `-n off` turns it off: the simple sort of `n off` is wrong wherever
+    /// polygons overlap in depth and on the screen).
     pub nns: bool,
     /// `o`: write the virtual image tree.
     pub output_tree: bool,
@@ -348,7 +350,7 @@ impl Default for Modes {
             epsilon: precision::DEFAULT_CLIP_EPSILON,
             shadow_shades: false,
             max_level: 1,
-            nns: false,
+            nns: true,
             output_tree: false,
             boxes_only: false,
             phong: false,

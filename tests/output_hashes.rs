@@ -25,6 +25,13 @@ const TABLE: &str = "tests/data/output-hashes.txt";
 /// scene's own commands and run the manual's programs on the tree files.
 const FLAG_SETS: &[(&str, &[&str])] = &[
     ("default", &["--size", "96x72"]),
+    // The default picture is NNS's (checked below, file for file), and
+    // the simple sort stays what it was.
+    ("n-on", &["--size", "96x72", "-n", "on"]),
+    (
+        "depth-sort",
+        &["--size", "96x72", "--visibility", "depth-sort"],
+    ),
     ("tree", &["--size", "64x64", "-o", "on", "-l", "3"]),
     (
         "tree-pre",
@@ -270,9 +277,26 @@ fn all_outputs() -> Vec<String> {
     lines
 }
 
+/// The default picture of every scene is the NNS picture, byte for byte.
+fn assert_default_is_nns(lines: &[String]) {
+    let set = |name: &str| -> BTreeMap<(&str, &str), &str> {
+        lines
+            .iter()
+            .filter_map(|l| {
+                let w: Vec<&str> = l.split(' ').collect();
+                (w[1] == name).then(|| ((w[0], w[2]), w[3]))
+            })
+            .collect()
+    };
+    let (default, nns) = (set("default"), set("n-on"));
+    assert!(default.len() >= scenes().len(), "{default:?}");
+    assert_eq!(default, nns, "the default picture is not the NNS picture");
+}
+
 #[test]
 fn every_output_byte_is_unchanged() {
     let lines = all_outputs();
+    assert_default_is_nns(&lines);
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(TABLE);
     if std::env::var_os("PLYTRACE_BLESS_HASHES").is_some() {
         std::fs::write(&path, lines.join("\n") + "\n").unwrap();

@@ -590,3 +590,84 @@ fn phong_tree_records() {
         tree
     );
 }
+
+/// The records of a tree file (`FNAME.txt`): each one's level and the
+/// area of its screen polygon.
+fn tree_records(txt: &str) -> Vec<(u32, f64)> {
+    txt.lines()
+        .filter(|l| l.starts_with("faceted "))
+        .map(|l| {
+            let w: Vec<f64> = l
+                .split_whitespace()
+                .skip(1)
+                .map(|x| x.parse().unwrap())
+                .collect();
+            let (level, n) = (w[0] as u32, w[1] as usize);
+            let xy = &w[5..5 + 2 * n];
+            let area = (0..n)
+                .map(|i| {
+                    let j = (i + 1) % n;
+                    xy[2 * i] * xy[2 * j + 1] - xy[2 * j] * xy[2 * i + 1]
+                })
+                .sum::<f64>()
+                .abs()
+                / 2.0;
+            (level, area)
+        })
+        .collect()
+}
+
+/// 004 figure 4.15 through the program, as a user of the thesis runs it
+/// (`sort ftb`, `depth 2`, `setmode o on`): the front-to-back tree file
+/// is `P12, P13, P14, P21, P22, P23, P11` (the cube's faces, the reflected
+/// faces, then the mirror, the largest), the back-to-front one the
+/// mirror first; and the two orders give one picture, with the default
+/// sort and with the simple one (`-n off`).
+#[test]
+fn cube_on_mirror_both_orders_through_the_program() {
+    let dir = support::cube_and_square_dir();
+    let scene = |order: &str| {
+        format!(
+            "resolution 128 128\nperspective 45 1 0.1 100\ndepth 2\nsort {order}\n\
+             setmode o on\nfname fig{order}\npushmatrix\nident\npolarview 9 30 60 0\n\
+             light 0 -10 10 1 1 1 50 Diffuse\n\
+             defobj square\n reflectance 0.5\n scale 4 4 1\nendobj\n\
+             defobj cube\n translate 0 0 1.01\nendobj\npopmatrix\n"
+        )
+    };
+    for sort in [&[][..], &["-n", "off"][..]] {
+        let mut png = Vec::new();
+        for order in ["ftb", "btf"] {
+            std::fs::write(dir.path().join(format!("{order}.des")), scene(order)).unwrap();
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_plytrace"))
+                .current_dir(dir.path())
+                .args(sort)
+                .args(["-q", &format!("{order}.des"), "-o", &format!("{order}.png")])
+                .output()
+                .unwrap();
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            png.push(std::fs::read(dir.path().join(format!("{order}.png"))).unwrap());
+            let txt = std::fs::read_to_string(dir.path().join(format!("fig{order}.txt"))).unwrap();
+            let records = tree_records(&txt);
+            let levels: Vec<u32> = records.iter().map(|r| r.0).collect();
+            let largest = (0..records.len())
+                .max_by(|&a, &b| records[a].1.total_cmp(&records[b].1))
+                .unwrap();
+            if order == "ftb" {
+                assert_eq!(levels, [1, 1, 1, 2, 2, 2, 1], "{sort:?}");
+                assert_eq!(largest, 6, "the mirror last: {records:?}");
+            } else {
+                assert_eq!(levels, [1, 2, 2, 2, 1, 1, 1], "{sort:?}");
+                assert_eq!(largest, 0, "the mirror first: {records:?}");
+            }
+        }
+        assert!(
+            png[0] == png[1],
+            "{sort:?}: sort ftb and sort btf draw two pictures"
+        );
+    }
+}

@@ -50,7 +50,7 @@ use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::geometry::view::{self, View};
 use crate::math::Matrix4;
-use crate::model::{Color, SortOrder};
+use crate::model::Color;
 use crate::profile::{Category, Profile};
 use crate::shading::Materials;
 pub use crate::shadow::CasterReuse;
@@ -419,26 +419,22 @@ impl<'a> Builder<'a> {
             return (sorted, Some(stats));
         }
         // 004 section 4.4: "the sorting order is simply determined by
-        // either the minimum or maximum vertex Z-coordinate of the polygon,
-        // depending on the sorting order (i.e., front-to-back or
-        // back-to-front)": `sort btf` paints by the farthest vertex, far
-        // first; `sort ftb` takes the nearest vertex, near first. The two
-        // orders are different sorts, not one reversed. The level list is
-        // kept back to front, so an ftb sort is stored reversed (and
-        // emitted front to back, its own order, again).
-        let order = self.materials.sort_order;
+        // either the minimum or maximum vertex Z-coordinate of the
+        // polygon": the level is sorted by the farthest vertex, far first,
+        // whatever `sort btf|ftb` says. Front to back is this order
+        // reversed at output (`VirtualImageTree::output_order`, children
+        // before parents): a second sort by the nearest vertex put a floor
+        // before what stands on it and gave another picture.
         let keys: Vec<f64> = candidates
             .par_iter()
             .with_min_len(1024)
             .map(|c| {
-                let range = c
+                let far = c
                     .points
                     .iter()
                     .map(|p| self.view.project(*p).z)
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), z| {
-                        (lo.min(z), hi.max(z))
-                    });
-                depth_sort::sort_key(range, order)
+                    .fold(f64::NEG_INFINITY, f64::max);
+                depth_sort::sort_key(far)
             })
             .collect();
         let permutation = if self.materials.expand {
@@ -449,9 +445,6 @@ impl<'a> Builder<'a> {
         };
         let mut sorted = candidates;
         depth_sort::put_in_order(&mut sorted, permutation);
-        if order == SortOrder::FrontToBack {
-            sorted.reverse();
-        }
         (sorted, None)
     }
 
@@ -784,7 +777,7 @@ fn merged(boxes: impl Iterator<Item = ScreenBox>) -> Option<Vec<ScreenBox>> {
 }
 
 /// `setmode x off` (004 section 4.4): objects one at a time, by the
-/// farthest (btf) or nearest (ftb) depth of their polygons, each object's
+/// farthest depth of their polygons, each object's
 /// polygons sorted by their `keys`; the order of `candidates` that gives
 /// it. Grouped by object in one sort (stable: each object's polygons keep
 /// their order), objects in increasing index; the objects' polygons are

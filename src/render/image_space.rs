@@ -247,19 +247,17 @@ fn brown_sorted(
     list
 }
 
-/// The order of whole lists (objects) by the simple sort of their depth
-/// ranges (004 section 4.4, `setmode x off`).
-fn list_order(lists: &[Vec<ScreenPolygon>], order: SortOrder) -> Vec<usize> {
+/// The order of whole lists (objects), back to front, by the simple sort
+/// of their farthest depths (004 section 4.4, `setmode x off`).
+fn list_order(lists: &[Vec<ScreenPolygon>]) -> Vec<usize> {
     let keys: Vec<f64> = lists
         .iter()
         .map(|l| {
-            let range = l
+            let far = l
                 .iter()
-                .map(ScreenPolygon::z_range)
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (c, d)| {
-                    (a.min(c), b.max(d))
-                });
-            depth_sort::sort_key(range, order)
+                .map(|p| p.z_range().1)
+                .fold(f64::NEG_INFINITY, f64::max);
+            depth_sort::sort_key(far)
         })
         .collect();
     depth_sort::sorted_order(&keys)
@@ -270,15 +268,14 @@ fn listed(p: ScreenPolygon) -> Listed {
 }
 
 /// Lists already in back-to-front order, ordered among themselves by the
-/// simple sort (front to back reverses each list).
+/// simple sort; front to back is the whole back-to-front order reversed.
 fn simple_sorted_lists(mut lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> Vec<Listed> {
     let mut out = Vec::new();
-    for li in list_order(&lists, order) {
-        let mut list = std::mem::take(&mut lists[li]);
-        if order == SortOrder::FrontToBack {
-            list.reverse();
-        }
-        out.extend(list.into_iter().map(listed));
+    for li in list_order(&lists) {
+        out.extend(std::mem::take(&mut lists[li]).into_iter().map(listed));
+    }
+    if order == SortOrder::FrontToBack {
+        out.reverse();
     }
     out
 }

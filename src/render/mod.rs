@@ -84,7 +84,8 @@ impl Rendered {
     }
 }
 
-/// The algorithm `options` and `scene` ask for.
+/// The algorithm `options` and `scene` ask for: NNS unless either says
+/// otherwise (`setmode n off` or `-n off` is the simple depth sort).
 pub fn chosen_algorithm(scene: &Scene, options: &RenderOptions) -> Algorithm {
     options.visibility.unwrap_or(if scene.modes.nns {
         Algorithm::Nns

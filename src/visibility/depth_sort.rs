@@ -3,25 +3,28 @@
 //! Z-coordinate of the polygon, depending on the sorting order", by
 //! insertion sort for fewer than 64 polygons and bucket sort otherwise.
 //!
-//! Back to front sorts by the maximum z (farthest vertex) descending, front
-//! to back by the minimum z ascending. Both sorts are stable, so equal keys
-//! keep their input order and the result is deterministic.
+//! There is one priority order: by the maximum z (farthest vertex),
+//! descending, which paints back to front. Front to back (`sort ftb`) is
+//! that order reversed, not a second sort by the minimum z as the
+//! thesis's sentence reads: a sort by nearest vertex puts any large floor
+//! before what stands on it (its near edge is nearer than the objects), so
+//! the two orders gave two pictures. Reversing one order keeps the picture
+//! of both the same; the image tree reverses each level with its children
+//! before their parents (figure 4.15's front-to-back sequence). The sort
+//! is stable, so equal keys keep their input order and the result is
+//! deterministic.
 //!
 //! Preconditions: keys are finite. The order is wrong whenever polygons
 //! overlap in depth and on the screen; that is the NNS sorter's job.
 
-use crate::model::SortOrder;
-
 /// Below this many items, insertion sort (004 section 4.4).
 pub const INSERTION_SORT_LIMIT: usize = 64;
 
-/// The sort key of a polygon with depth range `(min_z, max_z)`, such that
-/// painting in ascending key order is the requested order.
-pub fn sort_key(z_range: (f64, f64), order: SortOrder) -> f64 {
-    match order {
-        SortOrder::BackToFront => -z_range.1,
-        SortOrder::FrontToBack => z_range.0,
-    }
+/// The sort key of a polygon whose farthest vertex has depth `max_z`:
+/// ascending keys paint back to front (reverse the sorted order for front
+/// to back).
+pub fn sort_key(max_z: f64) -> f64 {
+    -max_z
 }
 
 /// The permutation that sorts `keys` ascending, stably.
@@ -121,9 +124,9 @@ mod tests {
     }
 
     #[test]
-    fn keys_follow_the_order() {
-        assert_eq!(sort_key((0.2, 0.7), SortOrder::BackToFront), -0.7);
-        assert_eq!(sort_key((0.2, 0.7), SortOrder::FrontToBack), 0.2);
+    fn the_farthest_vertex_sorts_first() {
+        let keys = [sort_key(0.7), sort_key(0.9), sort_key(0.2)];
+        assert_eq!(sorted_order(&keys), vec![1, 0, 2]);
     }
 
     #[test]

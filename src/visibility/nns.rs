@@ -364,10 +364,7 @@ pub fn sort_budgeted(
                     .iter()
                     .map(|p| view.project(*p).z)
                     .fold(f64::NEG_INFINITY, f64::max);
-                crate::visibility::depth_sort::sort_key(
-                    (f64::NEG_INFINITY, zmax),
-                    crate::model::SortOrder::BackToFront,
-                )
+                crate::visibility::depth_sort::sort_key(zmax)
             })
             .collect();
         let mut slots: Vec<Option<NnsFace>> = originals.into_iter().map(Some).collect();

@@ -199,13 +199,16 @@ pub use crate::render::scan_into;
 pub use crate::render::scan_rows_into;
 
 /// The visible-surface algorithm a render of a scene uses: the option's,
-/// else the scene's (`setmode n on` is NNS), else the depth sort.
+/// else the scene's (NNS, unless `setmode n off` asks for the simple
+/// depth sort).
 ///
 /// ```
 /// use plytrace::api::program::pipeline::{chosen_algorithm, Algorithm, RenderOptions};
 /// use plytrace::api::program::session::Scene;
 ///
-/// let scene = Scene::default();
+/// let mut scene = Scene::default();
+/// assert_eq!(chosen_algorithm(&scene, &RenderOptions::default()), Algorithm::Nns);
+/// scene.modes.nns = false; // setmode n off
 /// assert_eq!(chosen_algorithm(&scene, &RenderOptions::default()), Algorithm::DepthSort);
 /// let nns = RenderOptions { visibility: Some(Algorithm::Nns), ..RenderOptions::default() };
 /// assert_eq!(chosen_algorithm(&scene, &nns), Algorithm::Nns);

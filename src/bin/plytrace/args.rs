@@ -91,7 +91,8 @@ pub struct Cli {
     /// Deepest reflection/refraction level, 1 to 14 (default 1).
     #[arg(short = 'l', value_name = "1-14", allow_hyphen_values = true, help_heading = MANUAL)]
     pub l: Option<String>,
-    /// Newell-Newell-Sancha sorting with face splitting.
+    /// Newell-Newell-Sancha sorting with face splitting (default on; off is
+    /// the simple depth sort).
     #[arg(short = 'n', value_name = "on|off", num_args = 0..=1,
           default_missing_value = "on", help_heading = MANUAL)]
     pub n: Option<String>,
@@ -159,7 +160,7 @@ pub struct Cli {
     #[arg(long, value_name = "A..B", value_parser = parse_frames, help_heading = OUTPUT)]
     pub frames: Option<(u32, u32)>,
 
-    /// Visible-surface algorithm (default depth-sort).
+    /// Visible-surface algorithm (default nns).
     #[arg(long, value_name = "ALG", value_parser = parse_visibility, help_heading = RENDERING)]
     pub visibility: Option<Algorithm>,
     /// Scan conversion: none (point sampled), area, mask, hybrid,
