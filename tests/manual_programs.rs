@@ -613,3 +613,66 @@ fn the_manual_example_chain_runs_from_examples() {
         assert!(d.join(log).exists(), "{log}");
     }
 }
+
+/// The share of pixels of the PNG `rgb` within `levels` of the
+/// separations `seed.r .g .b`.
+fn share_within(dir: &Path, seed: &str, rgb: &[u8], levels: u8) -> f64 {
+    let planes: Vec<Vec<u8>> = ["r", "g", "b"]
+        .iter()
+        .map(|e| read(dir, &format!("{seed}.{e}")))
+        .collect();
+    let close = rgb
+        .chunks(3)
+        .enumerate()
+        .filter(|(i, px)| (0..3).all(|k| planes[k][*i].abs_diff(px[k]) <= levels))
+        .count();
+    close as f64 / (rgb.len() / 3) as f64
+}
+
+/// underwater.des refracts through its water; the default model (`auto`)
+/// picks exact refraction, which ray traces the refracted branches. The
+/// tree file must hold them anyway: the manual's chain (`-o on`, rftb4,
+/// getrgb) draws the picture plytrace draws, within 3 levels at 99 % of
+/// the pixels or more. Without them the chain draws the pool with
+/// nothing under the water. With a tree budget too small for them the
+/// file takes the linearized matrix's branches, and says so.
+#[test]
+fn the_tree_file_holds_the_refracted_branches_the_picture_has() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes");
+    std::fs::create_dir_all(d.join("det")).unwrap();
+    for e in std::fs::read_dir(scenes.join("det")).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), d.join("det").join(e.file_name())).unwrap();
+    }
+    let text = std::fs::read_to_string(scenes.join("underwater.des")).unwrap();
+    std::fs::write(d.join("uw.des"), format!("sort ftb\n{text}")).unwrap();
+    let args = [
+        "uw.des", "--size", "160x160", "-o", "on", "-o", "uw.png", "--stats", "json",
+    ];
+    let out = run(PLYTRACE, d, &args);
+    ok(&out);
+    assert!(
+        stderr(&out).contains("\"refraction\":\"exact"),
+        "{}",
+        stderr(&out)
+    );
+    ok(&run(RFTB4, d, &["underwater", "uw4", "160", "160", "-B"]));
+    ok(&run(GETRGB, d, &["uw4"]));
+    let (_, _, rgb) = decode_png(read(d, "uw.png"));
+    let share = share_within(d, "uw4", &rgb, 3);
+    assert!(share >= 0.99, "{share}");
+    // The budget's way out: the linear maps' branches, with a warning.
+    let mut small = args.to_vec();
+    small.extend(["--max-tree-nodes", "1000"]);
+    let out = run(PLYTRACE, d, &small);
+    ok(&out);
+    assert!(
+        stderr(&out).contains("linearized matrix"),
+        "{}",
+        stderr(&out)
+    );
+    let tree = RecordStream::from_bytes(&read(d, "underwater.out"), &d.join("underwater.out"));
+    assert!(tree.unwrap().records.iter().any(|r| r.level == 2));
+}

@@ -50,6 +50,9 @@ pub struct ExactLayer {
     width: u32,
     /// `mask * layer` per pixel, rows from the top.
     add: Vec<[f32; 3]>,
+    /// With a tree file: `layer` per pixel (where the mask is not 0), the
+    /// colour [`crate::raytrace::branch_records`] writes as records.
+    pub(crate) traced: Option<Vec<[f32; 3]>>,
     /// Figures of the rays.
     pub stats: RayStats,
     /// Sites (fragments whose refracted branch is ray traced).
@@ -58,13 +61,26 @@ pub struct ExactLayer {
 
 /// Whether tree node `n` is a site: a front-facing polygon fragment whose
 /// refracted branch the tree would trace.
-fn is_site(scene: &Scene, tree: &VirtualImageTree, n: usize) -> bool {
+pub(crate) fn is_site(scene: &Scene, tree: &VirtualImageTree, n: usize) -> bool {
     let f = &tree.nodes[n];
     if f.kind != FragmentKind::Polygon || f.back_facing || f.level >= scene.modes.max_level {
         return false;
     }
     let m = scene.objects[f.object as usize].material(f.polygon as usize);
     m.transmittance > 0.0 && f.weight * m.transmittance > scene.threshold
+}
+
+/// How [`layer`] traces: the picture's options, and what else it keeps.
+#[derive(Debug, Clone, Copy)]
+pub struct LayerOptions {
+    /// Shadow rays.
+    pub shadows: bool,
+    /// The illumination model.
+    pub shading: crate::shading::ShadingModel,
+    /// The ray budget (`--max-rays`).
+    pub max_rays: u64,
+    /// Keep the layer's colours before the mask (for a tree file).
+    pub keep_traced: bool,
 }
 
 /// The layer of `tree` (built with exact refraction) for a picture scan
@@ -74,10 +90,14 @@ pub fn layer(
     view: &View,
     tree: &VirtualImageTree,
     picture: &ScanOptions,
-    shadows: bool,
-    shading: crate::shading::ShadingModel,
-    max_rays: u64,
+    how: LayerOptions,
 ) -> Result<Option<ExactLayer>> {
+    let LayerOptions {
+        shadows,
+        shading,
+        max_rays,
+        keep_traced,
+    } = how;
     let sites: Vec<bool> = (0..tree.nodes.len())
         .map(|n| is_site(scene, tree, n))
         .collect();
@@ -171,10 +191,24 @@ pub fn layer(
         stats.primary += c.rays;
         add.extend(r);
     }
+    // The layer before the mask, where the mask is not 0.
+    let traced = keep_traced.then(|| {
+        add.iter()
+            .zip(&mask.color)
+            .map(|(a, m)| {
+                if m[0] > 0.0 {
+                    a.map(|v| v / m[0])
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect()
+    });
     stats.trace_time = start.elapsed();
     Ok(Some(ExactLayer {
         width: w,
         add,
+        traced,
         stats,
         sites: count,
     }))

@@ -35,6 +35,7 @@
 //! solid, which a refracted ray leaves through: there it bends back into
 //! air (index 1; no own shade, no second `kt`). Media do not nest.
 
+pub mod branch_records;
 pub mod exact;
 pub mod optics;
 

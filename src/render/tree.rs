@@ -105,8 +105,43 @@ pub fn prepare(
     profile.add(crate::profile::Category::Shading, t.elapsed());
     stats.polygons_listed = picture.records.len();
     stats.method = Some(method);
-    let exact = tree.and_then(|tree| exact_layer(scene, view, &tree, &scan, options, &mut stats));
+    let exact = tree.as_ref().and_then(|tree| {
+        exact_layer(
+            scene,
+            view,
+            tree,
+            &scan,
+            options,
+            file.is_some(),
+            &mut stats,
+        )
+    });
     stats.raytrace = exact.as_ref().map(|l| l.stats);
+    // The tree file holds the branches the picture has.
+    let file = match (file, &exact, &tree) {
+        (Some(file), Some(layer), Some(tree)) => Some(
+            with_traced_branches(scene, view, tree, layer, file, options).unwrap_or_else(|| {
+                stats.warnings.push(linear_file_warning(options));
+                let linear = TreeOptions {
+                    refraction: Refraction::Linearized,
+                    ..tree_options
+                };
+                let tree = within(&pool, || {
+                    crate::image_tree::build_profiled(&materials, view, linear, &profile, casters)
+                });
+                stats.warnings.extend(tree.warnings.iter().cloned());
+                let (order, blended) = file_how.expect("a tree file");
+                let how = Emit {
+                    order,
+                    blended,
+                    width: view.width as u32,
+                    height: view.height as u32,
+                };
+                within(&pool, || emit::records(&materials, &tree, how, view).0)
+            }),
+        ),
+        (file, _, _) => file,
+    };
     Prepared {
         picture,
         sources,
@@ -186,30 +221,56 @@ fn scan_options(view: &View, options: &RenderOptions, method: Method) -> ScanOpt
 }
 
 /// Exact refraction: the refracted branches ray traced before the
-/// picture's scan conversion (a failure leaves them out, with a warning).
+/// picture's scan conversion (a failure leaves them out, with a warning);
+/// their colours are kept for a tree file (`for_file`).
 fn exact_layer(
     scene: &Scene,
     view: &View,
     tree: &VirtualImageTree,
     scan: &ScanOptions,
     options: &RenderOptions,
+    for_file: bool,
     stats: &mut RenderStats,
 ) -> Option<ExactLayer> {
-    let made = crate::raytrace::exact::layer(
-        scene,
-        view,
-        tree,
-        scan,
-        options.shadows,
-        options.shading,
-        options.budgets.rays,
-    );
+    let how = crate::raytrace::exact::LayerOptions {
+        shadows: options.shadows,
+        shading: options.shading,
+        max_rays: options.budgets.rays,
+        keep_traced: for_file,
+    };
+    let made = crate::raytrace::exact::layer(scene, view, tree, scan, how);
     made.unwrap_or_else(|e| {
         stats
             .warnings
             .push(format!("exact refraction left out: {e}"));
         None
     })
+}
+
+/// The tree file `file` with the ray-traced branches of `layer` as
+/// records, while they fit the tree's budget (`--max-tree-nodes`) beside
+/// the tree's own fragments.
+fn with_traced_branches(
+    scene: &Scene,
+    view: &View,
+    tree: &VirtualImageTree,
+    layer: &ExactLayer,
+    file: RecordStream,
+    options: &RenderOptions,
+) -> Option<RecordStream> {
+    let budget = options.budgets.tree_nodes.saturating_sub(tree.nodes.len());
+    crate::raytrace::branch_records::with_traced_branches(scene, view, tree, layer, file, budget)
+}
+
+/// What a tree file says when its refracted branches are the linear
+/// maps' while the picture ray traces them.
+fn linear_file_warning(options: &RenderOptions) -> String {
+    format!(
+        "the tree file's refracted branches are the linearized matrix's (004 section 6.4.3), \
+         not the picture's exact ones: written as records, one a pixel, they would pass the \
+         budget of {} tree fragments (--max-tree-nodes raises it)",
+        options.budgets.tree_nodes
+    )
 }
 
 /// Runs `f` on a thread of `pool` (`--threads N`), or of rayon's global
