@@ -1109,3 +1109,43 @@ fn repl_help_prints_the_command_table() {
     }
     assert!(lines.len() > 40, "{}", run.stdout);
 }
+
+/// Brown's hidden-line drawing (003) as his figures show it, white faces
+/// and black edges: with `--aa none` only those two colours, on the very
+/// pixels the anti-aliased drawing (the default) darkens; that one has
+/// grey levels between. Another method of anti-aliasing is refused.
+#[test]
+fn hidden_lines_in_black_and_white() {
+    let det = "title square\ndata\n4 1\n-1 -1 0\n-1 1 0\n1 1 0\n1 -1 0\n4 1 2 3 4\n";
+    let scene = FRONT_SCENE.replace("defobj flat\n", "defobj flat\nrotate 20 z\n");
+    let grey = |image: &Image| {
+        image
+            .pixels
+            .iter()
+            .filter(|p| **p != [0; 3] && **p != [255; 3])
+            .count()
+    };
+    let aa = run_scene(&scene, &[("flat", det)], &["--hidden-line"]);
+    assert_success(&aa);
+    let aa = read_png(&aa.path("out.png"));
+    assert!(grey(&aa) > 50, "anti-aliased lines: {}", grey(&aa));
+    let bw = run_scene(&scene, &[("flat", det)], &["--hidden-line", "--aa", "none"]);
+    assert_success(&bw);
+    let bw = read_png(&bw.path("out.png"));
+    assert_eq!(grey(&bw), 0, "black and white only");
+    let black: Vec<usize> = (0..bw.pixels.len())
+        .filter(|&k| bw.pixels[k] == [0; 3])
+        .collect();
+    assert!(
+        black.len() > 100,
+        "the square's four edges: {}",
+        black.len()
+    );
+    assert!(
+        black.iter().all(|&k| aa.pixels[k] != [255; 3]),
+        "a black pixel off the lines"
+    );
+    let area = run_scene(&scene, &[("flat", det)], &["--hidden-line", "--aa", "area"]);
+    assert_eq!(area.code, Some(2), "{}", area.transcript());
+    assert_stream_contains(&area, "stderr", "only black and white with --aa none");
+}

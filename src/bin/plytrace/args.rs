@@ -132,8 +132,9 @@ pub struct Cli {
     /// Also write the polygon seen at each pixel, in false colour (PNG).
     #[arg(long, value_name = "FILE.png", help_heading = OUTPUT)]
     pub id_image: Option<PathBuf>,
-    /// Brown's hidden-line drawing: white faces, black visible edges.
-    #[arg(long, help_heading = OUTPUT, conflicts_with_all = ["raytrace", "aa", "supersample"])]
+    /// Brown's hidden-line drawing: white faces, black visible edges
+    /// (anti-aliased; only black and white with --aa none).
+    #[arg(long, help_heading = OUTPUT, conflicts_with_all = ["raytrace", "supersample"])]
     pub hidden_line: bool,
     /// Let the scene's `fname` name files outside the working directory.
     #[arg(long, help_heading = OUTPUT)]
@@ -568,6 +569,15 @@ impl Cli {
         }
         if let Some(spec) = self.part {
             check_part(spec, &image, &self)?;
+        }
+        if self.hidden_line
+            && let Some(aa) = self.aa.filter(|&m| m != Method::Point)
+        {
+            return Err(format!(
+                "--hidden-line draws its lines anti-aliased, or only black and white with \
+                 --aa none; it does not go with --aa {}",
+                format!("{aa:?}").to_lowercase()
+            ));
         }
         let aa = match (self.aa, self.supersample) {
             (_, Some(n)) => Some(Method::Supersample(n)),
