@@ -1149,3 +1149,30 @@ fn hidden_lines_in_black_and_white() {
     assert_eq!(area.code, Some(2), "{}", area.transcript());
     assert_stream_contains(&area, "stderr", "only black and white with --aa none");
 }
+
+/// `fname` is folded to lower case like every name read (004 appendix B:
+/// "all input characters are converted to lower case"), unless an output
+/// of the name as written is already there.
+#[test]
+fn fname_is_folded_to_lower_case() {
+    let scene = "resolution 16 16\nsetmode o on\nfname Picture\n";
+    let run = run_in(&[("scene.des", scene)], &["-q", "scene.des"], None);
+    assert_eq!(run.code, Some(0), "{}", run.transcript());
+    for name in ["picture.png", "picture.out", "picture.txt"] {
+        assert!(run.path(name).is_file(), "{name}\n{}", run.transcript());
+    }
+    assert!(!run.path("Picture.png").exists(), "{}", run.transcript());
+    // An output named as written is written again under that name.
+    let run = run_in(
+        &[("scene.des", scene), ("Picture.png", "old")],
+        &["-q", "scene.des"],
+        None,
+    );
+    assert_eq!(run.code, Some(0), "{}", run.transcript());
+    assert!(
+        std::fs::read(run.path("Picture.png"))
+            .unwrap()
+            .starts_with(b"\x89PNG")
+    );
+    assert!(run.path("Picture.out").is_file() && !run.path("picture.png").exists());
+}

@@ -125,6 +125,27 @@ pub(in crate::scene) fn lower_case_fallback(
     }
 }
 
+/// The extensions of the files `fname` names.
+const FNAME_OUTPUTS: [&str; 3] = ["png", "out", "txt"];
+
+/// The stem `fname name` gives the outputs: folded to lower case, as
+/// every name read is (004 appendix B: "all input characters are
+/// converted to lower case"), unless an output of the name as written
+/// already exists (as a name read is taken as written when it exists).
+pub(in crate::scene) fn output_stem(name: &str) -> String {
+    let lower = name.to_lowercase();
+    let exists = |stem: &str| {
+        FNAME_OUTPUTS
+            .iter()
+            .any(|e| Path::new(&format!("{stem}.{e}")).exists())
+    };
+    if lower != name && exists(name) {
+        name.to_string()
+    } else {
+        lower
+    }
+}
+
 /// `name` relative to `dir` (the including file's folder) if it exists
 /// there or not in the working directory.
 pub(in crate::scene) fn resolve(dir: &Path, name: &str) -> PathBuf {

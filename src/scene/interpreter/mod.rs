@@ -600,7 +600,7 @@ impl Interpreter {
             C::Call(file) => return Ok(include(ctx, file, false)),
             C::Get(file) => return Ok(include(ctx, file, true)),
             C::DetDir(dir) => self.set_det_dir(ctx, dir),
-            C::Fname(name) => self.scene.fname = Some(name.clone()),
+            C::Fname(name) => self.scene.fname = Some(self::files::output_stem(name)),
             C::Init => self.init_command(ctx, word)?,
             C::Run { shadows } => self.run(ctx, word, *shadows, host)?,
             C::Clear => host.clear(self.current())?,
