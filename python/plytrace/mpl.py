@@ -30,19 +30,24 @@ order.
 from __future__ import annotations
 
 import contextlib
+import io
+import math
+import numbers
+import os
 import types
 import warnings
 from typing import Dict, Iterator, List, Optional, Tuple, Union
 
 import numpy as np
 from matplotlib import collections as mcoll
+from matplotlib import rcParams
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.path import Path
 from mpl_toolkits.mplot3d import art3d, proj3d
 from mpl_toolkits.mplot3d.axes3d import Axes3D
 
-from ._native import Projection
+from ._native import Projection, write_file
 
 __all__ = ["fix", "unfix", "is_fixed", "fixed", "savefig"]
 
@@ -76,12 +81,19 @@ def fix(target: Union[Axes3D, Figure], *, seam_width: float = SEAM_WIDTH) -> Non
     hairline seams that anti-aliasing leaves between adjacent polygons
     (and between the pieces of a split one); 0 leaves them.
     """
-    seam_width = float(seam_width)
-    if not seam_width >= 0:
-        raise ValueError(f"seam_width must be 0 or more, not {seam_width}")
+    seam_width = _seam_width(seam_width)
     for ax in _axes(target):
         ax.draw = types.MethodType(_draw, ax)
         ax._plytrace_seam_width = seam_width
+
+
+def _seam_width(value) -> float:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"seam_width must be a number, not {type(value).__name__}")
+    w = float(value)
+    if not (math.isfinite(w) and w >= 0):
+        raise ValueError(f"seam_width must be a finite number, 0 or more, not {w}")
+    return w
 
 
 def unfix(target: Union[Axes3D, Figure]) -> None:
@@ -103,6 +115,7 @@ def fixed(target: Union[Axes3D, Figure], *, seam_width: float = SEAM_WIDTH) -> I
     """A context in which ``target`` (a 3-D axes or a figure) is drawn
     with plytrace's hidden-surface removal (``seam_width`` as for
     :func:`fix`)."""
+    _seam_width(seam_width)
     axes = [ax for ax in _axes(target) if not is_fixed(ax)]
     for ax in axes:
         fix(ax, seam_width=seam_width)
@@ -116,9 +129,25 @@ def fixed(target: Union[Axes3D, Figure], *, seam_width: float = SEAM_WIDTH) -> I
 def savefig(fig: Figure, fname, *, seam_width: float = SEAM_WIDTH, **kwargs) -> None:
     """``fig.savefig(fname, **kwargs)`` with every 3-D axes of ``fig``
     drawn with plytrace's hidden-surface removal (``seam_width`` as for
-    :func:`fix`)."""
+    :func:`fix`). A file named by ``fname`` is written whole or not at
+    all (through plytrace's atomic writer: an earlier file survives a
+    failed write); a file object is written as matplotlib writes it."""
     with fixed(fig, seam_width=seam_width):
-        fig.savefig(fname, **kwargs)
+        if not isinstance(fname, (str, os.PathLike)):
+            fig.savefig(fname, **kwargs)
+            return
+        # matplotlib's choice of format and name: the format given, else
+        # the extension, else savefig.format added as the extension.
+        path = os.fsdecode(os.fspath(fname))
+        fmt = kwargs.pop("format", None)
+        if fmt is None:
+            fmt = os.path.splitext(path)[1][1:].lower()
+            if not fmt:
+                fmt = rcParams["savefig.format"]
+                path = f"{path}.{fmt}"
+        buf = io.BytesIO()
+        fig.savefig(buf, format=fmt, **kwargs)
+        write_file(path, buf.getvalue())
 
 
 def _draw(ax: Axes3D, renderer) -> None:
