@@ -1211,4 +1211,11 @@ fn a_scene_on_standard_input_follows_the_rules_of_a_scene_file() {
     );
     assert_eq!(run.code, Some(0), "{}", run.transcript());
     assert!(run.work().join("in.png").is_file());
+    // A definition left open is refused, as in a scene file.
+    let open = stdin(
+        Input::Bytes(b"defobj square\n".to_vec()),
+        &["-", "-q", "--size", "8x8", "-o", "open.png"],
+    );
+    assert_refused(&open, 1, &["endobj"]);
+    assert!(!open.work().join("open.png").exists());
 }

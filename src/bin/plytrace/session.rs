@@ -70,7 +70,7 @@ fn load_scene(interp: &mut Interpreter, host: &mut CliHost, source: &SceneSource
     host.scanning(path);
     let flow = match source {
         SceneSource::File(p) => interp.execute_file(p, true, host),
-        _ => read_stdin().and_then(|text| interp.execute_source(&text, path, Path::new("."), host)),
+        _ => read_stdin().and_then(|text| interp.execute_input(&text, path, Path::new("."), host)),
     };
     print_warnings(interp);
     let flow = flow?;
