@@ -146,6 +146,14 @@ impl Reuse {
     pub fn worlds(&self) -> usize {
         self.casters.built()
     }
+
+    /// Says whether more frames follow the next (a scene's `run` with
+    /// more after it): the first frame of a world then keeps its shadow
+    /// casters for them, and the second does not build them again. A
+    /// frame is the same either way.
+    pub fn frames_follow(&self, more: bool) {
+        self.casters.frames_follow(more);
+    }
 }
 
 /// [`plan`], with what the previous frame left in `reuse`.

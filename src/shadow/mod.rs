@@ -205,21 +205,25 @@ const MAX_KEPT_POLYGONS: usize = 1 << 20;
 /// and plane, which objects are hidden, open or concave, the Point
 /// lights' positions and the tolerance.
 ///
-/// A world's first frame keeps only its hash: a still frees its index
-/// with its tree, before the records are made (office2: about 5 MB less
-/// at the peak). The second frame of the same world builds the index
-/// again and keeps it for the frames after.
+/// A world's first frame keeps only its hash, unless frames are known to
+/// follow ([`Self::frames_follow`]): a still frees its index with its
+/// tree, before the records are made (office2: about 5 MB less at the
+/// peak). The second frame of the same world then builds the index again
+/// and keeps it for the frames after.
 #[derive(Default)]
 pub struct CasterReuse {
     keys: std::hash::RandomState,
     kept: Mutex<Option<(u64, Option<Arc<CasterIndex>>)>>,
     built: AtomicUsize,
+    /// Whether the next frame is known to be followed by others.
+    follow: std::sync::atomic::AtomicBool,
 }
 
 impl CasterReuse {
     /// The index for `objects` and `lights` at tolerance `eps`: the kept
     /// one if they are the last call's, else a new one, kept if they are
-    /// the last call's world seen a second time and have at most 2^20
+    /// the last call's world seen a second time (or frames follow, see
+    /// [`Self::frames_follow`]) and have at most 2^20
     /// polygons (a bigger index is built again for each frame). A new
     /// index keeps a polygon's shadows the first time they are cast when
     /// they will be asked for again: in the next frame of the same world,
@@ -239,18 +243,30 @@ impl CasterReuse {
         if seen && let Some((_, Some(index))) = kept.as_ref() {
             return index.clone();
         }
+        // A world seen again, or one whose next frames are announced, is
+        // kept from its first frame on.
+        let keep = seen || self.follow.load(Ordering::Relaxed);
         let index = Arc::new(CasterIndex {
-            keep_first: seen || asked_again,
+            keep_first: keep || asked_again,
             ..CasterIndex::new(objects, lights.len())
         });
-        *kept = key.map(|key| (key, seen.then(|| index.clone())));
+        *kept = key.map(|key| (key, keep.then(|| index.clone())));
         self.built.fetch_add(1, Ordering::Relaxed);
         index
     }
 
+    /// Says whether the frames to come follow others of an animation (a
+    /// scene file's `run` with more `run`s after it): a first frame of a
+    /// world then keeps its index for them rather than leave it to the
+    /// second frame to build again.
+    pub fn frames_follow(&self, more: bool) {
+        self.follow.store(more, Ordering::Relaxed);
+    }
+
     /// How many indexes were built: two per world an animation shows
     /// in more than one frame (its first frame keeps none), one per world
-    /// shown once.
+    /// shown once; one per world when [`Self::frames_follow`] said more
+    /// frames follow its first.
     pub fn built(&self) -> usize {
         self.built.load(Ordering::Relaxed)
     }

@@ -817,6 +817,12 @@ impl Host for CliHost {
         self.scene_file = Some(file.to_path_buf());
     }
 
+    fn runs_follow(&mut self, more: bool) {
+        // The last frame --frames asks for is followed by none.
+        let last = self.frames.is_some_and(|(_, b)| self.frame >= b);
+        self.reuse.frames_follow(more && !last);
+    }
+
     fn scanned(&mut self, _file: &Path, scene: &Scene, elapsed: Duration) {
         self.say(&format!(
             "{} objects, {} points, {} polygons",

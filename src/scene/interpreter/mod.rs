@@ -80,6 +80,10 @@ pub trait Host {
     fn scanning(&mut self, _file: &Path) {}
     /// A `get` of `file` finished; `scene` is the result.
     fn scanned(&mut self, _file: &Path, _scene: &Scene, _elapsed: std::time::Duration) {}
+    /// Just before a `run` of a file: whether the statements still to
+    /// read hold another `run` (or a `call` or `get`, which may), so that
+    /// a host can keep for the next frame what it frees after a still.
+    fn runs_follow(&mut self, _more: bool) {}
 }
 
 /// A host that ignores `run`, `clear` and `wait` (for building scenes).
@@ -113,9 +117,16 @@ pub(super) struct Frame {
     pub opened: bool,
     /// The `call`/`get` that named it.
     pub caller: Option<Caller>,
+    /// The index of its last `run`, `call` or `get` (which may run).
+    pub last_run: Option<usize>,
 }
 
 impl Frame {
+    /// Whether a `run`, `call` or `get` is still to come in this frame.
+    fn runs_ahead(&self) -> bool {
+        self.last_run.is_some_and(|k| k >= self.next)
+    }
+
     fn context(&self) -> Context<'_> {
         Context {
             file: &self.file,
@@ -517,6 +528,9 @@ impl Interpreter {
             top.next += 1;
             let enter = {
                 let top = &stack[stack.len() - 1];
+                if matches!(top.commands[index].command, Command::Run { .. }) {
+                    host.runs_follow(stack.iter().any(Frame::runs_ahead));
+                }
                 let ctx = top.context();
                 let step = self
                     .execute(&ctx, &top.commands[index], host)
@@ -657,8 +671,15 @@ fn parse_text(source: String, file: &Path, dir: &Path) -> Result<Frame> {
         next: 0,
         opened: false,
         caller: None,
+        last_run: None,
     };
     frame.commands = parse::parse_all(&frame.context(), statements)?;
+    frame.last_run = frame.commands.iter().rposition(|p| {
+        matches!(
+            p.command,
+            Command::Run { .. } | Command::Call(_) | Command::Get(_)
+        )
+    });
     Ok(frame)
 }
 
