@@ -246,7 +246,12 @@ fn a_walk_told_that_frames_follow_builds_each_world_once() {
         ..Walk::default()
     };
     Interpreter::new()
-        .execute_source(&path(&file, 40.0, 8, 5), Path::new("mirror.des"), dir, &mut host)
+        .execute_source(
+            &path(&file, 40.0, 8, 5),
+            Path::new("mirror.des"),
+            dir,
+            &mut host,
+        )
         .expect("the walk renders");
     assert_eq!(host.frames, 8);
     assert_eq!(host.reuse.worlds(), 2, "two worlds, each built once");
