@@ -1,6 +1,7 @@
 //! A camera moving through a still world: each frame keeps what the
 //! frame before left (`render::Reuse`: the shadow casters and the
-//! shadows cast on whole polygons, the priority orders). Every frame
+//! shadows cast on whole polygons, Brown's priority orders, the order
+//! of level 1's faces by depth where the next NNS sort starts). Every frame
 //! must equal a cold render of the same view, pixel for pixel, and the
 //! world's shadows must be cast once, not once per frame; when an object
 //! is added mid-path they are cast again. The paths move the scene's own
@@ -219,6 +220,13 @@ fn office2_along_its_own_camera_paths_equals_cold_renders() {
     for path in ["turn", "walk", "look", "roll", "stroll"] {
         let host = own_camera_walk("office2.des", path, 40);
         assert_eq!(host.reuse.worlds(), 1, "{path}: one world, built once");
+        // The small steps (frames 1, 2 and 61) start level 1's sort from
+        // the order of the frame before.
+        let warm = host.reuse.warm_sorts();
+        assert!(
+            warm >= 3,
+            "{path}: {warm} sorts started from the last order"
+        );
     }
 }
 

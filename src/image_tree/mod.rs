@@ -72,6 +72,8 @@ struct Builder<'a> {
     /// (with shadows on: built, or found unchanged from the last frame,
     /// while level 1 is found).
     casters: Option<std::sync::Arc<crate::shadow::CasterIndex>>,
+    /// The last frame's order of level 1's faces, where its sort starts.
+    orders: &'a nns::PriorOrder,
     materials: &'a Materials<'a>,
     view: &'a View,
     options: TreeOptions,
@@ -108,18 +110,22 @@ pub fn build(materials: &Materials<'_>, view: &View, options: TreeOptions) -> Vi
         options,
         &Profile::new(false),
         &CasterReuse::default(),
+        &nns::PriorOrder::default(),
     )
 }
 
 /// [`build`], timing its parts into `profile` (table 6.2), with the
 /// shadow casters (and the shadows on their polygons) of the previous
-/// frame in `casters`, used again if the world has not changed.
-pub fn build_profiled(
-    materials: &Materials<'_>,
-    view: &View,
+/// frame in `casters`, used again if the world has not changed, and the
+/// last frame's order of level 1's faces in `orders`, where its sort
+/// starts (the tree is the same with any).
+pub fn build_profiled<'a>(
+    materials: &'a Materials<'a>,
+    view: &'a View,
     options: TreeOptions,
-    profile: &Profile,
+    profile: &'a Profile,
     casters: &CasterReuse,
+    orders: &'a nns::PriorOrder,
 ) -> VirtualImageTree {
     let p = &view.projection;
     let (c0, c1, c2, c3) = (p.column(0), p.column(1), p.column(2), p.column(3));
@@ -133,6 +139,7 @@ pub fn build_profiled(
     let mut b = Builder {
         profile,
         casters: None,
+        orders,
         materials,
         view,
         options,
@@ -349,7 +356,7 @@ impl<'a> Builder<'a> {
 
     /// Orders a level's candidates back to front, and counts the sort.
     fn sort(&mut self, candidates: Vec<Candidate>) -> Vec<Candidate> {
-        let (sorted, stats) = self.sorted(candidates);
+        let (sorted, stats) = self.sorted_from(candidates, Some(self.orders));
         self.count_sort(stats);
         sorted
     }
@@ -377,6 +384,16 @@ impl<'a> Builder<'a> {
     /// A level's candidates back to front, with the NNS sort's counts
     /// (`None` under the depth sort).
     fn sorted(&self, candidates: Vec<Candidate>) -> (Vec<Candidate>, Option<nns::NnsStats>) {
+        self.sorted_from(candidates, None)
+    }
+
+    /// [`Self::sorted`], the NNS sort starting from the order `prior`
+    /// kept (level 1's of the last frame).
+    fn sorted_from(
+        &self,
+        candidates: Vec<Candidate>,
+        prior: Option<&nns::PriorOrder>,
+    ) -> (Vec<Candidate>, Option<nns::NnsStats>) {
         let _t = self.profile.time(Category::Sortply);
         if self.options.nns {
             // Which source polygons are seen from behind (`type open`);
@@ -405,8 +422,13 @@ impl<'a> Builder<'a> {
                     }));
                 }
             }
-            let (sorted, stats) =
-                nns::sort_budgeted(faces, self.view, self.eps, self.options.budgets.splits);
+            let (sorted, stats) = nns::sort_from(
+                faces,
+                self.view,
+                self.eps,
+                self.options.budgets.splits,
+                prior,
+            );
             let sorted = sorted
                 .into_iter()
                 .map(|f| Candidate {

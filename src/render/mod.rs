@@ -131,12 +131,14 @@ pub fn plan(scene: &Scene, options: &RenderOptions) -> Result<Plan> {
 /// orders, used again with no re-sort when only the radii changed (003
 /// sections 2-3), and the shadow casters with the shadows cast on whole
 /// polygons, used again while no object or light changed (a camera
-/// moving through a still world). A frame is the same, byte for byte,
-/// with or without them.
+/// moving through a still world), and the order of level 1's faces by
+/// depth, where the next frame's NNS sort starts. A frame is the same,
+/// byte for byte, with or without them.
 #[derive(Default)]
 pub struct Reuse {
     orders: brown::PriorityCache,
     casters: crate::image_tree::CasterReuse,
+    sort_orders: crate::visibility::nns::PriorOrder,
 }
 
 impl Reuse {
@@ -153,6 +155,13 @@ impl Reuse {
     /// frame is the same either way.
     pub fn frames_follow(&self, more: bool) {
         self.casters.frames_follow(more);
+        self.sort_orders.frames_follow(more);
+    }
+
+    /// How many NNS sorts of level 1 started from the order of the frame
+    /// before (an insertion pass) rather than from scratch.
+    pub fn warm_sorts(&self) -> usize {
+        self.sort_orders.warm_starts()
     }
 }
 
@@ -178,7 +187,15 @@ pub fn plan_with(scene: &Scene, options: &RenderOptions, reuse: &Reuse) -> Resul
         ..RenderStats::default()
     };
     if matches!(algorithm, Algorithm::DepthSort | Algorithm::Nns) {
-        let prepared = prepare(scene, &view, algorithm, options, stats, &reuse.casters);
+        let prepared = prepare(
+            scene,
+            &view,
+            algorithm,
+            options,
+            stats,
+            &reuse.casters,
+            &reuse.sort_orders,
+        );
         crate::cancel::check()?;
         return Ok(Plan::Tree(Box::new(prepared)));
     }

@@ -51,6 +51,7 @@ pub fn prepare(
     options: &RenderOptions,
     mut stats: RenderStats,
     casters: &crate::image_tree::CasterReuse,
+    orders: &crate::visibility::nns::PriorOrder,
 ) -> Prepared {
     let t = Instant::now();
     let profile = crate::profile::Profile::new(options.profile);
@@ -86,7 +87,7 @@ pub fn prepare(
         cull_samples: scan.sample_grid().filter(|_| cull),
     };
     let tree = within(&pool, || {
-        crate::image_tree::build_profiled(&materials, view, tree_options, &profile, casters)
+        crate::image_tree::build_profiled(&materials, view, tree_options, &profile, casters, orders)
     });
     stats.sort_time = t.elapsed();
     stats.geometry = tree.geometry;
@@ -127,7 +128,9 @@ pub fn prepare(
                     ..tree_options
                 };
                 let tree = within(&pool, || {
-                    crate::image_tree::build_profiled(&materials, view, linear, &profile, casters)
+                    crate::image_tree::build_profiled(
+                        &materials, view, linear, &profile, casters, orders,
+                    )
                 });
                 stats.warnings.extend(tree.warnings.iter().cloned());
                 let (order, blended) = file_how.expect("a tree file");

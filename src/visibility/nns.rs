@@ -26,7 +26,9 @@
 //! is output. Splitting uses [`crate::geometry::face_splitter`].
 //!
 //! Candidates for comparison come from a screen-space grid and the depth
-//! extents, so typical scenes are far from the quadratic worst case.
+//! extents, so typical scenes are far from the quadratic worst case. In
+//! an animation the faces given are put in depth order starting from the
+//! last frame's order ([`PriorOrder`]), with the same result.
 //!
 //! Preconditions: faces are planar and convex (non-convex faces are cut
 //! into triangles first by [`crate::geometry::polygon::triangulate`]) and
@@ -43,6 +45,11 @@ use glam::{DVec2, DVec3, DVec4};
 
 use crate::geometry::face_splitter::{self, Split};
 use crate::geometry::view::View;
+
+mod prior;
+
+pub use prior::PriorOrder;
+use prior::cold_order;
 
 /// A face to sort: world points and what it came from.
 #[derive(Debug, Clone, PartialEq)]
@@ -276,6 +283,20 @@ pub fn sort_budgeted(
     epsilon: f64,
     max_splits: usize,
 ) -> (Vec<NnsFace>, NnsStats) {
+    sort_from(faces, view, epsilon, max_splits, None)
+}
+
+/// [`sort_budgeted`], the faces given ordered starting from the order
+/// `prior` kept from the last frame's sort (and kept there for the next).
+/// The result is the same with any `prior` or none: only the work of
+/// ordering the faces given changes.
+pub fn sort_from(
+    faces: Vec<NnsFace>,
+    view: &View,
+    epsilon: f64,
+    max_splits: usize,
+    prior: Option<&PriorOrder>,
+) -> (Vec<NnsFace>, NnsStats) {
     let n = faces.len();
     let mut s = Sorter {
         view,
@@ -312,13 +333,19 @@ pub fn sort_budgeted(
             .map(|f| measure(view, &f.world))
             .collect()
     };
+    let sources: Vec<(u32, u32)> = match prior {
+        Some(_) => faces.iter().map(|f| (f.object, f.polygon)).collect(),
+        None => Vec::new(),
+    };
     for (f, (bounds, plane)) in faces.into_iter().zip(measured) {
         s.insert(f, bounds, plane);
     }
     // The faces given are ordered once; only pieces go through the heap.
-    let bounds = &s.bounds;
-    s.given
-        .sort_unstable_by(|&a, &b| HeapKey(bounds[b].zmax, b).cmp(&HeapKey(bounds[a].zmax, a)));
+    let zmax: Vec<f64> = s.bounds.iter().map(|b| b.zmax).collect();
+    s.given = match prior {
+        Some(prior) => prior.order(sources, &zmax),
+        None => cold_order(&zmax),
+    };
     // The grid, filled farthest first: each cell is in order.
     s.grid = Grid::new(&s.bounds, view.width, view.height);
     for &id in &s.given {
