@@ -273,9 +273,10 @@ pub use crate::render::vector::render_run as render_vector_run;
 pub use crate::visibility::Algorithm;
 
 /// What a frame leaves to the next `run` of a session: Brown's priority
-/// orders (003 sections 2-3), and the shadow casters with the shadows on
+/// orders (003 sections 2-3), the shadow casters with the shadows on
 /// whole polygons while no object or light changes (a camera moving
-/// through a still world). Frames are the same with or without it.
+/// through a still world), and the depth order of level 1's faces, where
+/// the next NNS sort starts. Frames are the same with or without it.
 ///
 /// ```
 /// # use std::path::Path;

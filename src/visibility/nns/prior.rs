@@ -195,14 +195,18 @@ mod tests {
         let mut sources = Vec::new();
         let mut zmax = Vec::new();
         for p in 0..polygons {
-            if rng.next() % 7 == 0 {
+            if rng.next().is_multiple_of(7) {
                 continue; // out of view in this frame
             }
-            let pieces = 1 + usize::from(rng.next() % 5 == 0);
+            let pieces = 1 + usize::from(rng.next().is_multiple_of(5));
             for _ in 0..pieces {
                 sources.push((p / 10, p % 10));
                 let z = f64::from(p % 13) / 13.0 + step * (rng.next() % 100) as f64 / 100.0;
-                zmax.push(if rng.next() % 11 == 0 { 0.5 } else { z });
+                zmax.push(if rng.next().is_multiple_of(11) {
+                    0.5
+                } else {
+                    z
+                });
             }
         }
         (sources, zmax)
