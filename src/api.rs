@@ -41,7 +41,7 @@ use crate::scene::build::{ObjectParts, build_object};
 pub mod program;
 mod projected;
 
-pub use projected::{PaintOrder, Patch, Projected, Ring, SegmentPiece};
+pub use projected::{Layered, PaintOrder, Patch, PlacedSegment, Projected, Ring, SegmentPiece};
 
 /// Limits on the work of a render (the program's `--max-*` flags): the
 /// image's pixels, polygons, tree nodes, splits, memory, rays. A render

@@ -9,6 +9,10 @@ use super::invalid;
 use crate::error::Result;
 use crate::math::Matrix4;
 
+mod layers;
+
+pub use layers::{Layered, PlacedSegment};
+
 /// 3-D polygons seen through another program's 4 x 4 projection matrix
 /// (a plotting library's camera), for hidden-surface removal in that
 /// program's own picture: [`Projected::paint_order`] gives the visible
@@ -246,6 +250,37 @@ impl Projected {
     /// assert!(Projected::new(&[&triangle[..]], bad).is_err());
     /// ```
     pub fn new(polygons: &[&[[f64; 3]]], matrix: [[f64; 4]; 4]) -> Result<Projected> {
+        Projected::new_with_open(polygons, matrix, &[])
+    }
+
+    /// [`Projected::new`], with `open[i]` (when given) saying that
+    /// polygon `i` is open: its closing edge, from its last point back to
+    /// its first, is not one of its edges (matplotlib's `closed=False`),
+    /// so [`Ring::edges`] never marks it.
+    ///
+    /// ```
+    /// use plytrace::api::Projected;
+    ///
+    /// # fn main() -> Result<(), plytrace::Error> {
+    /// let m = [[1., 0., 0., 0.], [0., 1., 0., 0.], [0., 0., -1., 0.], [0., 0., 0., 1.]];
+    /// let square: Vec<[f64; 3]> = vec![[0., 0., 0.], [2., 0., 0.], [2., 2., 0.], [0., 2., 0.]];
+    /// let order = Projected::new_with_open(&[&square[..]], m, &[true])?.paint_order()?;
+    /// assert_eq!(order.patches[0].rings[0].edges, [true, true, true, false]);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn new_with_open(
+        polygons: &[&[[f64; 3]]],
+        matrix: [[f64; 4]; 4],
+        open: &[bool],
+    ) -> Result<Projected> {
+        if !open.is_empty() && open.len() != polygons.len() {
+            return Err(invalid(&format!(
+                "{} open flags for {} polygons",
+                open.len(),
+                polygons.len()
+            )));
+        }
         if matrix.iter().flatten().any(|v| !v.is_finite()) {
             return Err(invalid("the projection matrix is not finite"));
         }
@@ -284,8 +319,12 @@ impl Projected {
         // Clip to W >= w_min and divide.
         let mut sources: Vec<ProjectedSource> = Vec::with_capacity(polygons.len());
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for h in &homogeneous {
-            let (points, original, clipped) = clip_in_front(h, w_min);
+        for (i, h) in homogeneous.iter().enumerate() {
+            let mut edges = vec![true; h.len()];
+            if open.get(i).copied().unwrap_or(false) {
+                edges[h.len() - 1] = false;
+            }
+            let (points, original, clipped) = clip_in_front(h, &edges, w_min);
             let outline: Vec<DVec3> = points.iter().map(|p| p.truncate() / p.w).collect();
             for p in &outline {
                 lo = lo.min(*p);
@@ -397,6 +436,26 @@ impl Projected {
     /// # }
     /// ```
     pub fn paint_order_by(&self, keys: Option<&[u32]>) -> Result<PaintOrder> {
+        let sorted = self.sorted(keys)?;
+        Ok(self.order_of(&sorted))
+    }
+
+    /// The patches of a sort, with its counts.
+    fn order_of(&self, sorted: &Sorted) -> PaintOrder {
+        PaintOrder {
+            patches: sorted
+                .groups
+                .iter()
+                .map(|members| self.patch(&sorted.pieces, members))
+                .collect(),
+            splits: sorted.splits,
+            warning: sorted.warning.clone(),
+        }
+    }
+
+    /// The NNS sort's pieces back to front, grouped into patches by
+    /// `keys` (see [`Projected::paint_order_by`]).
+    fn sorted(&self, keys: Option<&[u32]>) -> Result<Sorted> {
         use crate::visibility::nns;
         if let Some(k) = keys
             && k.len() != self.sources.len()
@@ -443,12 +502,9 @@ impl Projected {
             .collect();
         let key = |source: u32| keys.map_or(source, |k| k[source as usize]);
         let groups = group_pieces(&pieces, &key);
-        let patches = groups
-            .into_iter()
-            .map(|members| self.patch(&pieces, &members))
-            .collect();
-        Ok(PaintOrder {
-            patches,
+        Ok(Sorted {
+            pieces,
+            groups,
             splits: stats.splits,
             warning,
         })
@@ -481,7 +537,7 @@ impl Projected {
                         source,
                         whole: true,
                         points: src.outline.iter().map(|p| self.to_2d(*p)).collect(),
-                        edges: vec![true; src.outline.len()],
+                        edges: src.original.clone(),
                     });
                 }
                 continue;
@@ -539,93 +595,113 @@ impl Projected {
                 segments[i]
             )));
         }
-        let occluders = Occluders::new(&self.faces);
+        let occluders = Occluders::new(self.faces.iter().map(|f| (&f.points[..], 0)));
         let mut out = Vec::new();
+        self.visible_parts(&occluders, segments, &mut |segment, a, b| {
+            out.push(SegmentPiece {
+                segment,
+                points: [self.to_2d(a), self.to_2d(b)],
+            })
+        })?;
+        Ok(out)
+    }
+
+    /// The parts of `segments` that no face of `occluders` hides, as
+    /// normalized ends given to `part` with the segment's index, in the
+    /// order of the segments and along each from its first end.
+    fn visible_parts(
+        &self,
+        occluders: &Occluders,
+        segments: &[[[f64; 3]; 2]],
+        part: &mut dyn FnMut(usize, DVec3, DVec3),
+    ) -> Result<()> {
         let mut stamp = vec![0u32; occluders.faces.len()];
-        let mut hidden: Vec<(f64, f64)> = Vec::new();
+        let mut hidden: Vec<(f64, f64, u32)> = Vec::new();
         for (i, seg) in segments.iter().enumerate() {
             if i % 4096 == 0 {
                 crate::cancel::check()?;
             }
-            let h = seg.map(|p| {
-                let r = |k: usize| {
-                    self.matrix[k][0] * p[0]
-                        + self.matrix[k][1] * p[1]
-                        + self.matrix[k][2] * p[2]
-                        + self.matrix[k][3]
-                };
-                DVec4::new(r(0), r(1), r(2), r(3))
-            });
-            // Clip to W >= w_min.
-            let (mut a, mut b) = (h[0], h[1]);
-            let (ina, inb) = (a.w >= self.w_min, b.w >= self.w_min);
-            match (ina, inb) {
-                (false, false) => continue,
-                (true, false) => b = a + (b - a) * ((a.w - self.w_min) / (a.w - b.w)),
-                (false, true) => a = b + (a - b) * ((b.w - self.w_min) / (b.w - a.w)),
-                (true, true) => {}
-            }
-            let norm = |h: DVec4| (h.truncate() / h.w - self.centre) * self.scale;
-            let (a, b) = (norm(a), norm(b));
+            let Some((a, b)) = self.normalized_segment(seg) else {
+                continue;
+            };
             hidden.clear();
-            occluders.hiding(
-                a,
-                b,
-                self.eps,
-                (i as u32).wrapping_add(1),
-                &mut stamp,
-                &mut hidden,
-            );
-            let point = a.truncate() == b.truncate();
-            if point {
+            let epoch = (i as u32).wrapping_add(1);
+            occluders.hiding(a, b, self.eps, epoch, &mut stamp, &mut hidden);
+            if a.truncate() == b.truncate() {
                 if hidden.is_empty() {
-                    out.push(SegmentPiece {
-                        segment: i,
-                        points: [self.to_2d(a), self.to_2d(b)],
-                    });
+                    part(i, a, b);
                 }
                 continue;
             }
             hidden.sort_by(|x, y| x.0.total_cmp(&y.0));
             let mut t = 0.0;
-            // The ends themselves at 0 and 1, so that the pieces of a
-            // polyline meet exactly.
-            let at = |t: f64| {
-                self.to_2d(match t {
-                    0.0 => a,
-                    1.0 => b,
-                    _ => a + (b - a) * t,
-                })
-            };
-            // Pieces shorter than rounding are left out (a stroke's cap
-            // would show them as dots).
-            let shortest = 1e-9 / (b - a).truncate().length().max(1e-300);
-            let mut push = |t0: f64, t1: f64| {
-                if t1 - t0 > shortest {
-                    out.push(SegmentPiece {
-                        segment: i,
-                        points: [at(t0), at(t1)],
-                    });
-                }
-            };
-            for &(h0, h1) in hidden.iter() {
+            for &(h0, h1, _) in hidden.iter() {
                 if h0 > t {
-                    push(t, h0);
+                    sub_segment(a, b, t, h0, &mut |p, q| part(i, p, q));
                 }
                 t = t.max(h1);
             }
-            push(t, 1.0);
+            sub_segment(a, b, t, 1.0, &mut |p, q| part(i, p, q));
         }
-        Ok(out)
+        Ok(())
+    }
+
+    /// `p` through the matrix, normalized; `None` behind the eye.
+    fn normalized_point(&self, p: [f64; 3]) -> Option<DVec3> {
+        let h = self.homogeneous(p);
+        (h.w >= self.w_min).then(|| (h.truncate() / h.w - self.centre) * self.scale)
+    }
+
+    fn homogeneous(&self, p: [f64; 3]) -> DVec4 {
+        let r = |k: usize| {
+            self.matrix[k][0] * p[0]
+                + self.matrix[k][1] * p[1]
+                + self.matrix[k][2] * p[2]
+                + self.matrix[k][3]
+        };
+        DVec4::new(r(0), r(1), r(2), r(3))
+    }
+
+    /// `seg` through the matrix, clipped to `W >= w_min`, normalized;
+    /// `None` when it lies wholly behind the eye.
+    fn normalized_segment(&self, seg: &[[f64; 3]; 2]) -> Option<(DVec3, DVec3)> {
+        let (mut a, mut b) = (self.homogeneous(seg[0]), self.homogeneous(seg[1]));
+        let (ina, inb) = (a.w >= self.w_min, b.w >= self.w_min);
+        match (ina, inb) {
+            (false, false) => return None,
+            (true, false) => b = a + (b - a) * ((a.w - self.w_min) / (a.w - b.w)),
+            (false, true) => a = b + (a - b) * ((b.w - self.w_min) / (b.w - a.w)),
+            (true, true) => {}
+        }
+        let norm = |h: DVec4| (h.truncate() / h.w - self.centre) * self.scale;
+        Some((norm(a), norm(b)))
     }
 }
 
+/// The part of `a`-`b` from `t0` to `t1` given to `part`, unless it is
+/// shorter than rounding (a stroke's cap would show it as a dot). The
+/// ends themselves at 0 and 1, so that the pieces of a polyline meet
+/// exactly.
+fn sub_segment(a: DVec3, b: DVec3, t0: f64, t1: f64, part: &mut dyn FnMut(DVec3, DVec3)) {
+    let shortest = 1e-9 / (b - a).truncate().length().max(1e-300);
+    if t1 - t0 <= shortest {
+        return;
+    }
+    let at = |t: f64| match t {
+        0.0 => a,
+        1.0 => b,
+        _ => a + (b - a) * t,
+    };
+    part(at(t0), at(t1));
+}
+
 /// `h` clipped to `W >= w_min` (Sutherland-Hodgman), with per edge of
-/// the result whether it is part of an edge of `h` (not the cut), and
-/// whether anything was cut.
-fn clip_in_front(h: &[DVec4], w_min: f64) -> (Vec<DVec4>, Vec<bool>, bool) {
+/// the result whether it is part of an edge of `h` that `edges` marks
+/// (edge `k` from point `k` to `k + 1`; the cut is none), and whether
+/// anything was cut.
+fn clip_in_front(h: &[DVec4], edges: &[bool], w_min: f64) -> (Vec<DVec4>, Vec<bool>, bool) {
     if h.iter().all(|p| p.w >= w_min) {
-        return (h.to_vec(), vec![true; h.len()], false);
+        return (h.to_vec(), edges.to_vec(), false);
     }
     let n = h.len();
     let mut out = Vec::with_capacity(n + 2);
@@ -635,13 +711,13 @@ fn clip_in_front(h: &[DVec4], w_min: f64) -> (Vec<DVec4>, Vec<bool>, bool) {
         let (pin, qin) = (p.w >= w_min, q.w >= w_min);
         if pin {
             out.push(p);
-            original.push(true);
+            original.push(edges[k]);
         }
         if pin != qin {
             let t = (p.w - w_min) / (p.w - q.w);
             out.push(p + (q - p) * t);
             // Leaving: the edge from here runs along the cut.
-            original.push(!pin || qin);
+            original.push((!pin || qin) && edges[k]);
         }
     }
     (out, original, true)
@@ -678,6 +754,15 @@ fn convex_pieces(outline: &[DVec3]) -> Vec<Vec<DVec3>> {
         .into_iter()
         .map(|t| t.to_vec())
         .collect()
+}
+
+/// The pieces of an NNS sort back to front, and the patches they are
+/// painted in (indices into `pieces`, in painting order).
+struct Sorted {
+    pieces: Vec<Piece>,
+    groups: Vec<Vec<usize>>,
+    splits: usize,
+    warning: Option<String>,
 }
 
 /// A piece of a face from the NNS sort.
@@ -779,38 +864,43 @@ fn overlaps(a: &[glam::DVec2], b: &[glam::DVec2]) -> bool {
     area > 1e-12
 }
 
-/// The faces that may hide segments, by screen cell.
+/// The faces that may hide segments, by screen cell, each with a tag.
 struct Occluders {
     /// Screen outline (counter-clockwise), plane `z = a x + b y + c`.
     faces: Vec<(Vec<glam::DVec2>, [f64; 3])>,
+    tags: Vec<u32>,
     cells: Vec<Vec<u32>>,
     n: usize,
 }
 
 impl Occluders {
-    fn new(faces: &[ProjectedFace]) -> Occluders {
+    /// The faces (convex, normalized) with their tags; edge-on ones hide
+    /// nothing and are left out.
+    fn new<'a>(faces: impl Iterator<Item = (&'a [DVec3], u32)>) -> Occluders {
         use glam::DVec2;
         let mut list = Vec::new();
-        for f in faces {
+        let mut tags = Vec::new();
+        for (points, tag) in faces {
             let Some(unit) =
-                crate::geometry::polygon::newell_vector(f.points.iter().copied()).try_normalize()
+                crate::geometry::polygon::newell_vector(points.iter().copied()).try_normalize()
             else {
                 continue;
             };
             if unit.z.abs() < 1e-9 {
                 continue; // edge-on
             }
-            let c = f.points[0];
+            let c = points[0];
             // unit . (p - c) = 0  =>  z = c.z - (ux (x - cx) + uy (y - cy)) / uz
             let (a, b) = (-unit.x / unit.z, -unit.y / unit.z);
             let plane = [a, b, c.z - a * c.x - b * c.y];
-            let mut pts: Vec<DVec2> = f.points.iter().map(|p| p.truncate()).collect();
+            let mut pts: Vec<DVec2> = points.iter().map(|p| p.truncate()).collect();
             if unit.z > 0.0 {
                 // Newell z > 0: counter-clockwise already.
             } else {
                 pts.reverse();
             }
             list.push((pts, plane));
+            tags.push(tag);
         }
         let n = ((list.len() as f64 / 2.0).sqrt() as usize).clamp(1, 512);
         let mut cells = vec![Vec::new(); n * n];
@@ -829,14 +919,15 @@ impl Occluders {
         }
         Occluders {
             faces: list,
+            tags,
             cells,
             n,
         }
     }
 
     /// Appends the parameter intervals of segment `a`-`b` (normalized)
-    /// that faces hide: inside a face's outline and farther than its
-    /// plane by more than `eps`.
+    /// that faces hide, each with the face's tag: inside a face's
+    /// outline and farther than its plane by more than `eps`.
     fn hiding(
         &self,
         a: DVec3,
@@ -844,7 +935,7 @@ impl Occluders {
         eps: f64,
         epoch: u32,
         stamp: &mut [u32],
-        hidden: &mut Vec<(f64, f64)>,
+        hidden: &mut Vec<(f64, f64, u32)>,
     ) {
         let n = self.n;
         let cell = |v: f64| (((v + 1.0) / 2.0 * n as f64).floor().max(0.0) as usize).min(n - 1);
@@ -904,7 +995,7 @@ impl Occluders {
                         continue;
                     }
                     if a.truncate() == b.truncate() || t1 > t0 {
-                        hidden.push((t0, t1));
+                        hidden.push((t0, t1, self.tags[k]));
                     }
                 }
             }
