@@ -134,9 +134,10 @@ def patch_polygon(ax, patch) -> Optional[Polygons]:
     pts = np.asarray(patch._segment3d, dtype=float).reshape(-1, 3)
     codes = getattr(patch, "_code3d", None)
     if codes is not None:
-        pts = flatten3d(pts, np.asarray(codes))
-        if pts is None:
+        flat = flatten3d(pts, np.asarray(codes))
+        if flat is None:
             return None
+        pts = flat
     if len(pts) < 3 or invalid(ax, pts[:, 0], pts[:, 1], pts[:, 2],
                                getattr(patch, "_axlim_clip", False)).any():
         return Polygons(np.zeros((0, 3)), np.zeros(0, np.int64), np.zeros(0, np.int64),

@@ -265,8 +265,7 @@ class _Draw:
         if isinstance(artist, art3d.Line3D):
             _draw_markers(artist, self._project_points(apoints, which), self.renderer, gid)
         elif isinstance(artist, art3d.Path3DCollection):
-            index = np.array([self.anchor_index[w] for w in which])
-            _draw_scatter(artist, index, self.renderer, gid)
+            _draw_scatter(artist, np.asarray(self.anchor_index)[which], self.renderer, gid)
         else:
             with swapped(artist, _gid=gid):
                 type(artist).draw(artist, self.renderer)
@@ -285,11 +284,12 @@ class _Draw:
         return gid if gid is None or k == 0 else f"{gid}-{k + 1}"
 
 
-def _data3d(line) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-    xs, ys, zs = (np.ravel(np.ma.filled(np.ma.asarray(v, dtype=float), np.nan))
-                  for v in line.get_data_3d())
-    n = max(len(xs), len(ys), len(zs))
-    return tuple(np.broadcast_to(v, (n,)) for v in (xs, ys, zs))
+def _data3d(line) -> List[np.ndarray]:
+    """A Line3D's points as three arrays of one length (NaN where masked)."""
+    data: List[np.ndarray] = [np.ravel(np.ma.filled(np.ma.asarray(v, dtype=float), np.nan))
+            for v in line.get_data_3d()]
+    n = max(len(v) for v in data)
+    return [np.broadcast_to(v, (n,)) for v in data]
 
 
 def _has_markers(line) -> bool:
@@ -310,12 +310,13 @@ def _items(lines, runs, slots, aowner, aindex, depth, n):
     return items
 
 
-def _groups(items):
+def _groups(items: list) -> list:
     """The items of one slot in groups of one member and kind: lines
     first, then markers and labels, farthest group first."""
     groups: Dict[Tuple[int, int], list] = {}
     for item in items:
         groups.setdefault((item[1], item[2]), []).append(item)
+
     def key(k):
         kind, _ = k
         far = -max(g[4] for g in groups[k]) if kind == 1 else 0.0
@@ -360,7 +361,7 @@ class _Patches:
         src = self.sources[a:b]
         face = d.fill[src]
         edge = np.where(self.split[a:b, None], _TRANSPARENT, d.edge[src])
-        extra = [p for p in patches if p in self.edge_paths]
+        extra = [int(p) for p in patches if int(p) in self.edge_paths]
         if extra:
             # Each edge path right after its patch.
             keys = np.concatenate([patches * 2.0, np.array(extra) * 2.0 + 1])

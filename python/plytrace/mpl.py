@@ -54,7 +54,7 @@ def _axes(target) -> List[Axes3D]:
     if isinstance(target, Axes3D):
         return [target]
     if isinstance(target, FigureBase):
-        found = [ax for ax in target.get_axes() if isinstance(ax, Axes3D)]
+        found = [ax for ax in getattr(target, "axes") if isinstance(ax, Axes3D)]
         for sub in getattr(target, "subfigs", []):
             found += [ax for ax in _axes(sub) if ax not in found]
         return found
