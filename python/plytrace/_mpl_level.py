@@ -191,8 +191,12 @@ class _Draw:
         fill, edge, widths = self.fill, self.edge, self.widths
         stroked = (edge[:, 3] > 0) & (widths > 0)
         grown = ~stroked & (fill[:, 3] >= 1.0)
-        style = np.column_stack([fill, self.owner])
-        _, same = np.unique(style, axis=0, return_inverse=True)
+        # One number per colour (16 bits a channel) and artist.
+        q = np.round(np.clip(fill, 0, 1) * 65535).astype(np.uint64)
+        packed = (q[:, 0] << 48) | (q[:, 1] << 32) | (q[:, 2] << 16) | q[:, 3]
+        _, same = np.unique(packed, return_inverse=True)
+        _, same = np.unique(same.reshape(-1) * len(self.members) + self.owner,
+                            return_inverse=True)
         same = same.reshape(-1)
         keys = np.where(grown, same, same.max(initial=0) + 1 + np.arange(len(fill)))
         grow = None
@@ -399,8 +403,10 @@ class _Patches:
 
 
 def _one(values: np.ndarray) -> np.ndarray:
-    """A per-path array as one row when all rows agree (the backends
-    then set it once)."""
+    """Per-path colours as one row when all rows agree (the backends then
+    set it once), or none when all are transparent (nothing stroked)."""
+    if len(values) and (values[:, 3] == 0).all():
+        return values[:0]
     if len(values) > 1 and (values == values[0]).all():
         return values[:1]
     return values

@@ -842,7 +842,9 @@ fn boxes_overlap(a: (glam::DVec2, glam::DVec2), b: (glam::DVec2, glam::DVec2)) -
     a.1.x > b.0.x && b.1.x > a.0.x && a.1.y > b.0.y && b.1.y > a.0.y
 }
 
-/// Whether two convex screen polygons share more than a boundary.
+/// Whether two convex screen polygons share more than a boundary: no
+/// edge of either separates them (the separating axis theorem), to
+/// within a width whose overlap could not reach an area of 1e-12.
 fn overlaps(a: &[glam::DVec2], b: &[glam::DVec2]) -> bool {
     use glam::DVec2;
     let bounds = |pts: &[DVec2]| {
@@ -855,13 +857,27 @@ fn overlaps(a: &[glam::DVec2], b: &[glam::DVec2]) -> bool {
     if ahi.x <= blo.x || bhi.x <= alo.x || ahi.y <= blo.y || bhi.y <= alo.y {
         return false;
     }
-    let o = crate::visibility::nns::convex_overlap(a, b);
-    let area: f64 = (0..o.len())
-        .map(|i| o[i].perp_dot(o[(i + 1) % o.len()]))
-        .sum::<f64>()
-        .abs()
-        / 2.0;
-    area > 1e-12
+    !separates(a, b) && !separates(b, a)
+}
+
+/// Whether an edge of convex `a` has all of `b` on its outer side or on
+/// it (or `a` has no area).
+fn separates(a: &[glam::DVec2], b: &[glam::DVec2]) -> bool {
+    /// The width (normalized units, the screen being 1.8 across) under
+    /// which polygons count as touching.
+    const TOUCH: f64 = 1e-13;
+    let n = a.len();
+    let twice_area: f64 = (0..n).map(|i| a[i].perp_dot(a[(i + 1) % n])).sum();
+    if twice_area.abs() <= 2e-12 {
+        return true;
+    }
+    let side = twice_area.signum();
+    (0..n).any(|i| {
+        let (p, q) = (a[i], a[(i + 1) % n]);
+        let e = q - p;
+        let len = e.length();
+        len > 0.0 && b.iter().all(|v| side * e.perp_dot(*v - p) <= TOUCH * len)
+    })
 }
 
 /// The faces that may hide segments, by screen cell, each with a tag.
