@@ -14,8 +14,9 @@ picking)."""
 from __future__ import annotations
 
 import contextlib
+import threading
 import warnings
-from typing import Dict, Iterator, List, Tuple
+from typing import Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 from matplotlib import collections as mcoll
@@ -73,33 +74,52 @@ def _paths(verts, codes, starts) -> List[Path]:
 class Level:
     """The artists of one level and their one draw."""
 
-    def __init__(self, ax, members: list):
+    def __init__(self, ax, members: list, renderer):
         self.ax = ax
         self.members = members
+        self.renderer = renderer
         self.drawn = False
+        # The members the axes projects before drawing anything: once all
+        # are, the order is computed in a thread while the axes draws its
+        # panes, grid and ticks.
+        self.unprojected = {id(m) for m in members
+                            if isinstance(m, (mcoll.Collection, mpatches.Patch))}
+        self.job: Optional[_Draw] = None
+
+    def projected(self, artist) -> None:
+        """After matplotlib's own projection of a member."""
+        self.unprojected.discard(id(artist))
+        if not self.unprojected and self.job is None and not self.drawn:
+            self.job = _Draw(self)
+            self.job.start()
 
     def draw_member(self, artist, renderer) -> None:
         """Any member's draw: the first draws the whole level."""
         if self.drawn:
             return
         self.drawn = True
-        _Draw(self, renderer).run()
+        job = self.job or _Draw(self)
+        if self.job is None:
+            job.start()
+        job.finish(renderer)
 
 
 class _Draw:
     """What one draw of a level computes, and the draw."""
 
-    def __init__(self, level: Level, renderer):
+    def __init__(self, level: Level):
         self.ax = level.ax
         self.members = level.members
-        self.renderer = renderer
+        self.renderer = level.renderer
         self.gids: Dict[int, int] = {}
+        self.thread: Optional[threading.Thread] = None
+        self.result: Optional[tuple] = None
+        self.error: Optional[BaseException] = None
 
     # Gathering
 
     def _polygons(self):
-        """Per member its polygons (or None), and the polygons of all of
-        them concatenated."""
+        """Per member its polygons (or None)."""
         per = []
         for m in self.members:
             if isinstance(m, art3d.Poly3DCollection):
@@ -110,33 +130,57 @@ class _Draw:
                 per.append(None)
         return per
 
-    def run(self) -> None:
-        per = self._polygons()
+    def start(self) -> None:
+        """Reads the members, and starts the order's computation."""
+        per = self.polys = self._polygons()
         taken = [p for p in per if p is not None]
         if not taken:  # nothing can hide anything: matplotlib's own draws
-            self._fallback(per)
             return
-        self.polys = per
         self.owner = np.concatenate(
             [np.full(len(p.sizes), k) for k, p in enumerate(per) if p is not None])
         cat = lambda name: np.concatenate([getattr(p, name) for p in taken])  # noqa: E731
         self.fill, self.edge, self.widths = cat("fill"), cat("edge"), cat("widths")
-        self.first = np.cumsum([0] + [len(p.sizes) for p in taken])
         self.first_of = {}
         at = 0
         for k, p in enumerate(per):
             if p is not None:
-                self.first_of[k] = self.first[at]
-                at += 1
-        lines, anchors = self._lines_and_anchors()
-        projection = Projection(
-            np.ascontiguousarray(cat("points"), dtype=float),
-            np.ascontiguousarray(cat("sizes"), dtype=np.int64),
-            np.ascontiguousarray(self.ax.M, dtype=float),
-            np.ascontiguousarray(cat("open"), dtype=bool),
+                self.first_of[k] = at
+                at += len(p.sizes)
+        self.lines, anchors = self._lines_and_anchors()
+        self.anchors = anchors.arrays()
+        keys, grown, grow = self._keys_and_growth()
+        lines = self.lines
+        args = (
+            (np.ascontiguousarray(cat("points"), dtype=float),
+             np.ascontiguousarray(cat("sizes"), dtype=np.int64),
+             np.ascontiguousarray(self.ax.M, dtype=float),
+             np.ascontiguousarray(cat("open"), dtype=bool)),
+            (grow, np.ascontiguousarray(grown), np.ascontiguousarray(keys),
+             np.ascontiguousarray(self.fill[:, 3] >= 1.0),
+             np.ascontiguousarray(
+                 np.concatenate(lines.pieces) if lines.pieces else np.zeros((0, 3)), dtype=float),
+             np.array([len(p) for p in lines.pieces], dtype=np.int64),
+             np.ascontiguousarray(self.anchors[0], dtype=float)),
         )
-        self._paint(projection, lines, anchors)
-        self._fallback(per)
+        self.thread = threading.Thread(target=self._compute, args=args, daemon=True)
+        self.thread.start()
+
+    def _compute(self, new_args, layered_args) -> None:
+        """In the thread: plytrace's part (the GIL released)."""
+        try:
+            self.result = Projection(*new_args).layered(*layered_args)
+        except BaseException as e:  # raised again in the drawing thread
+            self.error = e
+
+    def finish(self, renderer) -> None:
+        """Waits for the order and draws it."""
+        self.renderer = renderer
+        if self.thread is not None:
+            self.thread.join()
+            if self.error is not None:
+                raise self.error
+            self._paint()
+        self._fallback(self.polys)
 
     def _fallback(self, per) -> None:
         """Members the bridge could not take, drawn by matplotlib (after
@@ -209,24 +253,17 @@ class _Draw:
                 grow = (half / sx, half / sy)
         return keys.astype(np.uint32), grown, grow
 
-    def _paint(self, projection, lines, anchors) -> None:
-        keys, grown, grow = self._keys_and_growth()
-        opaque = self.fill[:, 3] >= 1.0
-        pts = np.concatenate(lines.pieces) if lines.pieces else np.zeros((0, 3))
-        sizes = np.array([len(p) for p in lines.pieces], dtype=np.int64)
-        apoints, aowner, aindex = anchors.arrays()
-        paint, runs, slots = projection.layered(
-            grow, np.ascontiguousarray(grown), np.ascontiguousarray(keys),
-            np.ascontiguousarray(opaque), np.ascontiguousarray(pts, dtype=float), sizes,
-            np.ascontiguousarray(apoints, dtype=float),
-        )
+    def _paint(self) -> None:
+        assert self.result is not None
+        paint, runs, slots = self.result
         sources, whole, fills, edges, _splits, warning = paint
         if warning:
             warnings.warn(f"plytrace.mpl: {warning}", RuntimeWarning, stacklevel=2)
         self.patches = _Patches(self, np.asarray(sources), np.asarray(whole), fills, edges)
+        apoints, aowner, aindex = self.anchors
         self.anchor_index = aindex
         depth = self._depth(apoints)
-        items = _items(lines, runs, slots, aowner, aindex, depth, len(sources))
+        items = _items(self.lines, runs, slots, aowner, aindex, depth, len(sources))
         self._draw_in_order(items, runs, apoints)
 
     def _depth(self, points: np.ndarray) -> np.ndarray:

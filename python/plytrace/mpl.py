@@ -154,24 +154,34 @@ def savefig(fig, fname, *, seam_width: float = SEAM_WIDTH, **kwargs) -> None:
 
 def _draw(ax: Axes3D, renderer) -> None:
     """The axes' own draw, with its 3-D artists drawn by levels."""
-    levels = _levels(ax)
-    installed: List[Tuple[object, object]] = []
+    installed: List[object] = []
     try:
-        for level in levels:
+        for level in _levels(ax, renderer):
             for m in level.members:
                 m.draw = types.MethodType(_member_draw(level), m)
-                installed.append((m, level))
+                if hasattr(m, "do_3d_projection"):
+                    m.do_3d_projection = types.MethodType(_member_projection(level), m)
+                installed.append(m)
         super(_Fixed, ax).draw(renderer)  # type: ignore[misc]
     finally:
-        for m, _ in installed:
+        for m in installed:
             m.__dict__.pop("draw", None)
+            m.__dict__.pop("do_3d_projection", None)
 
 
 def _member_draw(level):
     return lambda artist, renderer: level.draw_member(artist, renderer)
 
 
-def _levels(ax: Axes3D) -> List["_mpl_level.Level"]:
+def _member_projection(level):
+    def project(artist):
+        depth = type(artist).do_3d_projection(artist)
+        level.projected(artist)
+        return depth
+    return project
+
+
+def _levels(ax: Axes3D, renderer) -> List["_mpl_level.Level"]:
     """The axes' 3-D artists in levels: one, or with ``computed_zorder``
     off one per zorder; a level without polygons is left to matplotlib."""
     members = [a for a in ax.get_children() if a.get_visible() and _mpl_level.member(a)]
@@ -182,5 +192,5 @@ def _levels(ax: Axes3D) -> List["_mpl_level.Level"]:
         for a in members:
             by.setdefault(a.get_zorder(), []).append(a)
         groups = list(by.values())
-    return [_mpl_level.Level(ax, g) for g in groups
+    return [_mpl_level.Level(ax, g, renderer) for g in groups
             if any(isinstance(a, _mpl_level.POLYGONS) for a in g)]

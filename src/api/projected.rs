@@ -513,8 +513,7 @@ impl Projected {
     /// The patch of pieces `members`: a source all of whose faces are
     /// among them, each whole, is given as its own outline.
     fn patch(&self, pieces: &[Piece], members: &[usize]) -> Patch {
-        let mut count: std::collections::HashMap<u32, (usize, bool)> =
-            std::collections::HashMap::new();
+        let mut count: rustc_hash::FxHashMap<u32, (usize, bool)> = rustc_hash::FxHashMap::default();
         for &k in members {
             let e = count.entry(pieces[k].source).or_insert((0, true));
             e.0 += 1;
@@ -526,7 +525,7 @@ impl Projected {
             !src.clipped && n == src.count && all_whole
         };
         let mut rings = Vec::with_capacity(members.len());
-        let mut done = std::collections::HashSet::new();
+        let mut done = rustc_hash::FxHashSet::default();
         for &k in members {
             let piece = &pieces[k];
             let source = piece.source as usize;
@@ -783,14 +782,19 @@ fn group_pieces(pieces: &[Piece], key: &dyn Fn(u32) -> u32) -> Vec<Vec<usize>> {
     const MAX_SCAN: usize = 256;
     let n = ((pieces.len() as f64 / 2.0).sqrt() as usize).clamp(1, 512);
     let cell = |v: f64| (((v + 1.0) / 2.0 * n as f64).floor().max(0.0) as usize).min(n - 1);
-    let screens: Vec<Vec<DVec2>> = pieces
-        .iter()
-        .map(|p| p.points.iter().map(|q| q.truncate()).collect())
-        .collect();
-    let bounds: Vec<(DVec2, DVec2)> = screens.iter().map(|pts| bounds2(pts)).collect();
+    // The pieces' screen outlines, one after the other.
+    let mut flat: Vec<DVec2> = Vec::with_capacity(pieces.len() * 4);
+    let mut starts = Vec::with_capacity(pieces.len() + 1);
+    for p in pieces {
+        starts.push(flat.len());
+        flat.extend(p.points.iter().map(|q| q.truncate()));
+    }
+    starts.push(flat.len());
+    let screen = |k: usize| &flat[starts[k]..starts[k + 1]];
+    let bounds: Vec<(DVec2, DVec2)> = (0..pieces.len()).map(|k| bounds2(screen(k))).collect();
     let mut cells: Vec<Vec<(u32, u32)>> = vec![Vec::new(); n * n];
     let mut groups: Vec<Vec<usize>> = Vec::new();
-    let mut last: std::collections::HashMap<u32, usize> = std::collections::HashMap::new();
+    let mut last: rustc_hash::FxHashMap<u32, usize> = rustc_hash::FxHashMap::default();
     for (k, piece) in pieces.iter().enumerate() {
         let (lo, hi) = bounds[k];
         let (x0, x1, y0, y1) = (cell(lo.x), cell(hi.x), cell(lo.y), cell(hi.y));
@@ -806,7 +810,7 @@ fn group_pieces(pieces: &[Piece], key: &dyn Fn(u32) -> u32) -> Vec<Vec<usize>> {
                         let other = other as usize;
                         if group as usize > g
                             && boxes_overlap(bounds[k], bounds[other])
-                            && overlaps(&screens[k], &screens[other])
+                            && overlaps(screen(k), screen(other))
                         {
                             return false;
                         }

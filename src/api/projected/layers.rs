@@ -95,27 +95,29 @@ impl Projected {
         let pieces = &sorted.pieces;
         let tagged = |k: usize| (&pieces[k].points[..], patch_of[k]);
         let see_through = |k: &usize| !opaque[pieces[*k].source as usize];
-        let hiders = Occluders::new(
-            self.faces
-                .iter()
-                .filter(|f| opaque[f.source as usize])
-                .map(|f| (&f.points[..], 0)),
-        );
-        let translucent = Occluders::new((0..pieces.len()).filter(see_through).map(tagged));
         let mut placed = Vec::new();
-        let mut query = Query::new(&translucent);
-        self.visible_parts(&hiders, segments, &mut |segment, a, b| {
-            let covers = query.covers(a, b, self.eps);
-            place(a, b, covers, end, &mut |p, q, before| {
-                placed.push(PlacedSegment {
-                    segment,
-                    points: [self.to_2d(p), self.to_2d(q)],
-                    before,
-                })
-            });
-        })?;
-        crate::cancel::check()?;
-        let all = Occluders::new((0..pieces.len()).map(tagged));
+        if !segments.is_empty() {
+            let hiders = Occluders::new(
+                self.faces
+                    .iter()
+                    .filter(|f| opaque[f.source as usize])
+                    .map(|f| (&f.points[..], 0)),
+            );
+            let translucent = Occluders::new((0..pieces.len()).filter(see_through).map(tagged));
+            let mut query = Query::new(&translucent);
+            self.visible_parts(&hiders, segments, &mut |segment, a, b| {
+                let covers = query.covers(a, b, self.eps);
+                place(a, b, covers, end, &mut |p, q, before| {
+                    placed.push(PlacedSegment {
+                        segment,
+                        points: [self.to_2d(p), self.to_2d(q)],
+                        before,
+                    })
+                });
+            })?;
+            crate::cancel::check()?;
+        }
+        let all = Occluders::new((0..pieces.len()).filter(|_| !points.is_empty()).map(tagged));
         let mut query = Query::new(&all);
         let points = points
             .iter()
