@@ -11,25 +11,24 @@ use plytrace::api::{Layered, PaintOrder};
 
 use crate::{LINETO, MOVETO, PaintArrays, Paths};
 
-/// What `Projection.layered` returns: the paint arrays, the line runs
-/// (xy, line, slot, starts) and the points' slots.
-pub(crate) type LayeredArrays<'py> = (
-    PaintArrays<'py>,
-    (
-        Bound<'py, PyAny>,
-        Bound<'py, PyAny>,
-        Bound<'py, PyAny>,
-        Bound<'py, PyAny>,
-    ),
+/// The line runs as arrays: xy, line, slot, starts.
+type RunArrays<'py> = (
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
     Bound<'py, PyAny>,
 );
 
+/// What `Projection.layered` returns: the paint arrays, the line runs
+/// and the points' slots.
+pub(crate) type LayeredArrays<'py> = (PaintArrays<'py>, RunArrays<'py>, Bound<'py, PyAny>);
+
+/// Segments (pairs of 3-D ends), and the first segment of each polyline.
+type Segments = (Vec<[[f64; 3]; 2]>, Vec<usize>);
+
 /// The segments of polylines given as points one after the other and
 /// the points of each, with the first segment of each polyline.
-pub(crate) fn polyline_segments(
-    points: &[[f64; 3]],
-    sizes: &[i64],
-) -> PyResult<(Vec<[[f64; 3]; 2]>, Vec<usize>)> {
+pub(crate) fn polyline_segments(points: &[[f64; 3]], sizes: &[i64]) -> PyResult<Segments> {
     let mut segments = Vec::with_capacity(points.len());
     let mut first = Vec::with_capacity(sizes.len());
     let mut at = 0usize;
@@ -127,12 +126,7 @@ fn line_runs<'py>(
     py: Python<'py>,
     layered: &Layered,
     first_segment: &[usize],
-) -> PyResult<(
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-)> {
+) -> PyResult<RunArrays<'py>> {
     let mut xy: Vec<f64> = Vec::new();
     let (mut lines, mut slots, mut starts) = (Vec::new(), Vec::new(), Vec::new());
     let mut last: Option<(usize, usize, [f64; 2])> = None;
