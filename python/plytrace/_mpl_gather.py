@@ -133,6 +133,9 @@ def patch_polygon(ax, patch) -> Optional[Polygons]:
     flattened); None when it has several subpaths."""
     pts = np.asarray(patch._segment3d, dtype=float).reshape(-1, 3)
     codes = getattr(patch, "_code3d", None)
+    # matplotlib strokes a Patch3D's outline open (a polygon of a closed
+    # patch repeats its first point), a PathPatch3D's as its codes say.
+    closed = codes is not None and len(codes) > 0 and codes[-1] == Path.CLOSEPOLY
     if codes is not None:
         flat = flatten3d(pts, np.asarray(codes))
         if flat is None:
@@ -148,7 +151,7 @@ def patch_polygon(ax, patch) -> Optional[Polygons]:
     edge = np.asarray(patch.get_edgecolor(), dtype=float).reshape(1, 4)
     width = 0.0 if patch.get_linestyle() in ("None", "none", "") else patch.get_linewidth()
     return Polygons(scaled(ax, pts), np.array([len(pts)], np.int64), np.array([0]), fill, edge,
-                    np.array([float(width)]), np.array([False]))
+                    np.array([float(width)]), np.array([not closed]))
 
 
 def flatten3d(pts: np.ndarray, codes: np.ndarray, steps: int = 16) -> Optional[np.ndarray]:

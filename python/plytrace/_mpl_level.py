@@ -375,7 +375,8 @@ class _Patches:
         d = draw
         self.artist = d.owner[sources] if len(sources) else np.zeros(0, int)
         stroked = (d.edge[:, 3] > 0) & (d.widths > 0)
-        self.split = stroked[sources] & ~whole.astype(bool)
+        self.whole = whole.astype(bool)
+        self.split = stroked[sources] & ~self.whole
         self.fill_paths = _paths(*fills)
         ev, ecodes, estarts = edges
         self.edge_paths = {int(p): Path(ev[estarts[p]:estarts[p + 1]],
@@ -413,9 +414,11 @@ class _Patches:
             src = np.concatenate([src, self.sources[extra]])[order]
         faces = d.polys[k].kept[src - d.first_of[k]]
         style = _face_styles(col, faces)
-        if len(paths) == 1:
-            # Two rows keep a single path from being drawn as a marker,
-            # which Agg snaps to whole pixels (opening the seams).
+        if len(paths) == 1 and not (self.whole[a] and _rings(paths[0]) == 1):
+            # Two rows keep a single path of pieces from being drawn as a
+            # marker, which Agg snaps to whole pixels (opening the seams
+            # between pieces); one whole polygon is drawn as matplotlib
+            # draws it.
             face = np.repeat(face, 2, axis=0)
         with swapped(col, _paths=paths, _facecolors2d=face, _edgecolors2d=_one(edge),
                      _gid=d.gid(col), **style):
@@ -425,7 +428,11 @@ class _Patches:
         d = self.draw
         gid = d.gid(patch)
         paths = self.fill_paths[a:b]
-        if not self.split[a:b].any():  # no edges cut: the patch's own path
+        if b - a == 1 and self.whole[a]:  # whole: as matplotlib draws it
+            with swapped(patch, _gid=gid):
+                mpatches.Patch.draw(patch, d.renderer)
+            return
+        if not self.split[a:b].any():  # no edges cut: its pieces as one path
             with swapped(patch, _path2d=Path.make_compound_path(*paths), _gid=gid):
                 mpatches.Patch.draw(patch, d.renderer)
             return
@@ -437,6 +444,10 @@ class _Patches:
             with swapped(patch, _path2d=Path.make_compound_path(*edges), _facecolor=_TRANSPARENT,
                          _hatch=None, _gid=None):
                 mpatches.Patch.draw(patch, d.renderer)
+
+
+def _rings(path: Path) -> int:
+    return 1 if path.codes is None else int((path.codes == Path.MOVETO).sum())
 
 
 def _one(values: np.ndarray) -> np.ndarray:

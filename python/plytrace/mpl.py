@@ -84,7 +84,9 @@ def _fixed_class(base: type) -> type:
     """The fixed class of ``base`` (one per base class)."""
     cls = _CLASSES.get(base)
     if cls is None:
-        cls = type(f"Fixed{base.__name__}", (_Fixed, base), {"__module__": __name__})
+        # Named as its base (its repr is the axes' own).
+        cls = type(base.__name__, (_Fixed, base),
+                   {"__module__": __name__, "__qualname__": base.__qualname__})
         _CLASSES[base] = cls
     return cls
 
