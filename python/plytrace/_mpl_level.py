@@ -447,7 +447,7 @@ class _Patches:
 
 
 def _rings(path: Path) -> int:
-    return 1 if path.codes is None else int((path.codes == Path.MOVETO).sum())
+    return 1 if path.codes is None else int(np.count_nonzero(path.codes == Path.MOVETO))
 
 
 def _one(values: np.ndarray) -> np.ndarray:
