@@ -27,7 +27,7 @@ fn main() -> Result<(), plytrace::Error> {
         ],
     );
     let mut scene = Scene::new(Camera::looking_at([4., -6., 3.], [0., 0., 0.]), 256, 256);
-    scene.add_light(Light::point([5., -5., 8.], [1., 1., 1.]));
+    scene.add_light(Light::point([5., -5., 8.], [1., 1., 1.]))?;
     scene.add_mesh("cube", &cube, &Material::color([0.2, 0.6, 1.0]))?;
     let image = plytrace::api::render(&scene, &Options::default())?;
     std::fs::write("cube.png", image.to_png()?)

@@ -16,7 +16,7 @@
 //!          vec![2, 3, 7, 6], vec![1, 2, 6, 5], vec![0, 4, 7, 3]],
 //! );
 //! let mut scene = Scene::new(Camera::looking_at([4., -6., 3.], [0., 0., 0.]), 64, 64);
-//! scene.add_light(Light::point([5., -5., 8.], [1., 1., 1.]));
+//! scene.add_light(Light::point([5., -5., 8.], [1., 1., 1.]))?;
 //! scene.add_mesh("cube", &cube, &Material::color([0.2, 0.6, 1.0]))?;
 //! let image = plytrace::api::render(&scene, &Options::default())?;
 //! assert_eq!((image.width, image.height, image.rgb.len()), (64, 64, 64 * 64 * 3));
@@ -59,6 +59,20 @@ pub use projected::{Layered, PaintOrder, Patch, PlacedSegment, Projected, Ring, 
 #[doc(inline)]
 pub use crate::budget::Budgets;
 
+/// The largest side of an image and the most pixels it may have, as the
+/// scene language's `resolution` and the program's `--size` allow:
+/// [`fn@render`] and [`render_vector`] refuse a size beyond them.
+///
+/// ```
+/// use plytrace::api::{render, Camera, Options, Scene, MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
+///
+/// assert_eq!((MAX_IMAGE_SIDE, MAX_IMAGE_PIXELS), (65536, 1 << 28));
+/// let scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+/// let wide = Options { size: Some((65537, 1)), ..Options::default() };
+/// assert!(render(&scene, &wide).is_err());
+/// ```
+pub use crate::scene::interpreter::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
+
 /// The anti-aliasing methods of [`Options::antialiasing`] (the scan
 /// conversion methods of the virtual image tree).
 ///
@@ -67,7 +81,7 @@ pub use crate::budget::Budgets;
 ///
 /// # fn main() -> Result<(), plytrace::Error> {
 /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
-/// scene.set_background([0., 1., 0.]);
+/// scene.set_background([0., 1., 0.])?;
 /// let options = Options { antialiasing: Some(Antialiasing::Supersample(2)), ..Options::default() };
 /// let image = render(&scene, &options)?;
 /// assert!(image.rgb.chunks(3).all(|p| p == [0, 255, 0]));
@@ -229,6 +243,12 @@ impl Camera {
             finite3("camera target", self.target)?,
         );
         let up = finite3("camera up", self.up)?;
+        if !self.twist.is_finite() {
+            return Err(invalid(&format!(
+                "camera twist {}: expected a finite angle",
+                self.twist
+            )));
+        }
         let view = math::lookat_up(eye, target, up, self.twist).ok_or_else(|| {
             invalid("the camera's eye and target are the same point, or it looks along `up`")
         })?;
@@ -248,10 +268,10 @@ impl Camera {
 /// );
 /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
 /// scene.add_mesh("square", &square, &Material::color([1., 1., 1.]))?;
-/// scene.set_ambient([0., 0., 0.]);
+/// scene.set_ambient([0., 0., 0.])?;
 /// // A red light that casts no shadows (the manual's `Diffuse`).
 /// let red = Light { color: [1., 0., 0.], shadows: false, ..Light::point([0., -5., 0.], [1., 1., 1.]) };
-/// scene.add_light(red);
+/// scene.add_light(red)?;
 /// let image = render(&scene, &Options::default())?;
 /// let centre = &image.rgb[(8 * 16 + 8) * 3..][..3];
 /// assert!(centre[0] > 0 && centre[1..] == [0, 0], "white lit red: {centre:?}");
@@ -287,6 +307,35 @@ impl Light {
             range: 10_000.0,
             shadows: true,
         }
+    }
+
+    /// Checks the light as the scene language's `light` command does: a
+    /// finite position, colour components finite and not negative, a
+    /// finite positive range.
+    ///
+    /// ```
+    /// use plytrace::api::Light;
+    ///
+    /// let mut light = Light::point([5., -5., 8.], [1., 1., 1.]);
+    /// assert!(light.validate().is_ok());
+    /// light.range = f64::INFINITY;
+    /// assert!(light.validate().unwrap_err().to_string().contains("light range"));
+    /// ```
+    pub fn validate(&self) -> Result<()> {
+        finite3("light position", self.position)?;
+        if self.color.iter().any(|c| !c.is_finite() || *c < 0.0) {
+            return Err(invalid(&format!(
+                "light color {:?}: expected finite components, 0 or more",
+                self.color
+            )));
+        }
+        if !(self.range.is_finite() && self.range > 0.0) {
+            return Err(invalid(&format!(
+                "light range {}: expected a finite number more than 0",
+                self.range
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -342,6 +391,52 @@ impl Material {
         let mut m = Material::default();
         m.surface.color = DVec3::from_array(rgb);
         m
+    }
+
+    /// Checks the coefficients as the scene language's commands do: the
+    /// colour, `diffuse`, `specular`, `reflectance`, `transmittance` and
+    /// the transparency from 0 to 1, `shininess` and the transparency's
+    /// roll-off 0 or more, `index` more than 0; every one finite.
+    ///
+    /// ```
+    /// use plytrace::api::Material;
+    ///
+    /// let mut m = Material::color([0.2, 0.6, 1.0]);
+    /// assert!(m.validate().is_ok());
+    /// m.surface.shininess = f64::NAN;
+    /// assert!(m.validate().unwrap_err().to_string().contains("shininess NaN"));
+    /// ```
+    pub fn validate(&self) -> Result<()> {
+        let s = &self.surface;
+        check_color("material color", s.color.to_array())?;
+        let unit = [
+            ("diffuse", s.diffuse),
+            ("specular", s.specular),
+            ("reflectance", s.reflectance),
+            ("transmittance", s.transmittance),
+            ("transparency", s.transparency.0),
+        ];
+        for (what, v) in unit {
+            if !(0.0..=1.0).contains(&v) {
+                return Err(invalid(&format!(
+                    "material {what} {v}: expected a number from 0 to 1"
+                )));
+            }
+        }
+        for (what, v) in [("shininess", s.shininess), ("roll-off", s.transparency.1)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(invalid(&format!(
+                    "material {what} {v}: expected a finite number, 0 or more"
+                )));
+            }
+        }
+        if !(s.index.is_finite() && s.index > 0.0) {
+            return Err(invalid(&format!(
+                "material index {}: expected a finite number more than 0",
+                s.index
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -481,7 +576,7 @@ impl MeshData {
 /// # fn main() -> Result<(), plytrace::Error> {
 /// let triangle = MeshData::new(vec![[-1., 0., -1.], [1., 0., -1.], [0., 0., 1.]], vec![vec![0, 1, 2]]);
 /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
-/// scene.add_light(Light::point([2., -5., 3.], [1., 1., 1.]));
+/// scene.add_light(Light::point([2., -5., 3.], [1., 1., 1.]))?;
 /// scene.add_mesh("triangle", &triangle, &Material::color([0., 1., 0.]))?;
 /// let image = render(&scene, &Options::default())?;
 /// assert_eq!(image.stats.polygons_tiled, 1);
@@ -492,6 +587,7 @@ impl MeshData {
 pub struct Scene {
     inner: model::Scene,
     camera: Option<(Camera, u32, u32)>,
+    budgets: Budgets,
 }
 
 impl Scene {
@@ -517,6 +613,7 @@ impl Scene {
         Scene {
             inner,
             camera: Some((camera, width.max(1), height.max(1))),
+            budgets: Budgets::default(),
         }
     }
 
@@ -538,10 +635,29 @@ impl Scene {
     /// # }
     /// ```
     pub fn from_file(path: &Path) -> Result<Scene> {
-        let (inner, _warnings) = crate::scene::load(path)?;
+        Scene::from_file_with(path, Budgets::default())
+    }
+
+    /// [`Scene::from_file`] within `budgets` (as `plytrace --max-polygons
+    /// N ... -f FILE`), which the scene keeps ([`Scene::budgets`]).
+    ///
+    /// ```
+    /// use std::path::Path;
+    /// use plytrace::api::{Budgets, Scene};
+    ///
+    /// let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ccube.des");
+    /// let tight = Budgets { polygons: 2, ..Budgets::default() };
+    /// let e = Scene::from_file_with(&scene, tight).unwrap_err().to_string();
+    /// assert!(e.contains("--max-polygons"), "{e}");
+    /// ```
+    pub fn from_file_with(path: &Path, budgets: Budgets) -> Result<Scene> {
+        let mut interp = crate::scene::Interpreter::new();
+        interp.set_budgets(budgets);
+        interp.execute_file(path, true, &mut crate::scene::NoHost)?;
         Ok(Scene {
-            inner,
+            inner: interp.into_scene(),
             camera: None,
+            budgets,
         })
     }
 
@@ -560,16 +676,95 @@ impl Scene {
     /// assert_eq!(scene.size(), (16, 16));
     /// assert!(render(&scene, &Options::default())?.stats.polygons_tiled > 0);
     /// assert!(Scene::from_text("defobj nothing_here\nendobj\n", &dir).is_err());
+    /// // What a scene file may not do, its text may not either.
+    /// let e = Scene::from_text("defobj cube\n", &dir).unwrap_err().to_string();
+    /// assert!(e.contains("no `endobj`"), "{e}");
     /// # Ok(())
     /// # }
     /// ```
     pub fn from_text(text: &str, dir: &Path) -> Result<Scene> {
+        Scene::from_text_with(text, dir, Budgets::default())
+    }
+
+    /// [`Scene::from_text`] within `budgets`, which the scene keeps.
+    pub fn from_text_with(text: &str, dir: &Path, budgets: Budgets) -> Result<Scene> {
         let mut interp = crate::scene::Interpreter::new();
-        interp.execute_source(text, Path::new("<text>"), dir, &mut crate::scene::NoHost)?;
+        interp.set_budgets(budgets);
+        interp.execute_input(text, Path::new("<text>"), dir, &mut crate::scene::NoHost)?;
         Ok(Scene {
-            inner: interp.current().clone(),
+            inner: interp.into_scene(),
             camera: None,
+            budgets,
         })
+    }
+
+    /// The limits this scene is read, added to and rendered within:
+    /// [`Budgets::default`] unless set.
+    pub fn budgets(&self) -> Budgets {
+        self.budgets
+    }
+
+    /// Sets [`Scene::budgets`]; meshes already added are not checked again.
+    ///
+    /// ```
+    /// use plytrace::api::{Budgets, Camera, MeshData, Material, Scene};
+    ///
+    /// let triangle = MeshData::new(vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]], vec![vec![0, 1, 2]]);
+    /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+    /// scene.set_budgets(Budgets { polygons: 1, ..Budgets::default() });
+    /// assert!(scene.add_mesh("first", &triangle, &Material::default()).is_ok());
+    /// let e = scene.add_mesh("second", &triangle, &Material::default()).unwrap_err();
+    /// assert!(e.to_string().contains("--max-polygons"), "{e}");
+    /// ```
+    pub fn set_budgets(&mut self, budgets: Budgets) {
+        self.budgets = budgets;
+    }
+
+    /// Refuses a mesh of `vertices`, `faces` and `corners` (vertex
+    /// indices, all faces together) that would take the scene past its
+    /// [`Budgets::polygons`] or that alone would hold more than
+    /// [`Budgets::model_memory`]: what [`Scene::add_mesh`] checks first,
+    /// for a caller to check before it builds the [`MeshData`].
+    ///
+    /// ```
+    /// use plytrace::api::{Camera, Scene};
+    ///
+    /// let scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
+    /// assert!(scene.check_mesh("small", 3, 1, 3).is_ok());
+    /// let e = scene.check_mesh("huge", 3, 10_000_000, 30_000_000).unwrap_err().to_string();
+    /// assert!(e.contains("10000000") && e.contains("--max-polygons"), "{e}");
+    /// ```
+    pub fn check_mesh(
+        &self,
+        name: &str,
+        vertices: usize,
+        faces: usize,
+        corners: usize,
+    ) -> Result<()> {
+        let shown = crate::error::printable(name, crate::error::MAX_SHOWN_TOKEN);
+        let before: usize = self.inner.objects.iter().map(|o| o.polygons.len()).sum();
+        let total = before.saturating_add(faces);
+        if total > self.budgets.polygons {
+            return Err(invalid(&Budgets::exceeded(
+                &format!(
+                    "the mesh `{shown}` of {faces} faces (with the scene's {before} polygons, {total})"
+                ),
+                self.budgets.polygons,
+                "--max-polygons",
+            )));
+        }
+        let need = crate::modeling::model_bytes(vertices, faces, corners);
+        if need > self.budgets.model_memory {
+            return Err(invalid(&Budgets::exceeded(
+                &format!(
+                    "the mesh `{shown}` of {vertices} vertices and {faces} faces ({} MiB)",
+                    need.div_ceil(1 << 20)
+                ),
+                format!("{} MiB", self.budgets.model_memory >> 20),
+                "--max-model-memory",
+            )));
+        }
+        Ok(())
     }
 
     /// Adds a light.
@@ -585,13 +780,14 @@ impl Scene {
     /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
     /// scene.add_mesh("square", &square, &Material::color([1., 1., 1.]))?;
     /// let dark = render(&scene, &Options::default())?.rgb[(8 * 16 + 8) * 3];
-    /// scene.add_light(Light::point([0., -5., 0.], [1., 1., 1.]));
+    /// scene.add_light(Light::point([0., -5., 0.], [1., 1., 1.]))?;
     /// let lit = render(&scene, &Options::default())?.rgb[(8 * 16 + 8) * 3];
     /// assert!(lit > dark, "{lit} > {dark}");
     /// # Ok(())
     /// # }
     /// ```
-    pub fn add_light(&mut self, light: Light) {
+    pub fn add_light(&mut self, light: Light) -> Result<()> {
+        light.validate()?;
         self.inner.lights.push(model::Light {
             position: DVec3::from_array(light.position),
             color: DVec3::from_array(light.color),
@@ -602,6 +798,7 @@ impl Scene {
                 LightKind::Diffuse
             },
         });
+        Ok(())
     }
 
     /// Adds an object made from `mesh` with `material`, in world
@@ -627,7 +824,10 @@ impl Scene {
     /// # }
     /// ```
     pub fn add_mesh(&mut self, name: &str, mesh: &MeshData, material: &Material) -> Result<()> {
+        let corners = mesh.faces.iter().map(Vec::len).sum();
+        self.check_mesh(name, mesh.vertices.len(), mesh.faces.len(), corners)?;
         mesh.validate()?;
+        material.validate()?;
         let colors = |c: &Option<Vec<[f64; 3]>>| {
             c.as_ref().map(|c| {
                 Arc::new(
@@ -671,14 +871,16 @@ impl Scene {
     ///
     /// # fn main() -> Result<(), plytrace::Error> {
     /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 16);
-    /// scene.set_background([1., 0.5, 0.]);
+    /// scene.set_background([1., 0.5, 0.])?;
     /// let image = render(&scene, &Options::default())?;
     /// assert!(image.rgb.chunks(3).all(|p| p[0] == 255 && p[1] > 100 && p[2] == 0));
     /// # Ok(())
     /// # }
     /// ```
-    pub fn set_background(&mut self, rgb: [f64; 3]) {
+    pub fn set_background(&mut self, rgb: [f64; 3]) -> Result<()> {
+        check_color("background", rgb)?;
         self.inner.background = DVec3::from_array(rgb);
+        Ok(())
     }
 
     /// The ambient light's colour, 0 to 1.
@@ -695,14 +897,16 @@ impl Scene {
     /// let mut white = Material::color([1., 1., 1.]);
     /// white.surface.diffuse = 0.0; // ambient only: k_a = 1 - k_d = 1
     /// scene.add_mesh("square", &square, &white)?;
-    /// scene.set_ambient([0., 1., 0.]);
+    /// scene.set_ambient([0., 1., 0.])?;
     /// let image = render(&scene, &Options::default())?;
     /// assert_eq!(&image.rgb[(8 * 16 + 8) * 3..][..3], [0, 255, 0], "white seen in green light");
     /// # Ok(())
     /// # }
     /// ```
-    pub fn set_ambient(&mut self, rgb: [f64; 3]) {
+    pub fn set_ambient(&mut self, rgb: [f64; 3]) -> Result<()> {
+        check_color("ambient", rgb)?;
         self.inner.ambient = DVec3::from_array(rgb);
+        Ok(())
     }
 
     /// Levels of reflection and refraction followed (the manual's
@@ -816,7 +1020,7 @@ impl Options {
 ///
 /// # fn main() -> Result<(), plytrace::Error> {
 /// let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 16, 8);
-/// scene.set_background([1., 1., 1.]);
+/// scene.set_background([1., 1., 1.])?;
 /// let image = render(&scene, &Options::default())?;
 /// assert_eq!((image.width, image.height), (16, 8));
 /// assert_eq!(image.rgb, vec![255; 16 * 8 * 3]);
@@ -886,6 +1090,20 @@ impl Image {
 /// # }
 /// ```
 pub fn render(scene: &Scene, options: &Options) -> Result<Image> {
+    let (w, h) = options.size.unwrap_or(scene.size());
+    check_size(w, h)?;
+    // The whole image is held: within the frame budget, before a byte.
+    let need = u64::from(w) * u64::from(h) * 3;
+    if need > options.budgets.frame_memory {
+        return Err(Error::Invalid(Budgets::exceeded(
+            &format!(
+                "the image of {w} x {h} pixels in memory ({} MiB)",
+                need.div_ceil(1 << 20)
+            ),
+            format!("{} MiB", options.budgets.frame_memory >> 20),
+            "--max-frame-memory",
+        )));
+    }
     let mut rgb = Vec::new();
     let (mut width, mut height) = (0, 0);
     let stats = render_rows(scene, options, &mut |y, row| {
@@ -928,6 +1146,7 @@ pub fn render_rows(
 ) -> Result<RenderStats> {
     let model = scene.model()?;
     let (w, h) = options.size.unwrap_or(scene.size());
+    check_size(w, h)?;
     if u64::from(w) * u64::from(h) > options.budgets.pixels {
         return Err(Error::Invalid(Budgets::exceeded(
             &format!("the image of {w} x {h} pixels"),
@@ -997,6 +1216,8 @@ impl crate::raster::scan::RowSink for ByteRows<'_> {
 /// # }
 /// ```
 pub fn render_vector(scene: &Scene, options: &Options, format: VectorFormat) -> Result<Vec<u8>> {
+    let (w, h) = options.size.unwrap_or(scene.size());
+    check_size(w, h)?;
     let model = scene.model()?;
     let style = crate::vector::Style::Shaded;
     let input = crate::render::vector::prepare_for(&model, &options.render_options(), style)?;
@@ -1017,6 +1238,29 @@ fn finite3(what: &str, v: [f64; 3]) -> Result<DVec3> {
         Ok(DVec3::from_array(v))
     } else {
         Err(invalid(&format!("{what} is not finite: {v:?}")))
+    }
+}
+
+/// Refuses an image size the program's `--size` refuses.
+fn check_size(w: u32, h: u32) -> Result<()> {
+    let side = |v: u32| (1..=MAX_IMAGE_SIDE).contains(&i64::from(v));
+    if side(w) && side(h) && u64::from(w) * u64::from(h) <= MAX_IMAGE_PIXELS {
+        return Ok(());
+    }
+    Err(invalid(&format!(
+        "an image of {w} x {h} pixels: each side must be 1 to {MAX_IMAGE_SIDE} and the total \
+         at most {MAX_IMAGE_PIXELS} pixels"
+    )))
+}
+
+/// A colour's components, each from 0 to 1.
+fn check_color(what: &str, rgb: [f64; 3]) -> Result<()> {
+    if rgb.iter().all(|c| (0.0..=1.0).contains(c)) {
+        Ok(())
+    } else {
+        Err(invalid(&format!(
+            "{what} {rgb:?}: expected components from 0 to 1"
+        )))
     }
 }
 
@@ -1092,7 +1336,7 @@ mod tests {
         let mut camera = Camera::looking_at([0., 0., 5.], [0., 0., 0.]);
         camera.up = [0., 1., 0.];
         let mut scene = Scene::new(camera, 32, 32);
-        scene.set_ambient([1., 1., 1.]);
+        scene.set_ambient([1., 1., 1.]).unwrap();
         let mut red = Material::color([1., 0., 0.]);
         red.surface.diffuse = 0.0;
         scene.add_mesh("square", &square(), &red).unwrap();
@@ -1190,5 +1434,103 @@ mod tests {
             render(&Scene::from_file(&dir.join("ccube.des")).unwrap(), &options).unwrap();
         assert_eq!(image.rgb, from_file.rgb);
         assert!(image.stats.polygons_tiled > 0);
+    }
+
+    #[test]
+    fn a_scene_text_refuses_what_the_same_file_refuses() {
+        let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+        let dir = tempfile::tempdir().unwrap();
+        for (text, refused) in [
+            ("defobj cube\n", true),
+            ("lookat 0 0 6 0 0 0 0\ndefobj cube\ncolor 1 0 0\n", true),
+            ("defobj cube\nendobj\n", false),
+            // `quit` ends the input early, as in a file.
+            ("defobj cube\nquit\n", false),
+        ] {
+            let file = dir.path().join("scene.des");
+            std::fs::write(&file, text).unwrap();
+            std::fs::create_dir_all(dir.path().join("det")).unwrap();
+            std::fs::copy(
+                examples.join("det/cube.det"),
+                dir.path().join("det/cube.det"),
+            )
+            .unwrap();
+            let from_text = Scene::from_text(text, dir.path());
+            let from_file = Scene::from_file(&file);
+            assert_eq!(from_text.is_err(), refused, "{text:?}");
+            assert_eq!(from_file.is_err(), refused, "{text:?}");
+            if let (Err(a), Err(b)) = (from_text, from_file) {
+                let (a, b) = (a.diagnostic().unwrap(), b.diagnostic().unwrap());
+                assert_eq!(a.message, b.message);
+                assert_eq!(
+                    (a.location.line, a.location.column),
+                    (b.location.line, b.location.column)
+                );
+            }
+        }
+        let long = "# \n".repeat(crate::scene::interpreter::MAX_SCENE_BYTES as usize / 3 + 1);
+        let e = Scene::from_text(&long, dir.path()).unwrap_err().to_string();
+        assert!(e.contains("more than the 16777216 bytes"), "{e}");
+    }
+
+    #[test]
+    fn lights_materials_and_colours_that_are_not_finite_are_refused() {
+        let mut scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 8, 8);
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let mut light = Light::point([0., -5., 0.], [1., 1., 1.]);
+            light.range = bad;
+            assert!(scene.add_light(light).is_err());
+            light.range = 10.0;
+            light.position[1] = bad;
+            assert!(scene.add_light(light).is_err());
+            light.position[1] = 0.0;
+            light.color[2] = bad;
+            assert!(scene.add_light(light).is_err());
+            for field in 0..8 {
+                let mut m = Material::default();
+                let s = &mut m.surface;
+                *[
+                    &mut s.diffuse,
+                    &mut s.specular,
+                    &mut s.shininess,
+                    &mut s.reflectance,
+                    &mut s.transmittance,
+                    &mut s.index,
+                    &mut s.transparency.0,
+                    &mut s.transparency.1,
+                ][field] = bad;
+                assert!(scene.add_mesh("m", &square(), &m).is_err(), "{field} {bad}");
+            }
+            assert!(scene.set_background([0., bad, 0.]).is_err());
+            assert!(scene.set_ambient([bad, 0., 0.]).is_err());
+        }
+        assert!(scene.inner.lights.is_empty() && scene.inner.objects.is_empty());
+        assert!(scene.add_mesh("m", &square(), &Material::default()).is_ok());
+    }
+
+    #[test]
+    fn sizes_beyond_the_program_s_are_refused_and_frames_over_the_budget_before_rendering() {
+        let scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 8, 8);
+        for size in [(0, 1), (1, 0), (65537, 1), (20000, 20000)] {
+            let options = Options {
+                size: Some(size),
+                ..Options::default()
+            };
+            assert!(render(&scene, &options).is_err(), "{size:?}");
+            assert!(
+                render_vector(&scene, &options, VectorFormat::Svg).is_err(),
+                "{size:?}"
+            );
+        }
+        let mut options = Options {
+            size: Some((1024, 1024)),
+            ..Options::default()
+        };
+        options.budgets.frame_memory = 1 << 20;
+        let e = render(&scene, &options).unwrap_err().to_string();
+        assert!(
+            e.contains("3 MiB") && e.contains("--max-frame-memory"),
+            "{e}"
+        );
     }
 }

@@ -36,8 +36,75 @@ fn identity(path: &Path, meta: &std::fs::Metadata) -> Option<Identity> {
     }
 }
 
-/// What was read: identities and the names they were read by.
-static READ: Mutex<Vec<(Identity, PathBuf)>> = Mutex::new(Vec::new());
+/// Files known by identity and by the names they were read by: the
+/// process's inputs ([`note`], [`check`]), or the inputs of one task
+/// that keeps its own (a merge's parts).
+#[derive(Debug, Default)]
+pub struct Inputs(Vec<(Identity, PathBuf)>);
+
+impl Inputs {
+    /// No files.
+    pub const fn new() -> Inputs {
+        Inputs(Vec::new())
+    }
+
+    /// Adds `path`, read with metadata `meta` (taken from the open file).
+    pub fn add(&mut self, path: &Path, meta: &std::fs::Metadata) {
+        if let Some(id) = identity(path, meta) {
+            self.insert(id, path.to_path_buf());
+        }
+    }
+
+    /// By identity and name: a file that takes the inode of an input
+    /// since deleted is an input of its own, though the old record stays
+    /// until the next check.
+    fn insert(&mut self, id: Identity, path: PathBuf) {
+        if !self.0.iter().any(|(i, p)| *i == id && *p == path) {
+            self.0.push((id, path));
+        }
+    }
+
+    /// The name by which `target`, when it is one of the files, was read.
+    pub fn find(&mut self, target: &Path) -> Option<&Path> {
+        let meta = std::fs::metadata(target).ok()?;
+        let id = identity(target, &meta)?;
+        // An input deleted since may have left its inode to a new file: a
+        // record counts only while its name still leads to the same file.
+        self.0.retain(|(i, p)| {
+            std::fs::metadata(p)
+                .ok()
+                .and_then(|m| identity(p, &m))
+                .is_some_and(|now| now == *i)
+        });
+        self.0
+            .iter()
+            .find(|(i, _)| *i == id)
+            .map(|(_, p)| p.as_path())
+    }
+
+    /// Refuses `target` when it is one of the files.
+    pub fn check(&mut self, target: &Path) -> Result<()> {
+        match self.find(target) {
+            Some(input) => Err(Error::Invalid(format!(
+                "{}: this output is {}, an input of this run; it is not written over \
+                 (name another output)",
+                crate::error::printable(&target.display().to_string(), 200),
+                if input == target {
+                    "the file read".to_string()
+                } else {
+                    format!(
+                        "the file read as {}",
+                        crate::error::printable(&input.display().to_string(), 200)
+                    )
+                }
+            ))),
+            None => Ok(()),
+        }
+    }
+}
+
+/// What the process read.
+static READ: Mutex<Inputs> = Mutex::new(Inputs::new());
 
 /// Notes that `path` (with metadata `meta`, taken from the open file) was
 /// read as an input.
@@ -117,15 +184,10 @@ impl Noted {
     /// Enters the note in the process's lists.
     fn enter(self) {
         match self {
-            Noted::Read(id, path) => {
-                let mut read = READ.lock().unwrap_or_else(|e| e.into_inner());
-                // By identity and name: a file that takes the inode of an
-                // input since deleted is an input of its own, though the
-                // old record stays until the next check.
-                if !read.iter().any(|(i, p)| *i == id && *p == path) {
-                    read.push((id, path));
-                }
-            }
+            Noted::Read(id, path) => READ
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .insert(id, path),
             Noted::Contents(h) => CONTENTS.lock().unwrap_or_else(|e| e.into_inner()).push(h),
         }
     }
@@ -180,37 +242,7 @@ pub fn contents() -> Vec<u64> {
 
 /// Refuses `target` when it is a file this process has read.
 pub fn check(target: &Path) -> Result<()> {
-    let Ok(meta) = std::fs::metadata(target) else {
-        return Ok(());
-    };
-    let Some(id) = identity(target, &meta) else {
-        return Ok(());
-    };
-    let mut read = READ.lock().unwrap_or_else(|e| e.into_inner());
-    // An input deleted since may have left its inode to a new file: a
-    // record counts only while its name still leads to the same file.
-    read.retain(|(i, p)| {
-        std::fs::metadata(p)
-            .ok()
-            .and_then(|m| identity(p, &m))
-            .is_some_and(|now| now == *i)
-    });
-    match read.iter().find(|(i, _)| *i == id) {
-        Some((_, input)) => Err(Error::Invalid(format!(
-            "{}: this output is {}, an input of this run; it is not written over \
-             (name another output)",
-            crate::error::printable(&target.display().to_string(), 200),
-            if input == target {
-                "the file read".to_string()
-            } else {
-                format!(
-                    "the file read as {}",
-                    crate::error::printable(&input.display().to_string(), 200)
-                )
-            }
-        ))),
-        None => Ok(()),
-    }
+    READ.lock().unwrap_or_else(|e| e.into_inner()).check(target)
 }
 
 #[cfg(test)]

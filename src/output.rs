@@ -3,7 +3,9 @@
 //! of the scan conversion processors rftb1-4 and getrgb (004 appendix,
 //! the rftb and getrgb manual pages). Files are written to a temporary
 //! name in the same directory and renamed when complete, so a failure
-//! never leaves a partial image behind.
+//! never leaves a partial image behind; a set of files is renamed under
+//! an advisory lock of its directories, so that two processes writing
+//! the same names leave one set whole ([`commit_all`]).
 //!
 //! # The row sinks
 //!
@@ -221,6 +223,45 @@ pub fn check_target(path: &Path) -> Result<()> {
             "the directory {} does not exist",
             dir.display()
         )));
+    }
+    Ok(())
+}
+
+/// How an output name taken from a file rather than from the user (a
+/// scene's `fname`, a part's `plytrace-output`) would leave the working
+/// directory ([`check_inside`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outside {
+    /// Empty, absolute, or with `..` among its components.
+    ByName,
+    /// Its directory is a link (or under one) that leads out.
+    ByLink,
+}
+
+/// Checks that `name`, an output named by a file, stays inside the
+/// working directory: not empty, relative, no `..`, and its directory
+/// (when it exists) inside the working directory once links are followed.
+pub fn check_inside(name: &Path) -> std::result::Result<(), Outside> {
+    use std::path::Component;
+    let by_name = name.as_os_str().is_empty()
+        || name.is_absolute()
+        || name.components().any(|c| {
+            matches!(
+                c,
+                Component::ParentDir | Component::RootDir | Component::Prefix(_)
+            )
+        });
+    if by_name {
+        return Err(Outside::ByName);
+    }
+    if let Some(dir) = name.parent().filter(|d| !d.as_os_str().is_empty())
+        && let (Ok(real), Ok(cwd)) = (
+            dir.canonicalize(),
+            std::env::current_dir().and_then(|c| c.canonicalize()),
+        )
+        && !real.starts_with(&cwd)
+    {
+        return Err(Outside::ByLink);
     }
     Ok(())
 }
@@ -446,11 +487,86 @@ impl Drop for Staged {
     }
 }
 
+/// What a process says while its set of outputs waits for another
+/// process's ([`on_lock_wait`]).
+static WAIT_NOTICE: std::sync::OnceLock<fn(&Path)> = std::sync::OnceLock::new();
+
+/// Sets what is called, with the directory, when a set of outputs waits
+/// for another process committing into the same directory (a program
+/// says so, as cargo says it waits for a lock). Set once; later calls
+/// are ignored.
+pub fn on_lock_wait(notice: fn(&Path)) {
+    let _ = WAIT_NOTICE.set(notice);
+}
+
+/// Exclusive locks (`flock`) on the directories of a set of outputs,
+/// held while the set is renamed into place and released when dropped:
+/// two processes that commit sets under the same names (two merges into
+/// one seed's separations) take turns, so the names end up all from one
+/// of them, never a mix. Advisory and best effort: a directory that
+/// cannot be opened or locked (a file system without locks) is committed
+/// without. Directories are locked in one order (their canonical names),
+/// so that two sets never wait for each other.
+struct DirectoryLocks {
+    /// The open directories, locked while held.
+    #[cfg(unix)]
+    _held: Vec<nix::fcntl::Flock<std::fs::File>>,
+}
+
+impl DirectoryLocks {
+    fn take(files: &[Staged]) -> DirectoryLocks {
+        let mut dirs: Vec<PathBuf> = files
+            .iter()
+            .filter_map(|f| {
+                f.path
+                    .parent()
+                    .filter(|p| !p.as_os_str().is_empty())
+                    .unwrap_or(Path::new("."))
+                    .canonicalize()
+                    .ok()
+            })
+            .collect();
+        dirs.sort();
+        dirs.dedup();
+        #[cfg(unix)]
+        {
+            let held = dirs.iter().filter_map(|d| lock_directory(d)).collect();
+            DirectoryLocks { _held: held }
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = dirs;
+            DirectoryLocks {}
+        }
+    }
+}
+
+/// An exclusive lock on directory `dir`, waiting (and saying so) while
+/// another process holds it; `None` when it cannot be had.
+#[cfg(unix)]
+fn lock_directory(dir: &Path) -> Option<nix::fcntl::Flock<std::fs::File>> {
+    use nix::fcntl::{Flock, FlockArg};
+    let handle = std::fs::File::open(dir).ok()?;
+    match Flock::lock(handle, FlockArg::LockExclusiveNonblock) {
+        Ok(lock) => Some(lock),
+        Err((handle, nix::errno::Errno::EWOULDBLOCK)) => {
+            if let Some(notice) = WAIT_NOTICE.get() {
+                notice(dir);
+            }
+            Flock::lock(handle, FlockArg::LockExclusive).ok()
+        }
+        Err(_) => None,
+    }
+}
+
 /// Renames all `files` into place, so that a set of outputs appears whole
 /// or not at all: if one fails, those already renamed are taken back, and
 /// a file they replaced (left by an earlier run under the same name) is
-/// put back as it was.
+/// put back as it was. A set of several files is renamed under the locks
+/// of their directories (flock, advisory), so that sets committed at
+/// once by two processes do not mix.
 pub fn commit_all(files: Vec<Staged>) -> Result<()> {
+    let _locks = (files.len() > 1).then(|| DirectoryLocks::take(&files));
     // (destination, the earlier file moved aside, if there was one)
     let mut done: Vec<(PathBuf, Option<PathBuf>)> = Vec::with_capacity(files.len());
     let mut result = Ok(());

@@ -36,13 +36,24 @@
 //! time and a row at a time, into the image: PNG (the bytes a one-process
 //! render writes), binary PPM, or the colour separations `SEED.r .g .b`.
 //! Memory holds a row of each kind, whatever the image size.
+//!
+//! Every part is hostile input. A part is read only if it is a regular
+//! file (a FIFO is refused, never waited on), and it is known by its
+//! identity (device and inode, as the inputs of a render are), so no
+//! output of the merge, in any format and under any name, replaces one.
+//! Without `-o`, the image's name comes from the parts and is taken only
+//! inside the working directory. The image's pixels are checked against
+//! the budget (`--max-pixels`) before a row is read.
 
 use std::io::{BufReader, Write};
 use std::path::{Path, PathBuf};
 
+use crate::budget::Budgets;
 use crate::error::{Error, Result};
+use crate::input_guard::Inputs;
 use crate::output::{self, AtomicFile, DisplayMode, PngSink};
 use crate::raster::scan::{Row, RowSink};
+use crate::scene::object_file::open_regular;
 
 /// The keyword of the part index and count.
 pub const KEY_PART: &str = "plytrace-part";
@@ -257,22 +268,48 @@ impl RowSink for PartSink {
 
 /// An error about part file `path`.
 fn bad(path: &Path, what: impl std::fmt::Display) -> Error {
-    Error::Invalid(format!("{}: {what}", path.display()))
+    Error::Invalid(format!(
+        "{}: {what}",
+        crate::error::printable(&path.display().to_string(), 200)
+    ))
 }
 
 type Reader = png::Reader<BufReader<std::fs::File>>;
 
-/// Opens part file `path` and reads what it says of itself.
-fn open(path: &Path) -> Result<(PartInfo, Reader)> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+/// Opens part file `path` and reads what it says of itself; the
+/// metadata is the open file's (its identity, so that no output of the
+/// merge replaces it). The part must be a regular file (a FIFO, device or
+/// directory is refused without waiting on it). A part of an image of
+/// more than `budgets.pixels` pixels is refused before any row is read.
+fn open(path: &Path, budgets: &Budgets) -> Result<(PartInfo, Reader, std::fs::Metadata)> {
+    let (file, meta) = open_regular(path).map_err(|e| match e.diagnostic() {
+        Some(d) => bad(path, format!("not a part file: {}", d.message)),
+        None => e,
+    })?;
     let mut decoder = png::Decoder::new(BufReader::new(file));
     decoder.set_ignore_text_chunk(false);
     let reader = decoder
         .read_info()
         .map_err(|e| bad(path, format!("not a readable PNG part file ({e})")))?;
+    let info = read_text(path, reader.info())?;
+    let (w, h) = info.image;
+    let pixels = u64::from(w) * u64::from(h);
+    if pixels > budgets.pixels {
+        let what = format!("the image of {w} x {h} = {pixels} pixels");
+        return Err(bad(
+            path,
+            Budgets::exceeded(&what, budgets.pixels, "--max-pixels"),
+        ));
+    }
+    check_png(path, &info, reader.info())?;
+    Ok((info, reader, meta))
+}
+
+/// What the part's iTXt chunks say, checked: an index below the count,
+/// a size of at least 1 x 1, rows within the image.
+fn read_text(path: &Path, png_info: &png::Info<'_>) -> Result<PartInfo> {
     let text = |key: &str| -> Result<String> {
-        let chunk = reader
-            .info()
+        let chunk = png_info
             .utf8_text
             .iter()
             .find(|c| c.keyword == key)
@@ -303,22 +340,30 @@ fn open(path: &Path) -> Result<(PartInfo, Reader)> {
         .split_once('+')
         .and_then(|(f, n)| Some((f.parse::<u32>().ok()?, n.parse::<u32>().ok()?)))
         .ok_or_else(|| bad(path, format!("{KEY_ROWS} `{rows}`: expected FIRST+COUNT")))?;
-    let info = PartInfo {
-        part,
-        image,
-        first,
-        rows: count,
-        output: text(KEY_OUTPUT)?,
-        fingerprint: text(KEY_FINGERPRINT)?,
-    };
     if u64::from(first) + u64::from(count) > u64::from(image.1) {
         return Err(bad(
             path,
             format!("rows {first}+{count} pass the image's {} rows", image.1),
         ));
     }
-    let i = reader.info();
-    let (w, h) = if count == 0 { (1, 1) } else { (image.0, count) };
+    Ok(PartInfo {
+        part,
+        image,
+        first,
+        rows: count,
+        output: text(KEY_OUTPUT)?,
+        fingerprint: text(KEY_FINGERPRINT)?,
+    })
+}
+
+/// Checks that the PNG holds the part's rows as a part file has them:
+/// `W x COUNT` (1 x 1 for no rows), 8-bit grey or RGB, not interlaced.
+fn check_png(path: &Path, info: &PartInfo, i: &png::Info<'_>) -> Result<()> {
+    let (w, h) = if info.rows == 0 {
+        (1, 1)
+    } else {
+        (info.image.0, info.rows)
+    };
     let grey = i.color_type == png::ColorType::Grayscale;
     if i.width != w
         || i.height != h
@@ -333,73 +378,96 @@ fn open(path: &Path) -> Result<(PartInfo, Reader)> {
             ),
         ));
     }
-    Ok((info, reader))
+    if i.interlaced {
+        return Err(bad(
+            path,
+            "its PNG is interlaced; a part's rows are written in order, not interlaced",
+        ));
+    }
+    Ok(())
 }
 
 /// Reads the metadata of part file `path`.
 pub fn read_info(path: &Path) -> Result<PartInfo> {
-    open(path).map(|(info, _)| info)
+    open(path, &Budgets::default()).map(|(info, ..)| info)
 }
 
 /// The parts of one render, checked and in row order.
 struct Checked {
     parts: Vec<(PathBuf, PartInfo)>,
     grey: bool,
+    /// The part files, which no output may replace.
+    inputs: Inputs,
+}
+
+/// How the part at `p` differs from `base` (the part at `first`), if it
+/// is of another render.
+fn differs(p: (&PartInfo, bool), base: (&PartInfo, bool), first: &Path) -> Option<String> {
+    let ((info, g), (base, base_grey)) = (p, base);
+    let first = first.display();
+    if info.fingerprint != base.fingerprint {
+        Some(format!(
+            "fingerprint {} (what decides the pixels: scene, object files, flags, \
+             version), but {first} has {}",
+            info.fingerprint, base.fingerprint
+        ))
+    } else if info.image != base.image {
+        Some(format!(
+            "an image of {} x {}, but {first} is of {} x {}",
+            info.image.0, info.image.1, base.image.0, base.image.1
+        ))
+    } else if info.part.count != base.part.count {
+        Some(format!(
+            "one of {} parts, but {first} is one of {}",
+            info.part.count, base.part.count
+        ))
+    } else if info.output != base.output || g != base_grey {
+        Some(format!(
+            "the image `{}`, but {first} is of `{}`",
+            info.output, base.output
+        ))
+    } else {
+        None
+    }
+}
+
+/// Numbers in ranges: `3, 5-9, 12`, so that a list of thousands of
+/// missing parts stays a line.
+fn ranges(numbers: &[usize]) -> String {
+    let mut out: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < numbers.len() {
+        let mut j = i;
+        while j + 1 < numbers.len() && numbers[j + 1] == numbers[j] + 1 {
+            j += 1;
+        }
+        out.push(if j == i {
+            numbers[i].to_string()
+        } else {
+            format!("{}-{}", numbers[i], numbers[j])
+        });
+        i = j + 1;
+    }
+    out.join(", ")
 }
 
 /// Checks that `paths` are the parts of one render, each part once, all
 /// there.
-fn check_parts(paths: &[PathBuf]) -> Result<Checked> {
+fn check_parts(paths: &[PathBuf], budgets: &Budgets) -> Result<Checked> {
     let Some(first_path) = paths.first() else {
         return Err(Error::Invalid("merge: no part files given".into()));
     };
     let mut parts = Vec::with_capacity(paths.len());
-    let mut grey = None;
+    let mut inputs = Inputs::new();
     for p in paths {
-        let (info, reader) = open(p)?;
+        let (info, reader, meta) = open(p, budgets)?;
+        inputs.add(p, &meta);
         let g = reader.info().color_type == png::ColorType::Grayscale;
         parts.push((p.clone(), info, g));
-        grey.get_or_insert(g);
     }
-    let (_, base, base_grey) = &parts[0];
-    let base = base.clone();
-    let base_grey = *base_grey;
+    let (_, base, base_grey) = parts[0].clone();
     for (p, info, g) in &parts[1..] {
-        let differs = if info.fingerprint != base.fingerprint {
-            Some(format!(
-                "fingerprint {} (what decides the pixels: scene, object files, flags, \
-                 version), but {} has {}",
-                info.fingerprint,
-                first_path.display(),
-                base.fingerprint
-            ))
-        } else if info.image != base.image {
-            Some(format!(
-                "an image of {} x {}, but {} is of {} x {}",
-                info.image.0,
-                info.image.1,
-                first_path.display(),
-                base.image.0,
-                base.image.1
-            ))
-        } else if info.part.count != base.part.count {
-            Some(format!(
-                "one of {} parts, but {} is one of {}",
-                info.part.count,
-                first_path.display(),
-                base.part.count
-            ))
-        } else if info.output != base.output || *g != base_grey {
-            Some(format!(
-                "the image `{}`, but {} is of `{}`",
-                info.output,
-                first_path.display(),
-                base.output
-            ))
-        } else {
-            None
-        };
-        if let Some(d) = differs {
+        if let Some(d) = differs((info, *g), (&base, base_grey), first_path) {
             return Err(bad(p, format!("a part of another render: {d}")));
         }
     }
@@ -419,24 +487,31 @@ fn check_parts(paths: &[PathBuf]) -> Result<Checked> {
         }
         seen[i] = Some(p);
     }
-    let missing: Vec<String> = (0..n)
-        .filter(|&i| seen[i].is_none())
-        .map(|i| i.to_string())
-        .collect();
+    let missing: Vec<usize> = (0..n).filter(|&i| seen[i].is_none()).collect();
     if !missing.is_empty() {
         return Err(Error::Invalid(format!(
             "merge: part{} {} of {n} missing (rows of the image no part has); render {} \
              with --part I/{n}",
             if missing.len() == 1 { "" } else { "s" },
-            missing.join(", "),
+            ranges(&missing),
             if missing.len() == 1 { "it" } else { "them" }
         )));
     }
     let mut parts: Vec<(PathBuf, PartInfo)> = parts.into_iter().map(|(p, i, _)| (p, i)).collect();
     parts.sort_by_key(|(_, i)| i.part.index);
-    // Every row once: each part starts where the one before ended.
+    check_cover(&parts, base.image.1)?;
+    Ok(Checked {
+        parts,
+        grey: base_grey,
+        inputs,
+    })
+}
+
+/// Checks that the `parts`, in index order, cover the `height` rows of
+/// the image once: each starts where the one before ended.
+fn check_cover(parts: &[(PathBuf, PartInfo)], height: u32) -> Result<()> {
     let mut next = 0;
-    for (p, info) in &parts {
+    for (p, info) in parts {
         if info.first != next {
             return Err(bad(
                 p,
@@ -449,19 +524,13 @@ fn check_parts(paths: &[PathBuf]) -> Result<Checked> {
         }
         next = info.first + info.rows;
     }
-    if next != base.image.1 {
+    if next != height {
         return Err(bad(
             &parts[parts.len() - 1].0,
-            format!(
-                "the last part ends at row {next}, not at the image's {} rows",
-                base.image.1
-            ),
+            format!("the last part ends at row {next}, not at the image's {height} rows"),
         ));
     }
-    Ok(Checked {
-        parts,
-        grey: base_grey,
-    })
+    Ok(())
 }
 
 /// The form of a merged image.
@@ -496,6 +565,42 @@ pub struct Merged {
     pub parts: usize,
 }
 
+/// The image a merge without `-o` writes: the name the parts give
+/// (`part`'s `plytrace-output`), which a forged part may have chosen, so
+/// it is taken only when it stays inside the working directory
+/// ([`output::check_inside`]), names an image (`.png` or `.ppm`) and
+/// holds no control characters.
+fn name_from_parts(part: &Path, name: &str) -> Result<PathBuf> {
+    let refuse = |why: &str| {
+        bad(
+            part,
+            format!(
+                "its `{KEY_OUTPUT}` names the image `{}`, {why}; without -o, merge writes \
+                 only a name inside the working directory (no `..`, no absolute path, \
+                 .png or .ppm): name the image with -o",
+                crate::error::printable(name, 200)
+            ),
+        )
+    };
+    let path = PathBuf::from(name);
+    if name.chars().any(char::is_control) {
+        return Err(refuse("which holds control characters"));
+    }
+    match output::check_inside(&path) {
+        Err(output::Outside::ByName) => return Err(refuse("outside the working directory")),
+        Err(output::Outside::ByLink) => {
+            return Err(refuse(
+                "whose directory leads outside the working directory (through a link)",
+            ));
+        }
+        Ok(()) => {}
+    }
+    if output::check_image_extension(&path).is_err() {
+        return Err(refuse("which is not a .png or .ppm image"));
+    }
+    Ok(path)
+}
+
 /// Where the rows go.
 enum Target {
     Png(Box<PngSink>),
@@ -503,146 +608,199 @@ enum Target {
     Separations(Vec<AtomicFile>, Vec<u8>),
 }
 
-/// Merges the part files `paths` into `out` (`None`: the name the parts
-/// give) in `format`, after checking them: parts of one render, every
-/// part once. Nothing is written unless every row is.
-pub fn merge(paths: &[PathBuf], out: Option<&Path>, format: Option<MergeFormat>) -> Result<Merged> {
-    let checked = check_parts(paths)?;
-    let info = &checked.parts[0].1;
-    let (w, h) = info.image;
-    let out = out.map_or_else(|| PathBuf::from(&info.output), Path::to_path_buf);
-    let format = format.unwrap_or_else(|| MergeFormat::of(&out));
-    for (p, _) in &checked.parts {
-        if same_file(p, &out) {
-            return Err(bad(&out, "this output is one of the parts; name another"));
-        }
-    }
-    let mut target = match format {
-        MergeFormat::Png => {
-            let mode = if checked.grey {
-                DisplayMode::Luminance
-            } else {
-                DisplayMode::Color
-            };
-            Target::Png(Box::new(PngSink::create(&out, w, h, mode)?))
-        }
-        MergeFormat::Ppm => {
-            let file = AtomicFile::create(&out)?;
-            let f = file.file().try_clone().map_err(|e| Error::io(&out, e))?;
-            let mut bw = std::io::BufWriter::new(f);
-            write!(bw, "P6\n{w} {h}\n255\n").map_err(|e| Error::io(&out, e))?;
-            Target::Ppm(bw, file)
-        }
-        MergeFormat::Separations => {
-            if checked.grey {
-                return Err(Error::Invalid(format!(
-                    "{}: the parts are grey; the separations .r .g .b are made from colour parts",
-                    checked.parts[0].0.display()
-                )));
-            }
-            let files = ["r", "g", "b"]
+impl Target {
+    /// Creates the output files of `format` (temporaries beside `out`),
+    /// each refused if it is one of the parts (under any name) or another
+    /// input ([`AtomicFile::create`]).
+    fn create(out: &Path, format: MergeFormat, checked: &mut Checked) -> Result<Target> {
+        let names = match format {
+            MergeFormat::Separations => ["r", "g", "b"]
                 .iter()
-                .map(|e| AtomicFile::create(&output::with_suffix(&out, e)))
-                .collect::<Result<Vec<_>>>()?;
-            Target::Separations(files, Vec::new())
-        }
-    };
-    let mut expanded = Vec::new();
-    for (path, info) in &checked.parts {
-        if info.rows == 0 {
-            continue;
-        }
-        let (_, mut reader) = open(path)?;
-        for k in 0..info.rows {
-            let y = info.first + k;
-            let row = match reader.next_row() {
-                Ok(Some(r)) => r,
-                Ok(None) => {
-                    return Err(bad(
-                        path,
-                        format!("truncated: {k} of its {} rows", info.rows),
-                    ));
-                }
-                Err(e) => {
-                    return Err(bad(
-                        path,
-                        format!(
-                            "truncated or damaged at row {k} of its {} ({e}); render it again",
-                            info.rows
-                        ),
-                    ));
-                }
-            };
-            let bytes = row.data();
-            match &mut target {
-                Target::Png(sink) => sink.row_bytes(y, bytes)?,
-                Target::Ppm(bw, _) => {
-                    let rgb = if checked.grey {
-                        expanded.clear();
-                        expanded.extend(bytes.iter().flat_map(|&g| [g; 3]));
-                        &expanded[..]
-                    } else {
-                        bytes
-                    };
-                    bw.write_all(rgb).map_err(|e| Error::io(&out, e))?;
-                }
-                Target::Separations(files, buf) => {
-                    for (c, f) in files.iter_mut().enumerate() {
-                        buf.clear();
-                        buf.extend(bytes.iter().skip(c).step_by(3));
-                        f.write_all(buf)?;
-                    }
-                }
+                .map(|e| output::with_suffix(out, e))
+                .collect(),
+            _ => vec![out.to_path_buf()],
+        };
+        for name in &names {
+            if let Some(part) = checked.inputs.find(name) {
+                let part = crate::error::printable(&part.display().to_string(), 200);
+                return Err(bad(
+                    name,
+                    format!(
+                        "this output is the part {part}, an input of the merge; it is not \
+                         written over (name another output)"
+                    ),
+                ));
             }
         }
-        // The PNG's end: its checksums and IEND.
-        if let Err(e) = reader.finish() {
-            return Err(bad(
-                path,
-                format!("truncated or damaged after its rows ({e}); render it again"),
-            ));
+        let (w, h) = checked.parts[0].1.image;
+        Ok(match format {
+            MergeFormat::Png => {
+                let mode = if checked.grey {
+                    DisplayMode::Luminance
+                } else {
+                    DisplayMode::Color
+                };
+                Target::Png(Box::new(PngSink::create(out, w, h, mode)?))
+            }
+            MergeFormat::Ppm => {
+                let file = AtomicFile::create(out)?;
+                let f = file.file().try_clone().map_err(|e| Error::io(out, e))?;
+                let mut bw = std::io::BufWriter::new(f);
+                write!(bw, "P6\n{w} {h}\n255\n").map_err(|e| Error::io(out, e))?;
+                Target::Ppm(bw, file)
+            }
+            MergeFormat::Separations => {
+                if checked.grey {
+                    return Err(Error::Invalid(format!(
+                        "{}: the parts are grey; the separations .r .g .b are made from colour \
+                         parts",
+                        checked.parts[0].0.display()
+                    )));
+                }
+                let files = names
+                    .iter()
+                    .map(|name| AtomicFile::create(name))
+                    .collect::<Result<Vec<_>>>()?;
+                Target::Separations(files, Vec::new())
+            }
+        })
+    }
+
+    /// Writes row `y`, the part's `bytes` (grey or RGB).
+    fn row(&mut self, y: u32, bytes: &[u8], grey: bool, out: &Path) -> Result<()> {
+        match self {
+            Target::Png(sink) => sink.row_bytes(y, bytes),
+            Target::Ppm(bw, _) if grey => {
+                let rgb: Vec<u8> = bytes.iter().flat_map(|&g| [g; 3]).collect();
+                bw.write_all(&rgb).map_err(|e| Error::io(out, e))
+            }
+            Target::Ppm(bw, _) => bw.write_all(bytes).map_err(|e| Error::io(out, e)),
+            Target::Separations(files, buf) => {
+                for (c, f) in files.iter_mut().enumerate() {
+                    buf.clear();
+                    buf.extend(bytes.iter().skip(c).step_by(3));
+                    f.write_all(buf)?;
+                }
+                Ok(())
+            }
         }
     }
-    let staged = match target {
-        Target::Png(sink) => vec![sink.finish()?.0],
-        Target::Ppm(mut bw, file) => {
-            bw.flush().map_err(|e| Error::io(&out, e))?;
-            drop(bw);
-            vec![file.finish()?]
+
+    /// Completes the files under their temporary names.
+    fn finish(self, out: &Path) -> Result<Vec<output::Staged>> {
+        match self {
+            Target::Png(sink) => Ok(vec![sink.finish()?.0]),
+            Target::Ppm(mut bw, file) => {
+                bw.flush().map_err(|e| Error::io(out, e))?;
+                drop(bw);
+                Ok(vec![file.finish()?])
+            }
+            Target::Separations(files, _) => files.into_iter().map(AtomicFile::finish).collect(),
         }
-        Target::Separations(files, _) => files
-            .into_iter()
-            .map(AtomicFile::finish)
-            .collect::<Result<Vec<_>>>()?,
+    }
+}
+
+/// Copies the rows of the part at `path` (checked as `info`) into
+/// `target`.
+fn copy_part(
+    path: &Path,
+    info: &PartInfo,
+    checked: &Checked,
+    target: &mut Target,
+    out: &Path,
+    budgets: &Budgets,
+) -> Result<()> {
+    let (again, mut reader, _) = open(path, budgets)?;
+    if again != *info {
+        return Err(bad(
+            path,
+            "changed while the parts were merged; merge again",
+        ));
+    }
+    let width = info.image.0 as usize * if checked.grey { 1 } else { 3 };
+    for k in 0..info.rows {
+        let row = match reader.next_row() {
+            Ok(Some(r)) => r,
+            Ok(None) => {
+                return Err(bad(
+                    path,
+                    format!("truncated: {k} of its {} rows", info.rows),
+                ));
+            }
+            Err(e) => {
+                return Err(bad(
+                    path,
+                    format!(
+                        "truncated or damaged at row {k} of its {} ({e}); render it again",
+                        info.rows
+                    ),
+                ));
+            }
+        };
+        if row.data().len() != width {
+            return Err(bad(path, format!("row {k} is not of {width} bytes")));
+        }
+        target.row(info.first + k, row.data(), checked.grey, out)?;
+    }
+    // The PNG's end: its checksums and IEND.
+    reader.finish().map_err(|e| {
+        bad(
+            path,
+            format!("truncated or damaged after its rows ({e}); render it again"),
+        )
+    })
+}
+
+/// Merges the part files `paths` into `out` (`None`: the name the parts
+/// give, taken only inside the working directory) in `format`, after
+/// checking them: parts of one render, every part once, an image within
+/// `budgets.pixels`. No output replaces a part, and nothing is written
+/// unless every row is.
+pub fn merge(
+    paths: &[PathBuf],
+    out: Option<&Path>,
+    format: Option<MergeFormat>,
+    budgets: &Budgets,
+) -> Result<Merged> {
+    let mut checked = check_parts(paths, budgets)?;
+    let (first, info) = &checked.parts[0];
+    let out = match out {
+        Some(p) => p.to_path_buf(),
+        None => name_from_parts(first, &info.output)?,
     };
+    let format = format.unwrap_or_else(|| MergeFormat::of(&out));
+    let mut target = Target::create(&out, format, &mut checked)?;
+    for (path, info) in &checked.parts {
+        if info.rows > 0 {
+            copy_part(path, info, &checked, &mut target, &out, budgets)?;
+        }
+    }
+    let staged = target.finish(&out)?;
     let written = staged.iter().map(|s| s.path().to_path_buf()).collect();
     output::commit_all(staged)?;
     Ok(Merged {
         written,
-        size: (w, h),
+        size: checked.parts[0].1.image,
         parts: checked.parts.len(),
     })
-}
-
-/// Whether `a` and `b` are the same existing file.
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
 }
 
 /// The indices of the parts of a render that `paths` (the part files
 /// there are) do not hold, for rendering them again. `count` is the part
 /// count when no part is there to say it. A part that cannot be read (a
-/// damaged file) counts as missing, with a warning in the result; parts
-/// of different renders are an error.
-pub fn missing(paths: &[PathBuf], count: Option<u32>) -> Result<(Vec<u32>, Vec<String>)> {
+/// damaged file, a FIFO, a part of an image over `budgets.pixels`)
+/// counts as missing, with a warning in the result; parts of different
+/// renders are an error.
+pub fn missing(
+    paths: &[PathBuf],
+    count: Option<u32>,
+    budgets: &Budgets,
+) -> Result<(Vec<u32>, Vec<String>)> {
     let mut warnings = Vec::new();
     let mut base: Option<(PathBuf, PartInfo)> = None;
     let mut have = std::collections::BTreeSet::new();
     for p in paths {
-        let info = match open(p).and_then(|(info, reader)| complete(p, info, reader)) {
+        let info = match open(p, budgets).and_then(|(info, reader, _)| complete(p, info, reader)) {
             Ok(i) => i,
             Err(e) => {
                 warnings.push(format!("{e}; counted as missing"));
@@ -703,6 +861,35 @@ fn complete(path: &Path, info: PartInfo, mut reader: Reader) -> Result<PartInfo>
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn missing_parts_are_listed_in_ranges() {
+        assert_eq!(ranges(&[0, 1, 2, 5, 7, 8]), "0-2, 5, 7-8");
+        assert_eq!(ranges(&[3]), "3");
+        assert_eq!(ranges(&(1..65536).collect::<Vec<_>>()), "1-65535");
+    }
+
+    /// The name a part gives its image is taken only as an image name
+    /// inside the working directory.
+    #[test]
+    fn a_part_names_its_image_only_inside_the_working_directory() {
+        let part = Path::new("parts/0.png");
+        for ok in ["x.png", "no-such-dir/x.PPM", "./x.png"] {
+            assert_eq!(name_from_parts(part, ok).unwrap(), PathBuf::from(ok));
+        }
+        for bad in [
+            "/tmp/x.png",
+            "../x.png",
+            "a/../../x.png",
+            "x.des",
+            "x",
+            "bell\x07.png",
+            "",
+        ] {
+            let e = name_from_parts(part, bad).unwrap_err().to_string();
+            assert!(e.contains("name the image with -o"), "{bad:?}: {e}");
+        }
+    }
 
     /// The fingerprint changes with the program, any input's contents,
     /// their order and the flags: a merge then refuses parts of another

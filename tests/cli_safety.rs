@@ -123,14 +123,53 @@ fn spawn(bin: &str, root: tempfile::TempDir, args: &[&str], close_stdout: bool) 
     } else {
         Stdio::piped()
     };
+    spawn_with(bin, root, args, Input::Null, stdout_to)
+}
+
+/// What a run reads on stdin.
+enum Input {
+    Null,
+    /// These bytes, then the end.
+    Bytes(Vec<u8>),
+    /// These bytes again and again, until the program stops reading.
+    Endless(&'static [u8]),
+    /// A file (a device).
+    File(std::fs::File),
+}
+
+/// [`spawn`] with `stdin` and `stdout` given. The program's temporary
+/// folder (`TMPDIR`) is `tmp/` in the root, so that what it leaves there
+/// is seen.
+fn spawn_with(
+    bin: &str,
+    root: tempfile::TempDir,
+    args: &[&str],
+    stdin: Input,
+    stdout_to: Stdio,
+) -> Run {
+    let tmp = root.path().join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let (stdin_from, feed) = match stdin {
+        Input::Null => (Stdio::null(), None),
+        Input::File(f) => (Stdio::from(f), None),
+        Input::Bytes(b) => (Stdio::piped(), Some((b, false))),
+        Input::Endless(b) => (Stdio::piped(), Some((b.to_vec(), true))),
+    };
     let mut child = Command::new(bin)
         .args(args)
         .current_dir(root.path().join("work"))
-        .stdin(Stdio::null())
+        .env("TMPDIR", &tmp)
+        .stdin(stdin_from)
         .stdout(stdout_to)
         .stderr(Stdio::piped())
         .spawn()
         .expect("start the program");
+    if let (Some(mut input), Some((bytes, endless))) = (child.stdin.take(), feed) {
+        thread::spawn(move || {
+            use std::io::Write;
+            while input.write_all(&bytes).is_ok() && endless {}
+        });
+    }
     let stdout = child.stdout.take().map(reader);
     let stderr = reader(child.stderr.take().unwrap());
     let start = Instant::now();
@@ -1030,4 +1069,153 @@ fn a_scene_without_run_is_rendered_once_in_immediate_mode() {
     assert_eq!(run.code, Some(0), "{}", run.transcript());
     let log = std::fs::read_to_string(run.work().join("plytrace.log")).expect("plytrace.log");
     assert_eq!(log.lines().count(), 1, "{log}");
+}
+
+// ---------------------------------------------------------------------------
+// Standard streams and --stats
+
+#[test]
+fn the_image_into_a_closed_pipe_or_a_full_disk_is_an_error() {
+    let args = ["-i", "-f", "scene.des", "-o", "-", "--size", "16x16"];
+    let square = square();
+    let files: [(&str, &[u8]); 2] = [
+        ("scene.des", SCENE.as_bytes()),
+        ("det/square.det", square.as_bytes()),
+    ];
+    let closed = spawn(&bin(), prepare(&files), &args, true);
+    assert_eq!(closed.code, Some(1), "{}", closed.transcript());
+    assert!(
+        closed
+            .err()
+            .contains("closed the pipe before the whole image was sent"),
+        "{}",
+        closed.transcript()
+    );
+    // Nothing left behind: not in the working directory, not in TMPDIR.
+    assert_eq!(closed.files(), with_inputs(&[]), "{}", closed.transcript());
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .expect("/dev/full");
+    let run = spawn_with(
+        &bin(),
+        prepare(&files),
+        &args,
+        Input::Null,
+        Stdio::from(full),
+    );
+    assert_eq!(run.code, Some(1), "{}", run.transcript());
+    assert!(
+        run.err().contains("<stdout>: No space left"),
+        "{}",
+        run.transcript()
+    );
+    assert_eq!(run.files(), with_inputs(&[]), "{}", run.transcript());
+}
+
+#[test]
+fn stats_naming_an_input_is_refused_before_the_render() {
+    for (target, says) in [
+        ("scene.des", "an input of this run"),
+        ("det/square.det", "an input of this run"),
+        ("./det/../scene.des", "an input of this run"),
+        ("/dev/full", "not a regular file"),
+    ] {
+        let run = run_with(
+            SCENE,
+            &[
+                "-i",
+                "-f",
+                "scene.des",
+                "--size",
+                "16x16",
+                "-o",
+                "out.png",
+                "--stats",
+                target,
+            ],
+        );
+        assert_refused(&run, 1, &[says]);
+        assert_eq!(run.files(), with_inputs(&[]), "{}", run.transcript());
+        let scene = std::fs::read_to_string(run.work().join("scene.des")).unwrap();
+        assert_eq!(scene, SCENE, "{}", run.transcript());
+        assert_eq!(
+            std::fs::read_to_string(run.work().join("det/square.det")).unwrap(),
+            square()
+        );
+    }
+    // Another file is written.
+    let run = run_with(
+        SCENE,
+        &[
+            "-i",
+            "-f",
+            "scene.des",
+            "--size",
+            "16x16",
+            "-o",
+            "out.png",
+            "--stats",
+            "s.json",
+        ],
+    );
+    assert_eq!(run.code, Some(0), "{}", run.transcript());
+    assert!(run.work().join("s.json").is_file());
+}
+
+/// `plytrace -` reads a scene as a scene file is read: text, at most the
+/// scene file's size (an endless stream is refused at it, not held), and
+/// its `fname` kept inside the working directory.
+#[test]
+fn a_scene_on_standard_input_follows_the_rules_of_a_scene_file() {
+    let square = square();
+    let files: [(&str, &[u8]); 1] = [("det/square.det", square.as_bytes())];
+    let stdin = |input: Input, args: &[&str]| {
+        spawn_with(&bin(), prepare(&files), args, input, Stdio::piped())
+    };
+    let binary = stdin(Input::Bytes(b"ident\n\xff\xfe\x00".to_vec()), &["-", "-q"]);
+    assert_refused(
+        &binary,
+        1,
+        &["<stdin>: not a text file: invalid UTF-8 at byte 6"],
+    );
+    let zero = std::fs::File::open("/dev/zero").expect("/dev/zero");
+    for input in [Input::File(zero), Input::Endless(b"ident\n")] {
+        let endless = stdin(input, &["-", "-q"]);
+        assert_refused(
+            &endless,
+            1,
+            &["<stdin>: the scene is longer than 16777216 bytes"],
+        );
+        assert_eq!(
+            endless.files(),
+            ["work/det/square.det"],
+            "{}",
+            endless.transcript()
+        );
+    }
+    for escape in ["../up", "/tmp/plytrace-stdin-escape", "det/../../up"] {
+        let scene = format!("{SCENE}fname {escape}\nsetmode o on\n");
+        let run = stdin(
+            Input::Bytes(scene.into_bytes()),
+            &["-", "-q", "--size", "8x8"],
+        );
+        assert_refused(&run, 1, &["must stay inside the working directory"]);
+        assert_eq!(run.files(), ["work/det/square.det"], "{}", run.transcript());
+    }
+    assert!(!Path::new("/tmp/plytrace-stdin-escape.png").exists());
+    // Object files are looked up from the working directory.
+    let run = stdin(
+        Input::Bytes(SCENE.as_bytes().to_vec()),
+        &["-", "-q", "--size", "8x8", "-o", "in.png"],
+    );
+    assert_eq!(run.code, Some(0), "{}", run.transcript());
+    assert!(run.work().join("in.png").is_file());
+    // A definition left open is refused, as in a scene file.
+    let open = stdin(
+        Input::Bytes(b"defobj square\n".to_vec()),
+        &["-", "-q", "--size", "8x8", "-o", "open.png"],
+    );
+    assert_refused(&open, 1, &["endobj"]);
+    assert!(!open.work().join("open.png").exists());
 }

@@ -127,7 +127,7 @@ fn merged_parts_are_the_image_byte_for_byte() {
                 for count in COUNTS {
                     let files = parts(&prepared, mode, count, dir.path());
                     let out = dir.path().join("merged.png");
-                    plytrace::part::merge(&files, Some(&out), None).unwrap();
+                    plytrace::part::merge(&files, Some(&out), None, &Default::default()).unwrap();
                     assert!(
                         std::fs::read(&out).unwrap() == whole,
                         "{what}: {count} parts merged differ from the image"
@@ -140,8 +140,13 @@ fn merged_parts_are_the_image_byte_for_byte() {
                         let ppm = dir.path().join("whole.ppm");
                         plytrace::output::write_ppm(&ppm, &frame, scene.outmode).unwrap();
                         let merged = dir.path().join("merged.ppm");
-                        plytrace::part::merge(&files, Some(&merged), Some(MergeFormat::Ppm))
-                            .unwrap();
+                        plytrace::part::merge(
+                            &files,
+                            Some(&merged),
+                            Some(MergeFormat::Ppm),
+                            &Default::default(),
+                        )
+                        .unwrap();
                         assert_eq!(
                             std::fs::read(&merged).unwrap(),
                             std::fs::read(&ppm).unwrap(),

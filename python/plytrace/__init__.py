@@ -15,24 +15,31 @@ interpenetrate. ``plytrace.mpl`` uses the same sort to draw matplotlib's
 3-D plots correctly.
 
 The work runs with the GIL released; Ctrl-C (``KeyboardInterrupt``)
-cancels a render. Bad input raises ``ValueError`` (``SceneError``, a
-subclass, for scene files, with ``file``, ``line`` and ``column``).
+cancels a render (every render in flight in the process). Bad input
+raises ``ValueError`` (``SceneError``, a subclass, for scene files, with
+``file``, ``line`` and ``column``) or ``TypeError`` naming the argument;
+a mesh or an image over the :class:`Budgets` raises ``MemoryError``.
+Files are written whole or not at all.
 """
 
 from __future__ import annotations
 
 import math
+import numbers
+import operator
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, fields
 from typing import Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from . import _native
 from ._native import NativeScene as _NativeScene
 from ._native import SceneError
 from ._native import __version__
 
 __all__ = [
+    "Budgets",
     "Camera",
     "Light",
     "Material",
@@ -44,6 +51,41 @@ __all__ = [
 ]
 
 _FORMATS = ("svg", "pdf", "tex")
+
+_MAX_SIDE: int = _native.MAX_IMAGE_SIDE
+_MAX_PIXELS: int = _native.MAX_IMAGE_PIXELS
+_DEFAULT_BUDGETS = _native.default_budgets()
+
+
+@dataclass(frozen=True)
+class Budgets:
+    """Limits on the work of reading and rendering, as the ``plytrace``
+    program's ``--max-*`` flags (the same names and units): a mesh, a
+    scene or a render over one is refused before the memory is taken,
+    with ``MemoryError`` (``ValueError`` for the limits of work, such as
+    ``rays``) that names the field that raises it::
+
+        plytrace.render(v, f, budgets=plytrace.Budgets(polygons=10_000_000))
+
+    ``polygons``: of the scene; ``call_depth``: nesting of ``call``;
+    ``tree_nodes``: fragments of the virtual image tree; ``splits``: face
+    splits of one NNS sort; ``pixels``: of one image; ``frame_memory``:
+    MiB of a whole frame held at once; ``overdraw``: records per pixel
+    one scan conversion tiles; ``pair_tests``: of one modelling
+    operation; ``model_memory``: MiB of one object's vertices and
+    polygons; ``rays``: of one ray-traced render.
+    """
+
+    polygons: int = _DEFAULT_BUDGETS["polygons"]
+    call_depth: int = _DEFAULT_BUDGETS["call_depth"]
+    tree_nodes: int = _DEFAULT_BUDGETS["tree_nodes"]
+    splits: int = _DEFAULT_BUDGETS["splits"]
+    pixels: int = _DEFAULT_BUDGETS["pixels"]
+    frame_memory: int = _DEFAULT_BUDGETS["frame_memory"]
+    overdraw: int = _DEFAULT_BUDGETS["overdraw"]
+    pair_tests: int = _DEFAULT_BUDGETS["pair_tests"]
+    model_memory: int = _DEFAULT_BUDGETS["model_memory"]
+    rays: int = _DEFAULT_BUDGETS["rays"]
 
 
 @dataclass
@@ -75,10 +117,15 @@ class Camera:
         """A perspective camera looking along ``-direction`` at the centre
         of ``vertices``' bounding box, from far enough to see all of it."""
         v = _vertices(vertices)
+        fovy = _number(fovy, "fovy")
+        if not 0 < fovy < 180:
+            raise ValueError(f"fovy must lie between 0 and 180 degrees, not {fovy}")
         lo, hi = v.min(axis=0), v.max(axis=0)
         centre = (lo + hi) / 2
         radius = max(float(_norm(hi - lo)) / 2, 1e-9)
-        d = np.asarray(direction, dtype=float)
+        d = np.array(_vec3(direction, "direction"))
+        if _norm(d) == 0:
+            raise ValueError("direction must not be (0, 0, 0)")
         d = d / _norm(d)
         distance = radius / math.sin(math.radians(fovy) / 2) * 1.05
         return cls(
@@ -132,52 +179,143 @@ def _norm(v) -> float:
     return math.sqrt(sum(float(x) * float(x) for x in np.asarray(v).reshape(-1)))
 
 
-def _vertices(vertices) -> np.ndarray:
+def _array(value, what: str) -> np.ndarray:
+    """``value`` as an array of real numbers (integers or floats), without
+    a copy where it is one already. Booleans, complex numbers, strings,
+    dates and objects that are not numbers raise ``TypeError``; a ragged
+    list raises ``ValueError``."""
     try:
-        v = np.asarray(vertices, dtype=np.float64)
+        a = np.asarray(value)
     except (TypeError, ValueError) as e:
-        raise ValueError(f"vertices must be an (n, 3) array of numbers: {e}") from None
+        raise ValueError(f"{what} must be an array of numbers: {e}") from None
+    kind = a.dtype.kind
+    if kind == "O":
+        try:
+            a = a.astype(np.float64)
+        except OverflowError:
+            raise ValueError(f"{what} holds a number too large for a float") from None
+        except (TypeError, ValueError):
+            raise TypeError(f"{what} must hold real numbers, not arbitrary objects") from None
+    elif kind not in "iuf":
+        raise TypeError(f"{what} must hold real numbers (integers or floats), not {a.dtype}")
+    return a
+
+
+def _number(value, what: str) -> float:
+    """One finite real number (not a bool, a string or complex)."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{what} must be a number, not {type(value).__name__}")
+    try:
+        v = float(value)
+    except OverflowError:
+        raise ValueError(f"{what} is too large: {value}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{what} must be finite, not {v}")
+    return v
+
+
+def _whole(value, what: str) -> int:
+    """One whole number (an int or a numpy integer, not a bool or float)."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{what} must be a whole number, not bool")
+    try:
+        return operator.index(value)
+    except TypeError:
+        raise TypeError(f"{what} must be a whole number, not {value!r}") from None
+
+
+def _vertices(vertices) -> np.ndarray:
+    v = _array(vertices, "vertices")
     if v.ndim != 2 or v.shape[1] != 3:
         raise ValueError(f"vertices must have shape (n, 3), not {v.shape}")
     if len(v) == 0:
         raise ValueError("vertices is empty: a mesh needs at least 3 vertices")
+    v = np.ascontiguousarray(v, dtype=np.float64)
     bad = ~np.isfinite(v).all(axis=1)
     if bad.any():
         i = int(np.argmax(bad))
         raise ValueError(f"vertex {i} is not finite: {v[i].tolist()}")
-    return np.ascontiguousarray(v)
+    return v
 
 
-def _faces(faces, n_vertices: int) -> Tuple[np.ndarray, np.ndarray]:
-    """Faces as flat indices and sizes, checked."""
-    if isinstance(faces, np.ndarray) and faces.ndim == 2:
-        f = faces
-        if f.shape[0] == 0:
+def _face_rows(faces, precheck):
+    """Faces as an ``(m, k)`` array or a list of 1-D index arrays, with the
+    number of faces and of indices, checked for shape (not yet values).
+    ``precheck(faces, corners)`` is called with the counts of a list
+    before its rows are converted."""
+    if isinstance(faces, np.ndarray) and faces.dtype.kind != "O":
+        if faces.ndim != 2:
+            raise ValueError(
+                "faces must be an (m, k) array or a list of index lists, "
+                f"not an array of shape {faces.shape}"
+            )
+        if faces.shape[0] == 0:
             raise ValueError("faces is empty: a mesh needs at least one face")
-        if f.shape[1] < 3:
-            raise ValueError(f"faces must have shape (m, k) with k >= 3, not {f.shape}")
-        if not np.issubdtype(f.dtype, np.integer):
-            if not np.issubdtype(f.dtype, np.floating) or np.any(f != np.round(f)):
-                raise ValueError(f"faces must hold integer vertex indices, not {f.dtype}")
-        indices = f.reshape(-1)
-        sizes = np.full(f.shape[0], f.shape[1], dtype=np.uint32)
+        if faces.shape[1] < 3:
+            raise ValueError(f"faces must have shape (m, k) with k >= 3, not {faces.shape}")
+        return faces, faces.shape[0], faces.size
+    if isinstance(faces, (str, bytes)) or not hasattr(faces, "__iter__"):
+        raise TypeError(
+            f"faces must be an (m, k) array or a list of index lists, not {type(faces).__name__}"
+        )
+    faces = list(faces)
+    precheck(len(faces), 3 * len(faces))
+    rows = []
+    for i, r in enumerate(faces):
+        try:
+            a = np.asarray(r)
+        except (TypeError, ValueError):
+            raise ValueError(f"face {i} must be a list of vertex indices") from None
+        if a.ndim != 1:
+            raise ValueError(f"face {i} must be a list of vertex indices, not {r!r}")
+        if len(a) < 3:
+            raise ValueError(f"face {i} has {len(a)} vertices; a face needs 3")
+        rows.append(a)
+    if not rows:
+        raise ValueError("faces is empty: a mesh needs at least one face")
+    return rows, len(rows), sum(len(a) for a in rows)
+
+
+def _indices(a: np.ndarray) -> np.ndarray:
+    """Vertex indices as integers: integer arrays as they are, floats that
+    are whole numbers; others refused."""
+    kind = a.dtype.kind
+    if kind == "O":
+        try:
+            a = a.astype(np.float64)
+        except OverflowError:
+            raise ValueError("faces holds an index too large for any mesh") from None
+        except (TypeError, ValueError):
+            raise TypeError("faces must hold integer vertex indices, not arbitrary objects") from None
+        kind = "f"
+    if kind == "f":
+        bad = ~np.isfinite(a)
+        if bad.any():
+            raise ValueError(f"faces holds an index that is not finite: {a[np.argmax(bad)]}")
+        frac = a != np.round(a)
+        if frac.any():
+            raise ValueError(
+                f"faces must hold integer vertex indices, not fractions such as {a[np.argmax(frac)]}"
+            )
+    elif kind not in "iu":
+        raise TypeError(f"faces must hold integer vertex indices, not {a.dtype}")
+    return a
+
+
+def _faces(rows, n_vertices: int) -> Tuple[np.ndarray, np.ndarray]:
+    """Faces (from :func:`_face_rows`) as flat indices and sizes, checked."""
+    if isinstance(rows, np.ndarray):
+        indices = _indices(rows.reshape(-1))
+        sizes = np.full(rows.shape[0], rows.shape[1], dtype=np.uint32)
     else:
-        rows = list(faces)
-        if not rows:
-            raise ValueError("faces is empty: a mesh needs at least one face")
         sizes = np.array([len(r) for r in rows], dtype=np.uint32)
-        short = np.flatnonzero(sizes < 3)
-        if len(short):
-            i = int(short[0])
-            raise ValueError(f"face {i} has {sizes[i]} vertices; a face needs 3")
-        indices = np.concatenate([np.asarray(r).reshape(-1) for r in rows])
-        if not np.issubdtype(indices.dtype, np.integer):
-            raise ValueError(f"faces must hold integer vertex indices, not {indices.dtype}")
-    indices = np.asarray(indices)
+        indices = _indices(np.concatenate(rows))
     out = (indices < 0) | (indices >= n_vertices)
     if out.any():
         k = int(np.argmax(out))
-        face = int(np.searchsorted(np.cumsum(sizes), k, side="right"))
+        face = int(np.searchsorted(np.cumsum(sizes, dtype=np.int64), k, side="right"))
         raise ValueError(
             f"face {face} names vertex {int(indices[k])}, but there are "
             f"{n_vertices} vertices (indices run from 0 to {n_vertices - 1})"
@@ -186,15 +324,12 @@ def _faces(faces, n_vertices: int) -> Tuple[np.ndarray, np.ndarray]:
 
 
 def _colors(colors, what: str) -> np.ndarray:
-    try:
-        c = np.asarray(colors)
-    except (TypeError, ValueError) as e:
-        raise ValueError(f"{what} must be an (n, 3) array: {e}") from None
+    c = _array(colors, what)
     if c.ndim == 1 and c.shape[0] in (3, 4):
         c = c[None, :]
     if c.ndim != 2 or c.shape[1] not in (3, 4):
         raise ValueError(f"{what} must have shape (n, 3) or (n, 4), not {c.shape}")
-    integer = np.issubdtype(c.dtype, np.integer)
+    integer = c.dtype.kind in "iu"
     c = c[:, :3].astype(np.float64)
     if integer:
         c = c / 255.0
@@ -213,23 +348,130 @@ def _rgb(value, what: str) -> Tuple[float, float, float]:
     return r, g, b
 
 
-def _size(size) -> Tuple[int, int]:
+def _size(size, what: str = "size") -> Tuple[int, int]:
+    """``(width, height)``: whole numbers, each side 1 to
+    ``MAX_IMAGE_SIDE`` and at most ``MAX_IMAGE_PIXELS`` in all (as the
+    scene language's ``resolution``)."""
+    if isinstance(size, (str, bytes)):
+        raise TypeError(f"{what} must be (width, height), not {size!r}")
     try:
         w, h = size
-        w, h = int(w), int(h)
     except (TypeError, ValueError):
-        raise ValueError(f"size must be (width, height), not {size!r}") from None
+        raise TypeError(f"{what} must be (width, height), not {size!r}") from None
+    w, h = _whole(w, f"{what}[0] (width)"), _whole(h, f"{what}[1] (height)")
     if w < 1 or h < 1:
-        raise ValueError(f"size must be positive, not {size!r}")
+        raise ValueError(f"{what} must be positive, not {size!r}")
+    if w > _MAX_SIDE or h > _MAX_SIDE or w * h > _MAX_PIXELS:
+        raise ValueError(
+            f"{what} {w} x {h}: each side must be 1 to {_MAX_SIDE} and the total at most "
+            f"{_MAX_PIXELS} pixels"
+        )
     return w, h
 
 
 def _vec3(v, what: str) -> Tuple[float, float, float]:
-    a = np.asarray(v, dtype=float).reshape(-1)
+    a = _array(v, what).astype(np.float64).reshape(-1)
     if a.shape != (3,) or not np.isfinite(a).all():
         raise ValueError(f"{what} must be three finite numbers, not {v!r}")
     x, y, z = (float(c) for c in a)
     return x, y, z
+
+
+def _unit(value, what: str) -> float:
+    v = _number(value, what)
+    if not 0.0 <= v <= 1.0:
+        raise ValueError(f"{what} must lie in 0 to 1, not {v}")
+    return v
+
+
+def _material(m) -> Tuple[Tuple[float, float, float], list]:
+    """A material's colour and coefficients, checked as the scene
+    language's commands check them."""
+    if not isinstance(m, Material):
+        raise TypeError(f"material must be a plytrace.Material, not {type(m).__name__}")
+    shininess = _number(m.shininess, "material.shininess")
+    if shininess < 0:
+        raise ValueError(f"material.shininess must be 0 or more, not {shininess}")
+    index = _number(m.index, "material.index")
+    if index <= 0:
+        raise ValueError(f"material.index must be more than 0, not {index}")
+    coefficients = [
+        _unit(m.diffuse, "material.diffuse"),
+        _unit(m.specular, "material.specular"),
+        shininess,
+        _unit(m.reflectance, "material.reflectance"),
+        _unit(m.transmittance, "material.transmittance"),
+        index,
+        _unit(m.transparency, "material.transparency"),
+    ]
+    return _rgb(m.color, "material.color"), coefficients
+
+
+def _light(light, what: str):
+    """A light's arguments for the native scene, checked as the scene
+    language's ``light`` checks them."""
+    if not isinstance(light, Light):
+        raise TypeError(f"lights must be plytrace.Light objects, not {type(light).__name__}")
+    color = _vec3(light.color, f"{what}.color")
+    if min(color) < 0:
+        raise ValueError(f"{what}.color must not be negative, not {color}")
+    range_ = _number(light.range, f"{what}.range")
+    if range_ <= 0:
+        raise ValueError(f"{what}.range must be more than 0, not {range_}")
+    return _vec3(light.position, f"{what}.position"), color, range_, bool(light.shadows)
+
+
+def _camera(cam):
+    """A camera's arguments for the native scene, checked."""
+    if not isinstance(cam, Camera):
+        raise TypeError(f"camera must be a plytrace.Camera, not {type(cam).__name__}")
+    eye = _vec3(cam.eye, "camera.eye")
+    target = _vec3(cam.target, "camera.target")
+    up = _vec3(cam.up, "camera.up")
+    near = _number(cam.near, "camera.near")
+    far = _number(cam.far, "camera.far")
+    ortho = None
+    if cam.ortho is None:
+        fovy = _number(cam.fovy, "camera.fovy")
+        if not 0 < fovy < 180:
+            raise ValueError(f"camera.fovy must lie between 0 and 180 degrees, not {fovy}")
+        if not 0 < near < far:
+            raise ValueError(f"camera.near and camera.far must be 0 < near < far, not {near}, {far}")
+    else:
+        o = _array(cam.ortho, "camera.ortho").reshape(-1)
+        if o.shape != (4,) or not np.isfinite(o).all():
+            raise ValueError(f"camera.ortho must be four finite numbers (left, right, bottom, top), not {cam.ortho!r}")
+        left, right, bottom, top = (float(x) for x in o)
+        ortho = (left, right, bottom, top)
+        fovy = 45.0
+    return eye, target, up, fovy, near, far, ortho
+
+
+def _budgets(budgets) -> Optional[dict]:
+    """The fields of a :class:`Budgets` for the native scene (``None``:
+    the defaults), checked."""
+    if budgets is None:
+        return None
+    if not isinstance(budgets, Budgets):
+        raise TypeError(f"budgets must be a plytrace.Budgets, not {type(budgets).__name__}")
+    out = {}
+    for f in fields(budgets):
+        n = _whole(getattr(budgets, f.name), f"budgets.{f.name}")
+        if not 0 <= n < 2**64:
+            raise ValueError(f"budgets.{f.name} must be 0 to 2**64 - 1, not {n}")
+        out[f.name] = n
+    return out
+
+
+def _path(path, what: str = "path") -> str:
+    try:
+        p = os.fspath(path)
+    except TypeError:
+        raise TypeError(f"{what} must be a file name (str or os.PathLike), not {type(path).__name__}") from None
+    p = os.fsdecode(p)
+    if not p:
+        raise ValueError(f"{what} is empty")
+    return p
 
 
 def _mesh_scene(
@@ -243,9 +485,23 @@ def _mesh_scene(
     lights,
     size,
     background,
+    budgets,
 ) -> _NativeScene:
-    v = _vertices(vertices)
-    indices, sizes = _faces(faces, len(v))
+    b = _budgets(budgets)
+    if material is not None and not isinstance(material, Material):
+        raise TypeError(f"material must be a plytrace.Material, not {type(material).__name__}")
+    # The budgets first, from the arrays' lengths alone: nothing is copied
+    # for a mesh over them.
+    v = _array(vertices, "vertices")
+    n_vertices = len(v) if v.ndim else 0
+
+    def check(n_faces: int, n_indices: int) -> None:
+        _native.check_mesh("mesh", n_vertices, n_faces, n_indices, b)
+
+    rows, n_faces, n_indices = _face_rows(faces, check)
+    check(n_faces, n_indices)
+    v = _vertices(v)
+    indices, sizes = _faces(rows, len(v))
     if colors is not None:
         if face_colors is not None or vertex_colors is not None:
             raise ValueError("give colors, or face_colors / vertex_colors, not both")
@@ -270,46 +526,27 @@ def _mesh_scene(
         face_colors = _colors(face_colors, "face_colors")
     if vertex_colors is not None:
         vertex_colors = _colors(vertex_colors, "vertex_colors")
-    m = material if material is not None else Material()
-    if not isinstance(m, Material):
-        raise ValueError(f"material must be a plytrace.Material, not {type(m).__name__}")
+    color, coefficients = _material(material if material is not None else Material())
     w, h = _size(size)
-    cam = camera if camera is not None else Camera.fit(v)
-    if not isinstance(cam, Camera):
-        raise ValueError(f"camera must be a plytrace.Camera, not {type(cam).__name__}")
-    ortho = None if cam.ortho is None else tuple(float(x) for x in cam.ortho)
-    if ortho is not None and len(ortho) != 4:
-        raise ValueError("camera.ortho must be (left, right, bottom, top)")
-    scene = _NativeScene.new(
-        _vec3(cam.eye, "camera.eye"),
-        _vec3(cam.target, "camera.target"),
-        _vec3(cam.up, "camera.up"),
-        float(cam.fovy),
-        float(cam.near),
-        float(cam.far),
-        ortho,
-        w,
-        h,
+    eye, target, up, fovy, near, far, ortho = _camera(
+        camera if camera is not None else Camera.fit(v)
     )
+    scene = _NativeScene.new(eye, target, up, fovy, near, far, ortho, w, h)
+    if b is not None:
+        scene.set_budgets(b)
     if lights is None:
-        eye = np.array(_vec3(cam.eye, "camera.eye"))
-        target = np.array(_vec3(cam.target, "camera.target"))
-        up = np.array(_vec3(cam.up, "camera.up"))
-        back = eye - target
-        side = np.cross(up, back)
+        e, t, u = np.array(eye), np.array(target), np.array(up)
+        back = e - t
+        side = np.cross(u, back)
         n = _norm(side)
         side = side / n * _norm(back) * 0.5 if n > 0 else side
-        lights = [Light(tuple(eye - side + up * _norm(back) * 0.5), shadows=False)]
-    for light in lights:
-        if not isinstance(light, Light):
-            raise ValueError(f"lights must be plytrace.Light objects, not {type(light).__name__}")
-        scene.add_light(
-            _vec3(light.position, "light.position"),
-            _vec3(light.color, "light.color"),
-            float(light.range),
-            bool(light.shadows),
-        )
+        lights = [Light(tuple(e - side + u * _norm(back) * 0.5), shadows=False)]
+    if isinstance(lights, Light) or not hasattr(lights, "__iter__"):
+        raise TypeError(f"lights must be a list of plytrace.Light, not {type(lights).__name__}")
+    for i, light in enumerate(lights):
+        scene.add_light(*_light(light, f"lights[{i}]"))
     scene.set_background(_rgb(background, "background"))
+    m = material if material is not None else Material()
     scene.add_mesh(
         "mesh",
         v,
@@ -317,16 +554,8 @@ def _mesh_scene(
         sizes,
         face_colors,
         vertex_colors,
-        _rgb(m.color, "material.color"),
-        [
-            float(m.diffuse),
-            float(m.specular),
-            float(m.shininess),
-            float(m.reflectance),
-            float(m.transmittance),
-            float(m.index),
-            float(m.transparency),
-        ],
+        color,
+        coefficients,
         bool(m.two_sided),
         bool(m.smooth),
     )
@@ -347,13 +576,14 @@ def render(
     background=(1.0, 1.0, 1.0),
     antialias: bool = True,
     shadows: bool = True,
+    budgets: Optional[Budgets] = None,
 ) -> np.ndarray:
     """Renders a mesh to an ``(height, width, 3)`` uint8 array.
 
-    ``vertices``: ``(n, 3)`` floats. ``faces``: ``(m, k)`` integer indices
-    into the vertices (``k >= 3``), or a list of index lists of any
-    lengths, counter-clockwise seen from outside (the convention of OBJ,
-    PLY and most numpy tools); each face must be planar and may be
+    ``vertices``: ``(n, 3)`` numbers. ``faces``: ``(m, k)`` integer
+    indices into the vertices (``k >= 3``), or a list of index lists of
+    any lengths, counter-clockwise seen from outside (the convention of
+    OBJ, PLY and most numpy tools); each face must be planar and may be
     concave. ``colors``: one colour per face or per vertex (Gouraud
     shaded), or one for all, as ``(r, g, b)`` in 0 to 1 (or 0 to 255 as
     integers; a fourth column is ignored); ``face_colors`` and
@@ -361,31 +591,42 @@ def render(
     :class:`Material`. ``camera``: a :class:`Camera`; by default one that
     frames the mesh. ``lights``: :class:`Light` objects; by default one
     above and to the left of the camera that casts no shadow.
-    ``background``: a colour.
+    ``background``: a colour. ``size``: ``(width, height)``, each 1 to
+    65,536 and at most 2^28 pixels in all.
     ``antialias``: Garcia's multi-level pixel masks; ``False`` samples
     each pixel once. ``shadows``: lights that cast shadows do.
+    ``budgets``: the limits on the work (:class:`Budgets`).
 
     Raises ``ValueError`` for arrays of the wrong shape, values that are
-    not finite, empty meshes and indices out of range.
+    not finite or out of range, empty meshes and indices out of range;
+    ``TypeError`` for arrays of booleans, complex numbers, strings or
+    other objects; ``MemoryError`` for a mesh or an image over the
+    budgets.
     """
     scene = _mesh_scene(
         vertices, faces, colors, face_colors, vertex_colors, material, camera, lights,
-        size, background,
+        size, background, budgets,
     )
     return scene.render(None, bool(antialias), bool(shadows))
 
 
 def _write_or_return(data: bytes, path) -> Optional[bytes]:
+    """``data``, or (given a ``path``) ``None`` once ``data`` is written
+    there through the library's atomic writer: a temporary file beside
+    it, renamed into place once whole, so that an earlier file survives a
+    failed write (a full disk) intact. A file this process has read as an
+    input (a scene, an object file) is not written over."""
     if path is None:
         return data
-    with open(os.fspath(path), "wb") as f:
-        f.write(data)
+    _native.write_file(_path(path), data)
     return None
 
 
 def _format(format: Optional[str], path) -> str:
     if format is None and path is not None:
-        format = os.path.splitext(os.fspath(path))[1].lstrip(".").lower()
+        format = os.path.splitext(_path(path))[1].lstrip(".").lower()
+    if not isinstance(format, str):
+        raise TypeError(f"format must be a str, not {type(format).__name__}")
     if format not in _FORMATS:
         raise ValueError(f'format {format!r}: expected "svg", "pdf" or "tex"')
     return format
@@ -406,18 +647,20 @@ def render_vector(
     size: Tuple[int, int] = (512, 512),
     background=(1.0, 1.0, 1.0),
     shadows: bool = True,
+    budgets: Optional[Budgets] = None,
 ) -> Optional[bytes]:
     """Renders a mesh as vector graphics: ``format`` ``"svg"``, ``"pdf"``
     or ``"tex"`` (a TikZ picture), by default from ``path``'s extension,
-    else SVG. Returns the file's bytes, or writes them to ``path`` and
-    returns ``None``. The polygons are split and ordered by the NNS sort,
-    so the picture is exact; ``size`` is its size in user units (pixels).
-    The other arguments are those of :func:`render`.
+    else SVG. Returns the file's bytes, or writes them to ``path`` (whole
+    or not at all) and returns ``None``. The polygons are split and
+    ordered by the NNS sort, so the picture is exact; ``size`` is its size
+    in user units (pixels). The other arguments are those of
+    :func:`render`.
     """
     fmt = _format(format if format is not None or path is not None else "svg", path)
     scene = _mesh_scene(
         vertices, faces, colors, face_colors, vertex_colors, material, camera, lights,
-        size, background,
+        size, background, budgets,
     )
     return _write_or_return(scene.render_vector(fmt, None, bool(shadows)), path)
 
@@ -427,9 +670,9 @@ class Scene:
 
     ``Scene.from_file(path)`` reads a file; ``Scene.from_string(text,
     directory=".")`` reads its text (object files named in it are looked
-    up in ``directory``). A scene shows itself in Jupyter (as PNG or SVG).
-    Errors in the scene raise :class:`SceneError` with the file, line and
-    column.
+    up in ``directory``). Both refuse what ``plytrace -f`` refuses. A scene
+    shows itself in Jupyter (as PNG or SVG). Errors in the scene raise
+    :class:`SceneError` with the file, line and column.
     """
 
     #: Largest side of the picture Jupyter shows, in pixels.
@@ -439,17 +682,28 @@ class Scene:
         self._native = native
 
     @classmethod
-    def from_file(cls, path: Union[str, os.PathLike]) -> "Scene":
+    def from_file(
+        cls, path: Union[str, os.PathLike], *, budgets: Optional[Budgets] = None
+    ) -> "Scene":
         """Reads a scene descriptor file (its ``run`` commands are not
-        acted on: call :meth:`render`)."""
-        return cls(_NativeScene.from_file(os.fspath(path)))
+        acted on: call :meth:`render`) within ``budgets``, which the scene
+        keeps for its renders."""
+        return cls(_NativeScene.from_file(_path(path), _budgets(budgets)))
 
     @classmethod
-    def from_string(cls, text: str, directory: Union[str, os.PathLike] = ".") -> "Scene":
+    def from_string(
+        cls,
+        text: str,
+        directory: Union[str, os.PathLike] = ".",
+        *,
+        budgets: Optional[Budgets] = None,
+    ) -> "Scene":
         """Reads a scene from the text of a scene descriptor file."""
         if not isinstance(text, str):
-            raise ValueError(f"text must be a str, not {type(text).__name__}")
-        return cls(_NativeScene.from_text(text, os.fspath(directory)))
+            raise TypeError(f"text must be a str, not {type(text).__name__}")
+        return cls(
+            _NativeScene.from_text(text, _path(directory, "directory"), _budgets(budgets))
+        )
 
     @property
     def size(self) -> Tuple[int, int]:
@@ -462,11 +716,14 @@ class Scene:
         size: Optional[Tuple[int, int]] = None,
         antialias: bool = True,
         shadows: bool = True,
+        budgets: Optional[Budgets] = None,
     ) -> np.ndarray:
         """Renders to an ``(height, width, 3)`` uint8 array, at ``size`` or
-        the scene's own resolution."""
+        the scene's own resolution, within ``budgets`` (by default those
+        the scene was read within)."""
         return self._native.render(
-            None if size is None else _size(size), bool(antialias), bool(shadows)
+            None if size is None else _size(size), bool(antialias), bool(shadows),
+            _budgets(budgets),
         )
 
     def render_vector(
@@ -476,13 +733,15 @@ class Scene:
         *,
         size: Optional[Tuple[int, int]] = None,
         shadows: bool = True,
+        budgets: Optional[Budgets] = None,
     ) -> Optional[bytes]:
         """Renders as SVG, PDF or TikZ (``format`` ``"svg"``, ``"pdf"``,
         ``"tex"``; by default from ``path``'s extension, else SVG). Returns
-        the bytes, or writes ``path`` and returns ``None``."""
+        the bytes, or writes ``path`` (whole or not at all; never over an
+        input the scene was read from) and returns ``None``."""
         fmt = _format(format if format is not None or path is not None else "svg", path)
         data = self._native.render_vector(
-            fmt, None if size is None else _size(size), bool(shadows)
+            fmt, None if size is None else _size(size), bool(shadows), _budgets(budgets)
         )
         return _write_or_return(data, path)
 

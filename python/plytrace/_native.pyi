@@ -4,13 +4,33 @@
 take arrays already checked and converted."""
 
 from os import PathLike
-from typing import Optional, Sequence, Tuple, Union, final
+from typing import Dict, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
 
 __version__: str
-__all__ = ["NativeScene", "Projection", "SceneError", "__version__"]
+MAX_IMAGE_SIDE: int
+MAX_IMAGE_PIXELS: int
+__all__ = [
+    "MAX_IMAGE_PIXELS",
+    "MAX_IMAGE_SIDE",
+    "NativeScene",
+    "Projection",
+    "SceneError",
+    "__version__",
+    "check_mesh",
+    "default_budgets",
+    "write_file",
+]
+
+_Budgets = Optional[Dict[str, int]]
+
+def default_budgets() -> Dict[str, int]: ...
+def check_mesh(
+    name: str, vertices: int, faces: int, corners: int, budgets: _Budgets = None
+) -> None: ...
+def write_file(path: Union[str, PathLike[str]], data: bytes) -> None: ...
 
 class SceneError(ValueError):
     """An error in a scene description, with its place."""
@@ -41,9 +61,12 @@ class NativeScene:
         height: int,
     ) -> NativeScene: ...
     @staticmethod
-    def from_file(path: Union[str, PathLike[str]]) -> NativeScene: ...
+    def from_file(path: Union[str, PathLike[str]], budgets: _Budgets = None) -> NativeScene: ...
     @staticmethod
-    def from_text(text: str, dir: Union[str, PathLike[str]]) -> NativeScene: ...
+    def from_text(
+        text: str, dir: Union[str, PathLike[str]], budgets: _Budgets = None
+    ) -> NativeScene: ...
+    def set_budgets(self, budgets: Dict[str, int]) -> None: ...
     def add_light(self, position: _Vec3, color: _Vec3, range: float, shadows: bool) -> None: ...
     def add_mesh(
         self,
@@ -62,13 +85,25 @@ class NativeScene:
     def set_ambient(self, rgb: _Vec3) -> None: ...
     def size(self) -> Tuple[int, int]: ...
     def render(
-        self, size: Optional[Tuple[int, int]], antialias: bool, shadows: bool
+        self,
+        size: Optional[Tuple[int, int]],
+        antialias: bool,
+        shadows: bool,
+        budgets: _Budgets = None,
     ) -> npt.NDArray[np.uint8]: ...
     def render_png(
-        self, size: Optional[Tuple[int, int]], antialias: bool, shadows: bool
+        self,
+        size: Optional[Tuple[int, int]],
+        antialias: bool,
+        shadows: bool,
+        budgets: _Budgets = None,
     ) -> bytes: ...
     def render_vector(
-        self, format: str, size: Optional[Tuple[int, int]], shadows: bool
+        self,
+        format: str,
+        size: Optional[Tuple[int, int]],
+        shadows: bool,
+        budgets: _Budgets = None,
     ) -> bytes: ...
 
 _Paths = Tuple[npt.NDArray[np.float64], npt.NDArray[np.uint8], npt.NDArray[np.int64]]

@@ -35,14 +35,21 @@ bridge orders only the artists of one zorder among themselves.
 from __future__ import annotations
 
 import contextlib
+import io
+import math
+import numbers
+import os
 import types
 from typing import Dict, Iterator, List, Tuple, Type, Union
 
+import numpy as np
 from matplotlib import artist as martist
+from matplotlib import rcParams
 from matplotlib.figure import FigureBase
 from mpl_toolkits.mplot3d.axes3d import Axes3D
 
 from . import _mpl_level
+from ._native import write_file
 
 __all__ = ["fix", "unfix", "is_fixed", "fixed", "savefig", "SEAM_WIDTH"]
 
@@ -109,13 +116,20 @@ def fix(target: Union[Axes3D, FigureBase], *, seam_width: float = SEAM_WIDTH) ->
     hairline seams that anti-aliasing leaves between adjacent polygons
     (and between the pieces of a split one); 0 leaves them.
     """
-    seam_width = float(seam_width)
-    if not seam_width >= 0:
-        raise ValueError(f"seam_width must be 0 or more, not {seam_width}")
+    seam_width = _seam_width(seam_width)
     for ax in _axes(target):
         if not is_fixed(ax):
             ax.__class__ = _fixed_class(type(ax))
         ax._plytrace_seam_width = seam_width
+
+
+def _seam_width(value) -> float:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"seam_width must be a number, not {type(value).__name__}")
+    w = float(value)
+    if not (math.isfinite(w) and w >= 0):
+        raise ValueError(f"seam_width must be a finite number, 0 or more, not {w}")
+    return w
 
 
 def unfix(target: Union[Axes3D, FigureBase]) -> None:
@@ -136,6 +150,7 @@ def fixed(target: Union[Axes3D, FigureBase], *, seam_width: float = SEAM_WIDTH) 
     """A context in which ``target`` (a 3-D axes, a figure or a subfigure)
     is drawn with plytrace's hidden-surface removal (``seam_width`` as for
     :func:`fix`)."""
+    _seam_width(seam_width)
     axes = [ax for ax in _axes(target) if not is_fixed(ax)]
     for ax in axes:
         fix(ax, seam_width=seam_width)
@@ -149,9 +164,25 @@ def fixed(target: Union[Axes3D, FigureBase], *, seam_width: float = SEAM_WIDTH) 
 def savefig(fig, fname, *, seam_width: float = SEAM_WIDTH, **kwargs) -> None:
     """``fig.savefig(fname, **kwargs)`` with every 3-D axes of ``fig``
     drawn with plytrace's hidden-surface removal (``seam_width`` as for
-    :func:`fix`)."""
+    :func:`fix`). A file named by ``fname`` is written whole or not at
+    all (through plytrace's atomic writer: an earlier file survives a
+    failed write); a file object is written as matplotlib writes it."""
     with fixed(fig, seam_width=seam_width):
-        fig.savefig(fname, **kwargs)
+        if not isinstance(fname, (str, os.PathLike)):
+            fig.savefig(fname, **kwargs)
+            return
+        # matplotlib's choice of format and name: the format given, else
+        # the extension, else savefig.format added as the extension.
+        path = os.fsdecode(os.fspath(fname))
+        fmt = kwargs.pop("format", None)
+        if fmt is None:
+            fmt = os.path.splitext(path)[1][1:].lower()
+            if not fmt:
+                fmt = rcParams["savefig.format"]
+                path = f"{path}.{fmt}"
+        buf = io.BytesIO()
+        fig.savefig(buf, format=fmt, **kwargs)
+        write_file(path, buf.getvalue())
 
 
 def _draw(ax: Axes3D, renderer) -> None:

@@ -14,15 +14,16 @@ use numpy::{
 };
 use pyo3::create_exception;
 use pyo3::exceptions::{
-    PyFileNotFoundError, PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueError,
+    PyFileNotFoundError, PyKeyboardInterrupt, PyMemoryError, PyOSError, PyRuntimeError,
+    PyValueError,
 };
 use pyo3::prelude::*;
-use pyo3::types::PyBytes;
+use pyo3::types::{PyBytes, PyDict};
 
 mod layered;
 
 use plytrace::api::{
-    self, Antialiasing, Camera, Light, Material, MeshData, Options, Projected,
+    self, Antialiasing, Budgets, Camera, Light, Material, MeshData, Options, Projected,
     Projection as CameraProjection, VectorFormat,
 };
 
@@ -34,28 +35,156 @@ create_exception!(
      `column` (1-based; 0 when not known) and the `message` alone."
 );
 
+/// The budgets as Python names them (`plytrace.Budgets`' fields), with
+/// the program's flag for each and whether going over it is running out
+/// of memory (`MemoryError`) rather than of work (`ValueError`).
+const BUDGETS: [(&str, &str, bool); 10] = [
+    ("polygons", "--max-polygons", true),
+    ("call_depth", "--max-call-depth", false),
+    ("tree_nodes", "--max-tree-nodes", true),
+    ("splits", "--max-splits", false),
+    ("pixels", "--max-pixels", true),
+    ("frame_memory", "--max-frame-memory", true),
+    ("overdraw", "--max-overdraw", false),
+    ("pair_tests", "--max-pair-tests", false),
+    ("model_memory", "--max-model-memory", true),
+    ("rays", "--max-rays", false),
+];
+
+/// A budget's message with the program's flag (`` `--max-pixels N`
+/// raises it``) told as Python's argument, and whether it is of memory;
+/// `None` for another message.
+fn budget_message(message: &str) -> Option<(String, bool)> {
+    BUDGETS.iter().find_map(|(field, flag, memory)| {
+        let hint = format!("`{flag} N` raises it");
+        message.contains(&hint).then(|| {
+            let python = format!("`budgets=plytrace.Budgets({field}=N)` raises it");
+            (message.replace(&hint, &python), *memory)
+        })
+    })
+}
+
 /// The library's error as a Python exception: input errors (with file,
-/// line and column) as `SceneError`, bad requests as `ValueError`, files
-/// as `OSError`, a cancelled render as `KeyboardInterrupt`.
+/// line and column) as `SceneError`, bad requests as `ValueError` (or
+/// `MemoryError` for a memory budget), files as `OSError`, a cancelled
+/// render as `KeyboardInterrupt`. A budget's message names the argument
+/// that raises it.
 fn to_py(py: Python<'_>, e: plytrace::Error) -> PyErr {
+    let text = e.to_string();
+    let text = budget_message(&text).map_or(text, |(m, _)| m);
     match &e {
         plytrace::Error::Input(d) => {
-            let err = SceneError::new_err(e.to_string());
+            let err = SceneError::new_err(text);
             let value = err.value(py);
             let file = d.location.file.display().to_string();
+            let message = budget_message(&d.message).map_or_else(|| d.message.clone(), |(m, _)| m);
             let _ = value.setattr("file", file);
             let _ = value.setattr("line", d.location.line);
             let _ = value.setattr("column", d.location.column);
-            let _ = value.setattr("message", d.message.clone());
+            let _ = value.setattr("message", message);
             err
         }
         plytrace::Error::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
-            PyFileNotFoundError::new_err(e.to_string())
+            PyFileNotFoundError::new_err(text)
         }
-        plytrace::Error::Io { .. } => PyOSError::new_err(e.to_string()),
-        plytrace::Error::Invalid(m) => PyValueError::new_err(m.clone()),
-        plytrace::Error::Cancelled => PyKeyboardInterrupt::new_err(e.to_string()),
+        plytrace::Error::Io { .. } => PyOSError::new_err(text),
+        plytrace::Error::Invalid(m) => match budget_message(m) {
+            Some((m, true)) => PyMemoryError::new_err(m),
+            Some((m, false)) => PyValueError::new_err(m),
+            None => PyValueError::new_err(m.clone()),
+        },
+        plytrace::Error::Cancelled => PyKeyboardInterrupt::new_err(text),
     }
+}
+
+/// Bytes in a MiB (the unit of the memory budgets' flags and fields).
+const MIB: u64 = 1 << 20;
+
+/// Budgets from `plytrace.Budgets`' fields (a dict, checked in Python:
+/// whole numbers, 0 or more); the memory budgets are in MiB. A field not
+/// given keeps its default.
+fn budgets_from(fields: Option<&Bound<'_, PyDict>>) -> PyResult<Budgets> {
+    let mut b = Budgets::default();
+    let Some(fields) = fields else {
+        return Ok(b);
+    };
+    for (key, value) in fields.iter() {
+        let key: String = key.extract()?;
+        let n: u64 = value.extract()?;
+        let size = usize::try_from(n).unwrap_or(usize::MAX);
+        match key.as_str() {
+            "polygons" => b.polygons = size,
+            "call_depth" => b.call_depth = size,
+            "tree_nodes" => b.tree_nodes = size,
+            "splits" => b.splits = size,
+            "pixels" => b.pixels = n,
+            "frame_memory" => b.frame_memory = n.saturating_mul(MIB),
+            "overdraw" => b.overdraw = n,
+            "pair_tests" => b.pair_tests = n,
+            "model_memory" => b.model_memory = n.saturating_mul(MIB),
+            "rays" => b.rays = n,
+            other => return Err(PyValueError::new_err(format!("no budget {other:?}"))),
+        }
+    }
+    Ok(b)
+}
+
+/// The default budgets as `plytrace.Budgets`' fields.
+#[pyfunction]
+fn default_budgets(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let b = Budgets::default();
+    let d = PyDict::new(py);
+    let values: [u64; 10] = [
+        b.polygons as u64,
+        b.call_depth as u64,
+        b.tree_nodes as u64,
+        b.splits as u64,
+        b.pixels,
+        b.frame_memory / MIB,
+        b.overdraw,
+        b.pair_tests,
+        b.model_memory / MIB,
+        b.rays,
+    ];
+    for ((field, _, _), v) in BUDGETS.iter().zip(values) {
+        d.set_item(field, v)?;
+    }
+    Ok(d)
+}
+
+/// Refuses a mesh of `vertices`, `faces` and `corners` (indices of all
+/// faces) over `budgets` (`plytrace::api::Scene::check_mesh` on an empty
+/// scene): the Python layer asks before it copies the arrays.
+#[pyfunction]
+#[pyo3(signature = (name, vertices, faces, corners, budgets=None))]
+fn check_mesh(
+    py: Python<'_>,
+    name: &str,
+    vertices: usize,
+    faces: usize,
+    corners: usize,
+    budgets: Option<&Bound<'_, PyDict>>,
+) -> PyResult<()> {
+    let mut scene = api::Scene::new(Camera::looking_at([0.0, -1.0, 0.0], [0.0; 3]), 1, 1);
+    scene.set_budgets(budgets_from(budgets)?);
+    scene
+        .check_mesh(name, vertices, faces, corners)
+        .map_err(|e| to_py(py, e))
+}
+
+/// Writes `data` to `path` through the library's atomic writer: a
+/// temporary file beside it, renamed into place once complete (an
+/// earlier file survives a failed write whole), refused over a file this
+/// process has read as an input, or over a directory, link or special
+/// file.
+#[pyfunction]
+fn write_file(py: Python<'_>, path: std::path::PathBuf, data: &[u8]) -> PyResult<()> {
+    use plytrace::api::program::files::AtomicFile;
+    cancellable(py, || {
+        let mut file = AtomicFile::create(&path)?;
+        file.write_all(data)?;
+        file.finish()?.commit()
+    })
 }
 
 /// Renders in flight in this process (the cancel flag is process-wide).
@@ -161,6 +290,16 @@ struct NativeScene {
     scene: api::Scene,
 }
 
+impl NativeScene {
+    /// `budgets` given, else the scene's own.
+    fn budgets(&self, budgets: Option<&Bound<'_, PyDict>>) -> PyResult<Budgets> {
+        match budgets {
+            Some(b) => budgets_from(Some(b)),
+            None => Ok(self.scene.budgets()),
+        }
+    }
+}
+
 #[pymethods]
 impl NativeScene {
     /// An empty scene seen from `eye` looking at `target` with `up` up:
@@ -203,28 +342,57 @@ impl NativeScene {
         }
     }
 
-    /// Reads a scene descriptor file.
+    /// Reads a scene descriptor file within `budgets`.
     #[staticmethod]
-    fn from_file(py: Python<'_>, path: std::path::PathBuf) -> PyResult<NativeScene> {
-        let scene = cancellable(py, || api::Scene::from_file(&path))?;
+    #[pyo3(signature = (path, budgets=None))]
+    fn from_file(
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        budgets: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<NativeScene> {
+        let budgets = budgets_from(budgets)?;
+        let scene = cancellable(py, || api::Scene::from_file_with(&path, budgets))?;
         Ok(NativeScene { scene })
     }
 
-    /// Reads a scene from its text; object files are looked up in `dir`.
+    /// Reads a scene from its text within `budgets`; object files are
+    /// looked up in `dir`.
     #[staticmethod]
-    fn from_text(py: Python<'_>, text: String, dir: std::path::PathBuf) -> PyResult<NativeScene> {
-        let scene = cancellable(py, || api::Scene::from_text(&text, &dir))?;
+    #[pyo3(signature = (text, dir, budgets=None))]
+    fn from_text(
+        py: Python<'_>,
+        text: String,
+        dir: std::path::PathBuf,
+        budgets: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<NativeScene> {
+        let budgets = budgets_from(budgets)?;
+        let scene = cancellable(py, || api::Scene::from_text_with(&text, &dir, budgets))?;
         Ok(NativeScene { scene })
+    }
+
+    /// Sets the budgets the scene is added to and rendered within.
+    fn set_budgets(&mut self, budgets: &Bound<'_, PyDict>) -> PyResult<()> {
+        self.scene.set_budgets(budgets_from(Some(budgets))?);
+        Ok(())
     }
 
     /// Adds a light.
-    fn add_light(&mut self, position: [f64; 3], color: [f64; 3], range: f64, shadows: bool) {
-        self.scene.add_light(Light {
-            position,
-            color,
-            range,
-            shadows,
-        });
+    fn add_light(
+        &mut self,
+        py: Python<'_>,
+        position: [f64; 3],
+        color: [f64; 3],
+        range: f64,
+        shadows: bool,
+    ) -> PyResult<()> {
+        self.scene
+            .add_light(Light {
+                position,
+                color,
+                range,
+                shadows,
+            })
+            .map_err(|e| to_py(py, e))
     }
 
     /// Adds a mesh: `vertices` (n, 3), faces as `indices` flattened with
@@ -248,6 +416,10 @@ impl NativeScene {
         smooth: bool,
     ) -> PyResult<()> {
         let py = vertices.py();
+        // The budgets, before any copy is made.
+        self.scene
+            .check_mesh(name, vertices.shape()[0], sizes.len(), indices.len())
+            .map_err(|e| to_py(py, e))?;
         let vertices = rows::<3>(&vertices, "vertices")?;
         let indices = indices.as_array();
         let mut faces = Vec::with_capacity(sizes.len());
@@ -259,6 +431,11 @@ impl NativeScene {
             }
             faces.push(indices.slice(numpy::ndarray::s![at..at + n]).to_vec());
             at += n;
+        }
+        if at != indices.len() {
+            return Err(PyValueError::new_err(
+                "face sizes do not add up to the indices",
+            ));
         }
         let mut mesh = MeshData::new(vertices, faces);
         mesh.face_colors = face_colors
@@ -286,19 +463,18 @@ impl NativeScene {
         material.surface.transparency = (transparency, 0.0);
         material.two_sided = two_sided;
         material.smooth = smooth;
-        self.scene
-            .add_mesh(name, &mesh, &material)
-            .map_err(|e| to_py(py, e))
+        let scene = &mut self.scene;
+        cancellable(py, || scene.add_mesh(name, &mesh, &material))
     }
 
     /// The background colour, 0 to 1.
-    fn set_background(&mut self, rgb: [f64; 3]) {
-        self.scene.set_background(rgb);
+    fn set_background(&mut self, py: Python<'_>, rgb: [f64; 3]) -> PyResult<()> {
+        self.scene.set_background(rgb).map_err(|e| to_py(py, e))
     }
 
     /// The ambient light's colour, 0 to 1.
-    fn set_ambient(&mut self, rgb: [f64; 3]) {
-        self.scene.set_ambient(rgb);
+    fn set_ambient(&mut self, py: Python<'_>, rgb: [f64; 3]) -> PyResult<()> {
+        self.scene.set_ambient(rgb).map_err(|e| to_py(py, e))
     }
 
     /// The image size the scene gives, (width, height).
@@ -307,18 +483,20 @@ impl NativeScene {
     }
 
     /// Renders to an (height, width, 3) uint8 array.
-    #[pyo3(signature = (size, antialias, shadows))]
+    #[pyo3(signature = (size, antialias, shadows, budgets=None))]
     fn render<'py>(
         &self,
         py: Python<'py>,
         size: Option<(u32, u32)>,
         antialias: bool,
         shadows: bool,
+        budgets: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let options = Options {
             size,
             antialiasing: (!antialias).then_some(Antialiasing::Point),
             shadows,
+            budgets: self.budgets(budgets)?,
             ..Options::default()
         };
         let scene = &self.scene;
@@ -330,18 +508,20 @@ impl NativeScene {
     }
 
     /// Renders to the bytes of a PNG file.
-    #[pyo3(signature = (size, antialias, shadows))]
+    #[pyo3(signature = (size, antialias, shadows, budgets=None))]
     fn render_png<'py>(
         &self,
         py: Python<'py>,
         size: Option<(u32, u32)>,
         antialias: bool,
         shadows: bool,
+        budgets: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Bound<'py, PyBytes>> {
         let options = Options {
             size,
             antialiasing: (!antialias).then_some(Antialiasing::Point),
             shadows,
+            budgets: self.budgets(budgets)?,
             ..Options::default()
         };
         let scene = &self.scene;
@@ -350,13 +530,14 @@ impl NativeScene {
     }
 
     /// Renders to the bytes of an SVG, PDF or TikZ (`tex`) file.
-    #[pyo3(signature = (format, size, shadows))]
+    #[pyo3(signature = (format, size, shadows, budgets=None))]
     fn render_vector<'py>(
         &self,
         py: Python<'py>,
         format: &str,
         size: Option<(u32, u32)>,
         shadows: bool,
+        budgets: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Bound<'py, PyBytes>> {
         let format = match format {
             "svg" => VectorFormat::Svg,
@@ -371,6 +552,7 @@ impl NativeScene {
         let options = Options {
             size,
             shadows,
+            budgets: self.budgets(budgets)?,
             ..Options::default()
         };
         let scene = &self.scene;
@@ -744,6 +926,11 @@ impl Projection {
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("MAX_IMAGE_SIDE", api::MAX_IMAGE_SIDE)?;
+    m.add("MAX_IMAGE_PIXELS", api::MAX_IMAGE_PIXELS)?;
+    m.add_function(wrap_pyfunction!(default_budgets, m)?)?;
+    m.add_function(wrap_pyfunction!(write_file, m)?)?;
+    m.add_function(wrap_pyfunction!(check_mesh, m)?)?;
     m.add_class::<NativeScene>()?;
     m.add_class::<Projection>()?;
     Ok(())

@@ -841,13 +841,12 @@ fn file_kind(meta: &fs::Metadata) -> &'static str {
     }
 }
 
-/// Reads the whole of `path`, which must be a regular file (symbolic links
-/// are followed) of at most `limit` bytes. A FIFO, a device, a socket or a
-/// directory is refused before it is opened, so that reading never blocks
-/// on a pipe nor runs on an endless stream, and the size is checked before
-/// anything is read. The read itself is bounded too, in case the file grows.
-pub fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>> {
-    use std::io::Read;
+/// Opens `path`, which must be a regular file (symbolic links are
+/// followed), for reading; the metadata is the open file's. A FIFO, a
+/// device, a socket or a directory is refused before it is opened, and
+/// again from the open file, which is opened without waiting, so that
+/// reading never blocks on a pipe swapped in between.
+pub fn open_regular(path: &Path) -> Result<(File, fs::Metadata)> {
     let shown = crate::error::printable(&path.display().to_string(), 200);
     let refuse = |meta: &fs::Metadata| {
         Error::at(
@@ -876,6 +875,18 @@ pub fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>> {
     if !meta.is_file() {
         return Err(refuse(&meta));
     }
+    Ok((file, meta))
+}
+
+/// Reads the whole of `path`, which must be a regular file (symbolic links
+/// are followed) of at most `limit` bytes ([`open_regular`]), so that
+/// reading never blocks on a pipe nor runs on an endless stream, and the
+/// size is checked before anything is read. The read itself is bounded
+/// too, in case the file grows.
+pub fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let shown = crate::error::printable(&path.display().to_string(), 200);
+    let (file, meta) = open_regular(path)?;
     crate::input_guard::note(path, &meta);
     if meta.len() > limit {
         return Err(Error::at(

@@ -142,6 +142,54 @@ pub use crate::output::PngSink;
 #[doc(inline)]
 pub use crate::output::check_target;
 
+/// Sets what is called (with the directory) when a set of outputs waits
+/// for another process committing a set into the same directory.
+///
+/// ```
+/// use plytrace::api::program::files::on_lock_wait;
+///
+/// on_lock_wait(|dir| eprintln!("waiting for another process writing into {}", dir.display()));
+/// ```
+#[doc(inline)]
+pub use crate::output::on_lock_wait;
+
+/// Checks that an output name taken from a file (a scene's `fname`, a
+/// part's image name) stays inside the working directory: relative, no
+/// `..`, its directory not a link out.
+///
+/// ```
+/// use std::path::Path;
+/// use plytrace::api::program::files::{check_inside, Outside};
+///
+/// assert!(check_inside(Path::new("frames/f1.png")).is_ok());
+/// assert_eq!(check_inside(Path::new("../f1.png")), Err(Outside::ByName));
+/// assert_eq!(check_inside(Path::new("/tmp/f1.png")), Err(Outside::ByName));
+/// ```
+#[doc(inline)]
+pub use crate::output::check_inside;
+
+/// How a name would leave the working directory (see [`check_inside`]).
+///
+/// ```
+/// use plytrace::api::program::files::Outside;
+///
+/// assert_ne!(Outside::ByName, Outside::ByLink);
+/// ```
+#[doc(inline)]
+pub use crate::output::Outside;
+
+/// Refuses a path that names a file this process has read (a scene, an
+/// object file, a part): an output is never written over an input.
+///
+/// ```
+/// use plytrace::api::program::files::check_not_input;
+///
+/// let path = std::env::temp_dir().join("plytrace-doc-never-read.txt");
+/// assert!(check_not_input(&path).is_ok());
+/// ```
+#[doc(inline)]
+pub use crate::input_guard::check as check_not_input;
+
 /// Checks that a path names an image format the program writes (`.png`
 /// or `.ppm`, in any case).
 ///

@@ -7,6 +7,7 @@
 //! ```
 //! # use std::path::Path;
 //! # use plytrace::api::program::session::{Interpreter, NoHost};
+//! use plytrace::api::Budgets;
 //! use plytrace::api::program::files::PngSink;
 //! use plytrace::api::program::parts::{merge, missing, PartInfo, PartSink, PartSpec};
 //! use plytrace::api::program::pipeline::{plan_with, scan_into, scan_rows_into, Plan, RenderOptions, Reuse};
@@ -41,10 +42,10 @@
 //!     sink.finish()?.commit()?;
 //!     files.push(path);
 //! }
-//! assert!(missing(&files, None)?.0.is_empty(), "both parts are there");
-//! assert_eq!(missing(&files[..1], None)?.0, [1]);
+//! assert!(missing(&files, None, &Budgets::default())?.0.is_empty(), "both parts are there");
+//! assert_eq!(missing(&files[..1], None, &Budgets::default())?.0, [1]);
 //! let merged = tmp.join("merged.png");
-//! assert_eq!(merge(&files, Some(&merged), None)?.size, (16, 16));
+//! assert_eq!(merge(&files, Some(&merged), None, &Budgets::default())?.size, (16, 16));
 //! let whole = tmp.join("whole.png");
 //! let mut sink = PngSink::create(&whole, 16, 16, scene.outmode.into())?;
 //! scan_into(prepared(), &mut sink)?;
@@ -166,14 +167,17 @@ pub use crate::part::MergeFormat;
 pub use crate::part::Merged;
 
 /// Merges part files into the image, after checking that they are the
-/// parts of one render, every part once; nothing is written otherwise
+/// parts of one render, every part once, of an image within the pixel
+/// budget; nothing is written otherwise, never over a part, and without
+/// an output named, only the parts' name inside the working directory
 /// (see the [module](self) example).
 ///
 /// ```
+/// use plytrace::api::Budgets;
 /// use plytrace::api::program::parts::merge;
 ///
 /// let none = std::env::temp_dir().join("plytrace-doc-no-such-part.png");
-/// assert!(merge(&[none], None, None).is_err());
+/// assert!(merge(&[none], None, None, &Budgets::default()).is_err());
 /// ```
 #[doc(inline)]
 pub use crate::part::merge;
@@ -182,10 +186,11 @@ pub use crate::part::merge;
 /// that cannot be read (see the [module](self) example).
 ///
 /// ```
+/// use plytrace::api::Budgets;
 /// use plytrace::api::program::parts::missing;
 ///
 /// # fn main() -> Result<(), plytrace::Error> {
-/// let (todo, warnings) = missing(&[], Some(3))?;
+/// let (todo, warnings) = missing(&[], Some(3), &Budgets::default())?;
 /// assert_eq!((todo, warnings.len()), (vec![0, 1, 2], 0));
 /// # Ok(())
 /// # }

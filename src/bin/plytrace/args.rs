@@ -303,6 +303,9 @@ pub enum Tool {
         #[arg(long, value_name = "N", requires = "missing",
               value_parser = clap::value_parser!(u32).range(1..=65536))]
         count: Option<u32>,
+        /// The most pixels the parts' image may have (default 2^30).
+        #[arg(long, value_name = "N", value_parser = positive)]
+        max_pixels: Option<u64>,
     },
 }
 

@@ -5,7 +5,7 @@
 //! elapsed time").
 
 use std::io::{BufRead, IsTerminal, Write};
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use plytrace::api::program::files::{self, AtomicFile};
@@ -77,45 +77,35 @@ pub struct CliHost {
     /// The command line's flags that decide the pixels, for the
     /// fingerprint of a part.
     pub pixel_flags: String,
+    /// `--stats FILE`: checked before each run not to be an input read
+    /// so far (the scene, its object files), so that a run is refused
+    /// before it renders rather than its statistics lost after.
+    pub stats_file: Option<PathBuf>,
+    /// The `--stats` file was refused as an input.
+    pub stats_refused: bool,
 }
 
 /// The name and place of a scene-chosen output, `fname`, checked: no `..`
 /// and no absolute path, unless `--allow-outside`.
 fn confine(name: &str) -> Result<()> {
-    let p = Path::new(name);
-    let outside = p.is_absolute()
-        || p.components().any(|c| {
-            matches!(
-                c,
-                Component::ParentDir | Component::RootDir | Component::Prefix(_)
-            )
-        });
-    if outside {
-        return Err(Error::Invalid(format!(
-            "fname `{}`: names from a scene file must stay inside the working directory \
-             (no `..`, no absolute path); `--allow-outside` permits it",
-            printable(name, 200)
-        )));
-    }
     if name.is_empty() {
         return Err(Error::Invalid("fname: an empty output name".into()));
     }
-    // A directory on the way that is a link out of the working directory
-    // escapes as surely as `..`.
-    if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty())
-        && let (Ok(real), Ok(cwd)) = (
-            dir.canonicalize(),
-            std::env::current_dir().and_then(|c| c.canonicalize()),
-        )
-        && !real.starts_with(&cwd)
-    {
-        return Err(Error::Invalid(format!(
+    match files::check_inside(Path::new(name)) {
+        Ok(()) => Ok(()),
+        Err(files::Outside::ByName) => Err(Error::Invalid(format!(
+            "fname `{}`: names from a scene file must stay inside the working directory \
+             (no `..`, no absolute path); `--allow-outside` permits it",
+            printable(name, 200)
+        ))),
+        // A directory on the way that is a link out of the working
+        // directory escapes as surely as `..`.
+        Err(files::Outside::ByLink) => Err(Error::Invalid(format!(
             "fname `{}`: its directory leads outside the working directory (through a link); \
              names from a scene file must stay inside it; `--allow-outside` permits it",
             printable(name, 200)
-        )));
+        ))),
     }
-    Ok(())
 }
 
 /// Passes rows on to `inner` and advances a progress bar, one step a row
@@ -762,6 +752,14 @@ impl Host for CliHost {
                 return Ok(());
             }
         }
+        if let Some(p) = &self.stats_file
+            && let Err(e) = files::check_not_input(p)
+        {
+            // Said once: the statistics are then not written at all.
+            self.stats_file = None;
+            self.stats_refused = true;
+            return Err(Error::Invalid(format!("--stats {e}")));
+        }
         if self.check {
             return self.check_run(scene);
         }
@@ -951,6 +949,11 @@ impl CliHost {
             frames: s.frames,
             frame: 0,
             pixel_flags: pixel_flags(s),
+            stats_file: match &s.stats {
+                Some(crate::args::StatsTarget::File(p)) => Some(p.clone()),
+                _ => None,
+            },
+            stats_refused: false,
         }
     }
 }

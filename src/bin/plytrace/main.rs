@@ -19,10 +19,16 @@ mod tools;
 
 use args::{Image, Request};
 use plytrace::api::program::control::{Policy, install_signals};
-use plytrace::api::program::files::check_target;
+use plytrace::api::program::files::{check_target, on_lock_wait};
 use term::{err, print_document, report};
 
 fn main() -> ExitCode {
+    on_lock_wait(|dir| {
+        err(&format!(
+            "waiting for another process writing into {} to finish",
+            dir.display()
+        ));
+    });
     let settings = match args::parse(std::env::args_os().skip(1).collect()) {
         Ok(Request::Run(s)) => s,
         Ok(Request::Tool(tool)) => return tools::run(tool),
@@ -44,7 +50,11 @@ fn main() -> ExitCode {
         Image::File(p) => Some(p),
         _ => None,
     };
-    for p in named.into_iter().chain(&settings.id_image) {
+    let stats = match &settings.stats {
+        Some(args::StatsTarget::File(p)) => Some(p),
+        _ => None,
+    };
+    for p in named.into_iter().chain(&settings.id_image).chain(stats) {
         if let Err(e) = check_target(p) {
             report(&e);
             return ExitCode::FAILURE;

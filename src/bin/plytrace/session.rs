@@ -70,7 +70,7 @@ fn load_scene(interp: &mut Interpreter, host: &mut CliHost, source: &SceneSource
     host.scanning(path);
     let flow = match source {
         SceneSource::File(p) => interp.execute_file(p, true, host),
-        _ => read_stdin().and_then(|text| interp.execute_source(&text, path, Path::new("."), host)),
+        _ => read_stdin().and_then(|text| interp.execute_input(&text, path, Path::new("."), host)),
     };
     print_warnings(interp);
     let flow = flow?;
@@ -203,8 +203,12 @@ fn read_stdin() -> Result<String> {
         )));
     }
     note_input(&bytes);
-    String::from_utf8(bytes)
-        .map_err(|_| Error::Invalid("<stdin>: the scene is not UTF-8 text".into()))
+    String::from_utf8(bytes).map_err(|e| {
+        Error::Invalid(format!(
+            "{STDIN}: not a text file: invalid UTF-8 at byte {} (a scene is text)",
+            e.utf8_error().valid_up_to()
+        ))
+    })
 }
 
 /// The session a command line asks for: the scene read, then rendered
@@ -223,15 +227,25 @@ pub fn run(settings: &Settings, host: &mut CliHost) -> ExitCode {
         }
     }
     let mut counts = SceneCounts::default();
-    let code = scene_session(settings, &mut interp, host, &mut counts);
-    if let Some(target) = &settings.stats {
+    let mut code = scene_session(settings, &mut interp, host, &mut counts);
+    if code == ExitCode::SUCCESS
+        && let Some(frames) = settings.frames
+    {
+        code = check_frames(frames, host.frame);
+    }
+    if let Some(target) = settings.stats.as_ref().filter(|_| !host.stats_refused) {
         let scene = match &settings.scene {
             SceneSource::File(p) => Some(p.as_path()),
             SceneSource::Stdin => Some(Path::new(STDIN)),
             SceneSource::None => None,
         };
         let doc = crate::stats::document(scene, counts, &host.stats, code == ExitCode::SUCCESS);
-        write_stats(target, &doc);
+        if let Err(e) = write_stats(target, &doc) {
+            err(&format!("error: --stats {e}"));
+            if code == ExitCode::SUCCESS {
+                code = ExitCode::FAILURE;
+            }
+        }
     }
     // The process ends next, and the system takes its memory back whole:
     // freeing office2's scene block by block took 0.5-1.2 ms at the end
@@ -355,23 +369,51 @@ fn scene_session(
     interactive(interp, host)
 }
 
-/// Writes the `--stats` document; a failure is a warning.
-fn write_stats(target: &StatsTarget, doc: &str) {
+/// Writes the `--stats` document: through a temporary file, never over
+/// an input of the run ([`AtomicFile::create`]).
+fn write_stats(target: &StatsTarget, doc: &str) -> Result<()> {
     match target {
         StatsTarget::Stderr => {
             // Whole, not cut to a line's length as messages are.
             let _ = std::io::Write::write_all(&mut std::io::stderr().lock(), doc.as_bytes());
+            Ok(())
         }
-        StatsTarget::File(p) => {
-            let written = AtomicFile::create(p)
-                .and_then(|mut f| f.write_all(doc.as_bytes()).map(|()| f))
-                .and_then(|f| f.finish())
-                .and_then(|staged| staged.commit());
-            if let Err(e) = written {
-                err(&format!("warning: --stats: {e}"));
-            }
-        }
+        StatsTarget::File(p) => AtomicFile::create(p)
+            .and_then(|mut f| f.write_all(doc.as_bytes()).map(|()| f))
+            .and_then(|f| f.finish())
+            .and_then(|staged| staged.commit()),
     }
+}
+
+/// `--frames A..B` once the session has met `frames` frames (`run`s): a
+/// range that starts past the last frame rendered nothing, an error of
+/// the command line (status 2); one that ends past it rendered the
+/// frames there are, with a warning.
+fn check_frames((first, last): (u32, u32), frames: u32) -> ExitCode {
+    let asked = match (first, last) {
+        (a, u32::MAX) => format!("{a}.."),
+        (a, b) if a == b => a.to_string(),
+        (a, b) => format!("{a}..{b}"),
+    };
+    let had = match frames {
+        0 => "no frame (`run`)".to_string(),
+        1 => "1 frame, frame 0".to_string(),
+        n => format!("{n} frames, 0 to {}", n - 1),
+    };
+    if first >= frames {
+        err(&format!(
+            "error: --frames {asked}: the scene has {had}; nothing was rendered"
+        ));
+        return ExitCode::from(2);
+    }
+    if last != u32::MAX && last >= frames {
+        err(&format!(
+            "warning: --frames {asked}: the scene has {had}; frames {frames} to {last} do not \
+             exist and only frames {first} to {} were rendered",
+            frames - 1
+        ));
+    }
+    ExitCode::SUCCESS
 }
 
 /// The longest command line read from standard input, in bytes.

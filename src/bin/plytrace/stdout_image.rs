@@ -2,7 +2,8 @@
 //! private temporary folder, as it would anywhere (staged, committed only
 //! when complete), and the finished file is copied to stdout: a failed or
 //! cancelled run sends nothing, and memory stays bounded however large
-//! the image is.
+//! the image is. An image that cannot be sent whole (a full disk, a
+//! reader that closed the pipe) is an error of the run.
 
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -34,8 +35,11 @@ pub fn send(path: &Path) -> Result<()> {
     });
     let _ = std::fs::remove_file(path);
     match copied {
-        // The reader left (`| head -c 100`): not an error of the render.
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        // The reader left (`| head -c 100`): whoever reads the image did
+        // not get it whole, which a script must be able to see.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Err(Error::Invalid(
+            "<stdout>: the reader closed the pipe before the whole image was sent".into(),
+        )),
         other => other.map_err(|e| Error::io(Path::new("<stdout>"), e)),
     }
 }

@@ -81,3 +81,19 @@ pub fn print_document(text: &[u8]) -> std::process::ExitCode {
         }
     }
 }
+
+/// Writes `data`, output a script goes on with (the image of `-o -`, the
+/// list of `merge --missing`), to stdout. Any failure, a closed pipe
+/// included, means it did not arrive whole: reported, and the status is 1.
+pub fn print_data(data: &[u8], what: &str) -> std::process::ExitCode {
+    let mut o = std::io::stdout().lock();
+    match o.write_all(data).and_then(|()| o.flush()) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            err(&format!(
+                "error: cannot write {what} to standard output: {e}"
+            ));
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

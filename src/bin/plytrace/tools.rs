@@ -6,10 +6,11 @@
 use std::path::Path;
 use std::process::ExitCode;
 
+use plytrace::api::Budgets;
 use plytrace::api::program::{parts, tools};
 
 use crate::args::Tool;
-use crate::term::{err, out, print_document, report};
+use crate::term::{err, out, print_data, print_document, report};
 
 /// Runs a tool.
 pub fn run(tool: Tool) -> ExitCode {
@@ -40,11 +41,16 @@ pub fn run(tool: Tool) -> ExitCode {
             separations,
             missing,
             count,
+            max_pixels,
         } => {
+            let mut budgets = Budgets::default();
+            if let Some(n) = max_pixels {
+                budgets.pixels = n;
+            }
             if missing {
-                list_missing(&parts, count)
+                list_missing(&parts, count, &budgets)
             } else {
-                merge(&parts, output.as_deref(), separations)
+                merge(&parts, output.as_deref(), separations, &budgets)
             }
         }
         Tool::Man => {
@@ -110,14 +116,19 @@ fn check_tessellation(path: &Path) -> ExitCode {
 }
 
 /// `plytrace merge PARTS -o OUT`: the parts checked, then joined.
-fn merge(parts: &[std::path::PathBuf], output: Option<&Path>, separations: bool) -> ExitCode {
+fn merge(
+    parts: &[std::path::PathBuf],
+    output: Option<&Path>,
+    separations: bool,
+    budgets: &Budgets,
+) -> ExitCode {
     use parts::MergeFormat;
     if separations && output.is_none() {
         err("error: merge --separations needs -o SEED (the separations are SEED.r, .g, .b)");
         return ExitCode::from(2);
     }
     let format = separations.then_some(MergeFormat::Separations);
-    match parts::merge(parts, output, format) {
+    match parts::merge(parts, output, format, budgets) {
         Ok(m) => {
             let names: Vec<String> = m.written.iter().map(|p| p.display().to_string()).collect();
             out(&format!(
@@ -138,18 +149,22 @@ fn merge(parts: &[std::path::PathBuf], output: Option<&Path>, separations: bool)
 
 /// `plytrace merge --missing PARTS`: the indices of the parts still to
 /// render, comma-separated on standard output (nothing when all are
-/// there).
-fn list_missing(parts: &[std::path::PathBuf], count: Option<u32>) -> ExitCode {
-    match parts::missing(parts, count) {
+/// there). The list is what a job array is submitted again from, so a
+/// failure to write it (a full disk, a closed pipe) is an error.
+fn list_missing(parts: &[std::path::PathBuf], count: Option<u32>, budgets: &Budgets) -> ExitCode {
+    match parts::missing(parts, count, budgets) {
         Ok((missing, warnings)) => {
             for w in warnings {
                 err(&format!("warning: {w}"));
             }
-            if !missing.is_empty() {
-                let list: Vec<String> = missing.iter().map(u32::to_string).collect();
-                out(&list.join(","));
+            if missing.is_empty() {
+                return ExitCode::SUCCESS;
             }
-            ExitCode::SUCCESS
+            let list: Vec<String> = missing.iter().map(u32::to_string).collect();
+            print_data(
+                format!("{}\n", list.join(",")).as_bytes(),
+                "the list of missing parts",
+            )
         }
         Err(e) => {
             report(&e);

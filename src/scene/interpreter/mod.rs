@@ -359,17 +359,51 @@ impl Interpreter {
         let stopped = self.files.len() > open_before;
         self.files.truncate(open_before);
         let flow = flow?;
-        if !stopped
-            && self.files.is_empty()
-            && let Some(active) = &self.active
-        {
-            return Err(Error::at(
+        if !stopped {
+            self.check_end_of_input()?;
+        }
+        Ok(flow)
+    }
+
+    /// Refuses the end of a whole input (a scene file, or a text read as
+    /// one) inside `defobj`: a `defobj` must have its `endobj` in the
+    /// input that opened it. Inside a called file it is not the end yet.
+    fn check_end_of_input(&self) -> Result<()> {
+        match &self.active {
+            Some(active) if self.files.is_empty() => Err(Error::at(
                 active.location.clone(),
                 format!(
                     "`defobj {}` has no `endobj` before the end of the input",
                     printable(&active.name, MAX_SHOWN_TOKEN)
                 ),
+            )),
+            _ => Ok(()),
+        }
+    }
+
+    /// Executes `source` as a whole input, as [`Self::execute_file`] does a
+    /// file's text: at most [`MAX_SCENE_BYTES`], and refused if it ends
+    /// inside `defobj` (unless it `quit`s). [`Self::execute_source`] runs
+    /// a piece of a longer input, such as one line typed at the prompt.
+    pub fn execute_input(
+        &mut self,
+        source: &str,
+        file: &Path,
+        dir: &Path,
+        host: &mut dyn Host,
+    ) -> Result<Flow> {
+        if source.len() as u64 > MAX_SCENE_BYTES {
+            return Err(Error::at(
+                Location::file(file),
+                format!(
+                    "the scene has {} bytes, more than the {MAX_SCENE_BYTES} bytes a scene may have",
+                    source.len()
+                ),
             ));
+        }
+        let flow = self.execute_source(source, file, dir, host)?;
+        if flow == Flow::Continue {
+            self.check_end_of_input()?;
         }
         Ok(flow)
     }
