@@ -305,3 +305,101 @@ def test_fix_takes_a_subfigure():
         assert plytrace.mpl.is_fixed(bx)
     _png(fig, False)
     plt.close(fig)
+
+
+# More of 1, 2, 5: polygons under translucent ones, axlim_clip of polygons
+# and scatter, urls, clip paths and pickers of one collection among others,
+# and matplotlib's own shading.
+
+
+def test_a_translucent_plane_is_painted_over_a_line_and_a_plane_under_it():
+    """From above: an opaque red plane, a green line over it, a blue
+    alpha=0.5 plane over both. Each is seen through the blue: half blue,
+    half what is under it."""
+    fig, ax = _figure()
+    _plane(ax, z=-0.5, color="red", shade=False)
+    t = np.linspace(-0.8, 0.8, 40)
+    ax.plot(t, 0 * t + 0.5, 0 * t - 0.25, color=(0, 1, 0), linewidth=5)
+    _plane(ax, z=0.0, color="blue", alpha=0.5, shade=False, linewidth=0)
+    ax.view_init(elev=90, azim=-90)
+    img = _png(fig, True)
+    green = np.array([0.0, 1.0, 0.0])
+    r, c = _pixel(fig, ax, [[0.0, -0.5, -0.5], [0.0, 0.5, -0.25]])
+    assert _near(img[r[0], c[0]], 0.5 * BLUE + 0.5 * RED, 0.08), img[r[0], c[0]]
+    assert _near(img[r[1], c[1]], 0.5 * BLUE + 0.5 * green, 0.08), img[r[1], c[1]]
+    plt.close(fig)
+
+
+def test_axlim_clip_leaves_out_polygons_and_scatter_points_outside_the_limits():
+    """Red quads and points, one of each within the limits and one
+    reaching beyond them: with axlim_clip, what reaches beyond is left out
+    (a polygon with a point outside goes whole, as matplotlib leaves it
+    out), and matplotlib's own picture agrees."""
+    fig, ax = _figure()
+    quad = lambda x0, x1: [(x0, -0.9, 0), (x1, -0.9, 0), (x1, -0.5, 0), (x0, -0.5, 0)]  # noqa: E731
+    ax.add_collection3d(Poly3DCollection([quad(-0.8, -0.4), quad(0.6, 1.4)], facecolor="red",
+                                         axlim_clip=True))
+    ax.scatter([-0.5, 1.5], [0.5, 0.5], [0.0, 0.0], color="red", s=120, depthshade=False,
+               axlim_clip=True)
+    ax.view_init(elev=90, azim=-90)
+    r, c = _pixel(fig, ax, [[-0.6, -0.7, 0], [0.8, -0.7, 0], [-0.5, 0.5, 0], [1.5, 0.5, 0]])
+    for bridge in (False, True):
+        img = _png(fig, bridge)
+        assert _near(img[r[0], c[0]], RED, 0.15) and _near(img[r[2], c[2]], RED, 0.15), bridge
+        assert not _near(img[r[1], c[1]], RED, 0.3), (bridge, img[r[1], c[1]])
+        assert not _near(img[r[3], c[3]], RED, 0.3), (bridge, img[r[3], c[3]])
+    plt.close(fig)
+
+
+def test_each_collection_keeps_its_url_clip_path_and_picker():
+    """Two crossing surfaces, cut into alternating runs: each run links to
+    its own collection's url; the blue one, clipped to the left half of
+    the axes, shows only there while the red one shows in both halves;
+    only the pickable one is picked."""
+    from matplotlib.patches import Rectangle
+
+    fig, ax = _figure()
+    a, b = _crossing(ax)
+    a.set_urls(["https://a.example/"])  # (a collection's links are per path)
+    b.set_urls(["https://b.example/"])
+    svg = _svg(fig)
+    assert svg.count('xlink:href="https://a.example/"') >= 2, svg.count("a.example")
+    assert svg.count('xlink:href="https://b.example/"') >= 2, svg.count("b.example")
+    half = Rectangle((0, 0), 0.5, 1, transform=ax.transAxes)
+    b.set_clip_path(half)
+    img = _png(fig, True)
+    x0, x1 = (ax.bbox.x0 * DPI / fig.dpi, ax.bbox.x1 * DPI / fig.dpi)
+    mid = int((x0 + x1) / 2)
+    blue, red = _near(img, BLUE, 0.25), _near(img, RED, 0.25)
+    assert blue[:, :mid - 1].sum() > 500 and blue[:, mid + 1:].sum() == 0, blue.sum()
+    assert red[:, :mid].sum() > 500 and red[:, mid:].sum() > 500
+    a.set_picker(None)
+    b.set_picker(True)
+    picked = []
+    fig.canvas.mpl_connect("pick_event", lambda e: picked.append(e.artist))
+    h = np.asarray(ax.M) @ np.array([-0.5, 0.0, 0.0, 1.0])
+    x, y = ax.transData.transform(h[:2] / h[3])
+    fig.pick(MouseEvent("button_press_event", fig.canvas, x, y, button=1))
+    assert picked == [b], picked
+    plt.close(fig)
+
+
+def test_shading_is_matplotlibs_own():
+    """Two shaded surfaces side by side (one colormapped, one with a light
+    source of its own) that hide nothing: the bridge paints matplotlib's
+    colours (at the faces' centres the pictures agree)."""
+    fig, ax = _figure()
+    x = np.linspace(0.1, 1, 7)
+    X, Y = np.meshgrid(x, x)
+    ax.plot_surface(X, Y, 0.4 * np.sin(3 * X), cmap="viridis", shade=True, linewidth=0)
+    ax.plot_surface(-X, -Y, 0.4 * np.cos(3 * Y), color="orange", shade=True, linewidth=0,
+                    lightsource=matplotlib.colors.LightSource(30, 60))
+    c = (x[:-1] + x[1:]) / 2
+    cx, cy = (v.ravel() for v in np.meshgrid(c, c))
+    plain, bridged = _png(fig, False), _png(fig, True)
+    for xyz in ([cx, cy, 0.4 * np.sin(3 * cx)], [-cx, -cy, 0.4 * np.cos(3 * cy)]):
+        r, col = _pixel(fig, ax, np.column_stack(xyz))
+        assert len(np.unique(plain[r, col], axis=0)) > 5  # shaded, not flat
+        diff = np.abs(plain[r, col] - bridged[r, col]).max(axis=-1)
+        assert (diff < 0.02).all(), diff.max()
+    plt.close(fig)
