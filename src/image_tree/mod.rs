@@ -29,13 +29,13 @@
 //! `I_child = I_parent + k I_child_own`, `k` the product of the
 //! coefficients on the path.
 //!
-//! Preconditions: planar polygons (the scene model's). The simple sort (or
-//! NNS with `setmode n on`) orders each level; the simple sort's key is
-//! the scene's `sort` order's (004 section 4.4): the farthest vertex for
-//! `sort btf`, the nearest for `sort ftb` (a level is stored back to front
-//! either way). Refraction uses the matrix
+//! Preconditions: planar polygons (the scene model's). NNS (the default;
+//! the simple sort with `setmode n off`) orders each level back to front;
+//! `sort ftb` reverses that one order, children before parents, so both
+//! orders give one picture. Refraction uses the matrix
 //! linearized about the ray through the polygon's centre (004 section
 //! 6.4.3), or none on total internal reflection.
+#![doc = include_str!("design.md")]
 
 mod fragments;
 mod levels;

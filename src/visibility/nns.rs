@@ -35,6 +35,16 @@
 //! output as is and counted in [`NnsStats::unresolved`]. A budget bounds
 //! the splits and the work ([`sort_budgeted`]); past it the level is
 //! ordered by the simple depth sort instead, and the fact is reported.
+//!
+//! # Design notes
+//!
+//! - NNS: candidates from a screen grid plus depth extents; the exact test
+//!   (overlap polygon and eye-ray depths) runs only for pairs that survive
+//!   the cheap tests. office2: 20 ms on one thread.
+//! - The NNS grid has about two faces a cell, up to 1024 x 1024 cells and no
+//!   finer than a pixel. NNS sorts the faces given once (farthest first) and
+//!   keeps only split pieces in its heap; the neighbour search walks compact
+//!   lists of extents and alive flags, not the faces.
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
