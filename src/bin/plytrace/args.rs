@@ -230,6 +230,19 @@ pub struct Cli {
     #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
           help_heading = BUDGETS)]
     pub max_rays: Option<u64>,
+    /// Pixel samples of one z-buffer, scan-line or brown painting,
+    /// estimated before it (default 10000000000).
+    #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
+          help_heading = BUDGETS)]
+    pub max_samples: Option<u64>,
+    /// Polygon-window tests of one warnock render (default 400000000).
+    #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
+          help_heading = BUDGETS)]
+    pub max_window_tests: Option<u64>,
+    /// Ray-polygon tests of one ray-cast render (default 300000000).
+    #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
+          help_heading = BUDGETS)]
+    pub max_ray_tests: Option<u64>,
 
     /// Print the help (-h is the manual's shadow-shade flag).
     #[arg(long, action = ArgAction::SetTrue)]
@@ -668,6 +681,15 @@ impl Cli {
         }
         if let Some(n) = self.max_rays {
             b.rays = n;
+        }
+        if let Some(n) = self.max_samples {
+            b.samples = n;
+        }
+        if let Some(n) = self.max_window_tests {
+            b.window_tests = n;
+        }
+        if let Some(n) = self.max_ray_tests {
+            b.ray_tests = n;
         }
         b
     }
