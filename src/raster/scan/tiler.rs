@@ -522,7 +522,7 @@ impl Tiler {
                 apply(self, t);
             }
         }
-        crossings % 2 == 0
+        crossings.is_multiple_of(2)
     }
 
     /// Where toggling the samples from sample `s` on (`m` per pixel) acts
