@@ -18,14 +18,21 @@ use super::Object;
 /// A polygon's points (see the module's documentation): those of polygon
 /// `polygon` of object `object` of the scene, or its own. The holder
 /// knows which polygon it is; [`Points::get`] is told.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Points {
     /// The scene polygon's own points, exactly: its object's world
     /// vertices at its indices (at most [`Points::SCENE_MAX`] of them).
-    #[default]
     Scene,
     /// Points of its own.
     Own(Box<[DVec3]>),
+}
+
+impl Default for Points {
+    /// No points of its own: what `mem::take` leaves behind is empty, never
+    /// a claim to be a scene polygon.
+    fn default() -> Points {
+        Points::Own(Box::new([]))
+    }
 }
 
 impl Points {

@@ -290,6 +290,10 @@ pub fn sort_budgeted(
     epsilon: f64,
     max_splits: usize,
 ) -> (Vec<NnsFace>, NnsStats) {
+    assert!(
+        faces.iter().all(|f| matches!(f.world, Points::Own(_))),
+        "sort_budgeted: a face held as Points::Scene needs its objects (sort_in_scene)"
+    );
     sort_in_scene(&[], faces, view, epsilon, max_splits)
 }
 
