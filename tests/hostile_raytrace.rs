@@ -1,5 +1,6 @@
-//! Runaway renders: the ray budget of `--raytrace` and Ctrl-C within a
-//! second in `--raytrace` and `--hidden-line`.
+//! Runaway renders: the ray budget of `--raytrace`, the work budgets of
+//! the image-space algorithms (`--visibility z-buffer`, `scan-line`,
+//! `brown`, `warnock`, `ray-cast`) and Ctrl-C within a second in each.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -61,6 +62,86 @@ fn tangle_scene(dir: &Path) {
          light 0 0 10 1 1 1 100 Point\ngetobj tangle\npopmatrix\n",
     )
     .unwrap();
+}
+
+/// `n` random large triangles through one another, no light (the
+/// image-space algorithms paint level 1 only), at `size` x `size`.
+fn soup_scene(dir: &Path, n: usize, size: u32) {
+    let mut seed: u64 = 11;
+    let mut rnd = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut det = format!("title soup\ndata\n{} {n}\n", 3 * n);
+    for _ in 0..3 * n {
+        writeln!(det, "{} {} {}", rnd(), rnd(), rnd()).unwrap();
+    }
+    for i in 0..n {
+        writeln!(det, "3 {} {} {}", 3 * i + 1, 3 * i + 2, 3 * i + 3).unwrap();
+    }
+    std::fs::create_dir_all(dir.join("det")).unwrap();
+    std::fs::write(dir.join("det/soup.det"), det).unwrap();
+    std::fs::write(
+        dir.join("scene.des"),
+        format!(
+            "resolution {size} {size}\nperspective 45 1 0.01 100\npushmatrix\nident\n\
+             translate 0 0 -4\ngetobj soup\npopmatrix\n"
+        ),
+    )
+    .unwrap();
+}
+
+/// Each image-space algorithm with the flag of its work budget.
+const WORK_BUDGETS: [(&str, &str); 5] = [
+    ("z-buffer", "--max-samples"),
+    ("scan-line", "--max-samples"),
+    ("brown", "--max-samples"),
+    ("warnock", "--max-window-tests"),
+    ("ray-cast", "--max-ray-tests"),
+];
+
+#[test]
+fn every_image_space_algorithm_stops_at_its_work_budget_naming_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    soup_scene(dir.path(), 400, 96);
+    for (algorithm, flag) in WORK_BUDGETS {
+        let args = ["--visibility", algorithm, "-o", "s.png"];
+        let child = start(dir.path(), &[&args[..], &[flag, "1000"]].concat());
+        let (code, err, _) = finish(child, Duration::from_secs(60));
+        assert_eq!(code, Some(1), "{algorithm}: {err}");
+        assert!(
+            err.contains(&format!("`{flag} N` raises it")),
+            "{algorithm}: {err}"
+        );
+        assert!(!dir.path().join("s.png").exists(), "{algorithm}");
+        // Within the default budget the same render is made.
+        let (code, err, _) = finish(start(dir.path(), &args), Duration::from_secs(60));
+        assert_eq!(code, Some(0), "{algorithm}: {err}");
+        assert!(dir.path().join("s.png").exists(), "{algorithm}");
+        std::fs::remove_file(dir.path().join("s.png")).unwrap();
+    }
+}
+
+#[test]
+fn ctrl_c_stops_every_image_space_algorithm_within_a_second() {
+    let dir = tempfile::tempdir().unwrap();
+    // About 10 s of the z-buffer's painting on 2 cores. Warnock's
+    // subdivision, which drops the polygons hidden in a window, finishes
+    // this in a second; its stop is looked at where its budget is.
+    soup_scene(dir.path(), 40_000, 2048);
+    for (algorithm, flag) in WORK_BUDGETS.iter().filter(|w| w.0 != "warnock") {
+        let args = [
+            "--visibility",
+            algorithm,
+            "-o",
+            "s.png",
+            flag,
+            "100000000000000",
+        ];
+        interrupted_within_a_second(dir.path(), &args, "s.png", Duration::from_millis(1200));
+    }
 }
 
 fn start(dir: &Path, args: &[&str]) -> Child {

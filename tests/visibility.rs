@@ -15,9 +15,19 @@ use plytrace::visibility::ray_cast::RayCaster;
 
 /// (pixels checked, pixels differing, first differing pixels).
 fn compare(scene: &Scene, algorithm: Algorithm, size: u32) -> (usize, usize, Vec<(u32, u32)>) {
+    compare_with(scene, Some(algorithm), size)
+}
+
+/// [`compare`] with the algorithm the scene and the defaults choose when
+/// `algorithm` is `None`.
+fn compare_with(
+    scene: &Scene,
+    algorithm: Option<Algorithm>,
+    size: u32,
+) -> (usize, usize, Vec<(u32, u32)>) {
     let options = RenderOptions {
         size: Some((size, size)),
-        visibility: Some(algorithm),
+        visibility: algorithm,
         ..RenderOptions::default()
     };
     let r = render(scene, &options).unwrap();
@@ -93,6 +103,26 @@ fn nns_agrees_with_the_oracle_on_every_shared_scene() {
     for name in SCENES {
         let scene = shared(name);
         assert_agrees(name, &scene, Algorithm::Nns, 160);
+    }
+}
+
+/// What a user who just runs `plytrace scene.des` gets, in both orders.
+#[test]
+fn the_default_sort_agrees_with_the_oracle_on_every_shared_scene() {
+    for name in SCENES {
+        let mut scene = shared(name);
+        for order in [
+            plytrace::model::SortOrder::BackToFront,
+            plytrace::model::SortOrder::FrontToBack,
+        ] {
+            scene.sort_order = order;
+            let (checked, bad, first) = compare_with(&scene, None, 160);
+            assert!(checked > 0, "{name}: nothing checked");
+            assert_eq!(
+                bad, 0,
+                "{name} {order:?}: {bad} of {checked} pixels differ, e.g. {first:?}"
+            );
+        }
     }
 }
 

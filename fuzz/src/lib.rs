@@ -457,6 +457,9 @@ pub fn pipeline(data: &[u8]) {
             pair_tests: 1_000_000,
             model_memory: 1 << 26,
             rays: 1_000_000,
+            samples: 1 << 26,
+            window_tests: 1 << 24,
+            ray_tests: 1 << 24,
         },
     };
     let statements = overrides(&mut bytes);
@@ -863,6 +866,9 @@ pub fn modeling(data: &[u8]) {
         pair_tests: MODEL_PAIR_TESTS,
         model_memory: 1 << 24,
         rays: 100_000,
+        samples: 1 << 22,
+        window_tests: 1 << 20,
+        ray_tests: 1 << 20,
     };
     let sandbox = sandbox();
     let _guard = lock(sandbox);

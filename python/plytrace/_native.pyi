@@ -115,6 +115,7 @@ class Projection:
         points: npt.NDArray[np.float64],
         sizes: npt.NDArray[np.int64],
         matrix: npt.NDArray[np.float64],
+        open: Optional[npt.NDArray[np.bool_]] = None,
     ) -> Projection: ...
     def paint_order(
         self,
@@ -123,6 +124,27 @@ class Projection:
         keys: Optional[npt.NDArray[np.uint32]] = None,
     ) -> Tuple[
         npt.NDArray[np.int64], npt.NDArray[np.bool_], _Paths, _Paths, int, Optional[str]
+    ]: ...
+    def layered(
+        self,
+        grow: Optional[Tuple[float, float]],
+        grown: npt.NDArray[np.bool_],
+        keys: npt.NDArray[np.uint32],
+        opaque: npt.NDArray[np.bool_],
+        points: npt.NDArray[np.float64],
+        sizes: npt.NDArray[np.int64],
+        anchors: npt.NDArray[np.float64],
+    ) -> Tuple[
+        Tuple[
+            npt.NDArray[np.int64], npt.NDArray[np.bool_], _Paths, _Paths, int, Optional[str]
+        ],
+        Tuple[
+            npt.NDArray[np.float64],
+            npt.NDArray[np.int64],
+            npt.NDArray[np.int64],
+            npt.NDArray[np.int64],
+        ],
+        npt.NDArray[np.int64],
     ]: ...
     def visible_polylines(
         self, points: npt.NDArray[np.float64], sizes: npt.NDArray[np.int64]

@@ -20,6 +20,8 @@ use pyo3::exceptions::{
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
+mod layered;
+
 use plytrace::api::{
     self, Antialiasing, Budgets, Camera, Light, Material, MeshData, Options, Projected,
     Projection as CameraProjection, VectorFormat,
@@ -723,14 +725,18 @@ type PaintArrays<'py> = (
 #[pymethods]
 impl Projection {
     /// `points` (n, 3) of all polygons one after the other, `sizes` the
-    /// points of each, `matrix` the 4 x 4 projection (`M @ p`).
+    /// points of each, `matrix` the 4 x 4 projection (`M @ p`); `open`:
+    /// per polygon, whether it lacks its closing edge.
     #[new]
+    #[pyo3(signature = (points, sizes, matrix, open=None))]
     fn new(
         py: Python<'_>,
         points: PyReadonlyArray2<'_, f64>,
         sizes: PyReadonlyArray1<'_, i64>,
         matrix: PyReadonlyArray2<'_, f64>,
+        open: Option<PyReadonlyArray1<'_, bool>>,
     ) -> PyResult<Projection> {
+        let open: Vec<bool> = open.map(|o| o.as_array().to_vec()).unwrap_or_default();
         let points = rows::<3>(&points, "points")?;
         let m = rows::<4>(&matrix, "matrix")?;
         let matrix: [[f64; 4]; 4] = m
@@ -746,7 +752,7 @@ impl Projection {
             polygons.push(poly);
             at += n;
         }
-        let inner = cancellable(py, || Projected::new(&polygons, matrix))?;
+        let inner = cancellable(py, || Projected::new_with_open(&polygons, matrix, &open))?;
         Ok(Projection { inner })
     }
 
@@ -803,6 +809,42 @@ impl Projection {
             order.splits,
             order.warning,
         ))
+    }
+
+    /// The paint order (as `paint_order`, every source grown where
+    /// `grown` says), and where in it the polylines' visible parts and
+    /// the `anchors` (m, 3) are painted: `opaque` per source says which
+    /// polygons hide what is behind them. Returns (the paint arrays,
+    /// (xy (k, 2) with NaN rows between parts, line (r,), slot (r,),
+    /// starts (r + 1,)) per run of parts of one polyline painted before
+    /// patch `slot` (the patch count: after all), the anchors' slots (m,)
+    /// (-1: behind the eye)).
+    #[pyo3(signature = (grow, grown, keys, opaque, points, sizes, anchors))]
+    #[allow(clippy::too_many_arguments)]
+    fn layered<'py>(
+        &self,
+        py: Python<'py>,
+        grow: Option<(f64, f64)>,
+        grown: PyReadonlyArray1<'_, bool>,
+        keys: PyReadonlyArray1<'_, u32>,
+        opaque: PyReadonlyArray1<'_, bool>,
+        points: PyReadonlyArray2<'_, f64>,
+        sizes: PyReadonlyArray1<'_, i64>,
+        anchors: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<layered::LayeredArrays<'py>> {
+        let grow = grow.filter(|g| g.0 > 0.0 && g.1 > 0.0 && g.0.is_finite() && g.1.is_finite());
+        let grown = grown.as_array().to_vec();
+        let keys = keys.as_array().to_vec();
+        let opaque = opaque.as_array().to_vec();
+        let points = rows::<3>(&points, "points")?;
+        let anchors = rows::<3>(&anchors, "anchors")?;
+        let sizes = sizes.as_array().to_vec();
+        let (segments, first) = layered::polyline_segments(&points, &sizes)?;
+        let inner = &self.inner;
+        let result = cancellable(py, || {
+            inner.layered(Some(&keys), &opaque, &segments, &anchors)
+        })?;
+        layered::arrays(py, &result, grow, Some(&grown), &first)
     }
 
     /// The visible parts of polylines (`points` (n, 3) one after the

@@ -55,7 +55,7 @@ pub struct FrameBuffer {
 }
 
 /// Rows per parallel band.
-const BAND: u32 = 16;
+pub const BAND: u32 = 16;
 
 /// A band of rows of a frame buffer, painted by one thread: screen rows
 /// `lo..hi`, counted from the bottom of the image.
@@ -134,6 +134,9 @@ impl FrameBuffer {
     }
 
     /// Paints `items` in order. Returns how many covered at least one pixel.
+    /// Stops early, between polygons, when a stop is requested
+    /// ([`crate::cancel`]): the caller looks at the request and discards
+    /// the frame.
     pub fn paint(&mut self, items: &[PaintItem], mode: PaintMode) -> usize {
         let w = self.width;
         let bounds: Vec<(f64, f64)> = items
@@ -167,6 +170,10 @@ impl FrameBuffer {
                 let (ymin, ymax) = bounds[k];
                 if ymax < lo as f64 || ymin > hi as f64 + 1.0 {
                     continue;
+                }
+                // A stop request ends the band; the caller reports it.
+                if crate::cancel::requested() {
+                    break;
                 }
                 let mut put = |j: u32, i: u32, color: [f32; 3], kt: f32| {
                     let px = (hi - 1 - j) as usize * w as usize + i as usize;

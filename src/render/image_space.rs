@@ -9,10 +9,12 @@ use std::time::Instant;
 
 use glam::{DVec2, DVec3};
 
+use crate::budget::{Budgets, Meter};
 use crate::error::{Error, Result};
 use crate::geometry::view::{self, ScreenPolygon, View};
 use crate::model::{Color, Scene, SortOrder};
-use crate::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
+use crate::raster::frame_buffer::{BAND, FrameBuffer, PaintItem, PaintMode};
+use crate::raster::tiler;
 use crate::shading::{
     Materials, facet_shade, phong_vertices, transparency_of, vertex_shades, vertex_transparency,
 };
@@ -38,10 +40,12 @@ pub(super) fn paint(
         .budgets
         .check_frame(width, height, PAINTED_BYTES_PER_PIXEL)
         .map_err(Error::Invalid)?;
-    let mut frame = FrameBuffer::new(width, height, scene.background.as_vec3().to_array());
+    let background = scene.background.as_vec3().to_array();
     let materials = Materials::new(scene);
-    let polygons = if algorithm == Algorithm::RayCast {
-        ray_cast(scene, &materials, view, &mut frame, &mut stats)
+    let (frame, polygons) = if algorithm == Algorithm::RayCast {
+        let mut frame = FrameBuffer::new(width, height, background);
+        let polygons = ray_cast(scene, &materials, view, &mut frame, options, &mut stats)?;
+        (frame, polygons)
     } else {
         let t = Instant::now();
         let lists = screen_lists(scene, view, algorithm == Algorithm::Brown, &mut stats);
@@ -50,6 +54,7 @@ pub(super) fn paint(
         let sorted = painting_list(scene, view, algorithm, lists, orders, &mut stats);
         stats.sort_time = t.elapsed();
         stats.polygons_listed = sorted.len();
+        check_samples(algorithm, &sorted, width, height, &options.budgets)?;
         let t = Instant::now();
         let mut shades = ShadeCache::default();
         let colors: Vec<[f32; 3]> = sorted
@@ -58,10 +63,16 @@ pub(super) fn paint(
             .collect();
         stats.shading_time = t.elapsed();
         let t = Instant::now();
-        stats.polygons_tiled =
-            paint_list(&materials, view, algorithm, &sorted, &colors, &mut frame);
+        let mut frame = FrameBuffer::new(width, height, background);
+        let painting = Painting {
+            materials: &materials,
+            view,
+            algorithm,
+            budgets: &options.budgets,
+        };
+        stats.polygons_tiled = painting.paint(&sorted, &colors, &mut frame)?;
         stats.paint_time = t.elapsed();
-        sorted.iter().map(|(_, id, _)| *id).collect()
+        (frame, sorted.iter().map(|(_, id, _)| *id).collect())
     };
     Ok(Rendered {
         frame,
@@ -131,42 +142,97 @@ fn painting_list(
     }
 }
 
-/// Paints the list with its shades; returns the polygons painted.
-fn paint_list(
-    materials: &Materials<'_>,
-    view: &View,
+/// Refuses, before any painting, a list whose pixel samples
+/// ([`tiler::work`]) pass [`Budgets::samples`]: the z-buffer, the
+/// scan-line algorithm and Brown's painter sample every polygon at every
+/// pixel it covers, and each band of rows looks at every polygon's
+/// vertices (or edges) once. Warnock's subdivision counts its own work.
+fn check_samples(
     algorithm: Algorithm,
     sorted: &[Listed],
-    colors: &[[f32; 3]],
-    frame: &mut FrameBuffer,
-) -> usize {
-    if algorithm == Algorithm::Brown {
-        let items: Vec<PaintItem> = sorted
+    width: u32,
+    height: u32,
+    budgets: &Budgets,
+) -> Result<()> {
+    if algorithm == Algorithm::Warnock {
+        return Ok(());
+    }
+    let bands = f64::from(height.div_ceil(BAND));
+    let mut outline = Vec::new();
+    let samples: f64 = sorted
+        .iter()
+        .map(|(points, _, _)| {
+            outline.clear();
+            outline.extend(points.iter().map(|p| DVec2::new(p.x, p.y)));
+            tiler::work(&outline, width, height) + bands * points.len() as f64
+        })
+        .sum();
+    if samples <= budgets.samples as f64 {
+        return Ok(());
+    }
+    Err(Error::Invalid(Budgets::exceeded(
+        &format!(
+            "painting {} polygons at {width} x {height} by {algorithm} (about {samples:.3e} pixel samples)",
+            sorted.len()
+        ),
+        format!("{} samples", budgets.samples),
+        "--max-samples",
+    )))
+}
+
+/// What the painters of the list need beside it.
+struct Painting<'a> {
+    materials: &'a Materials<'a>,
+    view: &'a View,
+    algorithm: Algorithm,
+    budgets: &'a Budgets,
+}
+
+impl Painting<'_> {
+    /// Paints the list with its shades; returns the polygons painted, or
+    /// [`Error::Cancelled`] when a stop was requested meanwhile (the
+    /// painters stop early, between polygons or rows or windows).
+    fn paint(
+        &self,
+        sorted: &[Listed],
+        colors: &[[f32; 3]],
+        frame: &mut FrameBuffer,
+    ) -> Result<usize> {
+        let (materials, view) = (self.materials, self.view);
+        if self.algorithm == Algorithm::Brown {
+            let items: Vec<PaintItem> = sorted
+                .iter()
+                .zip(colors)
+                .enumerate()
+                .map(|(k, (listed, color))| {
+                    paint_item(materials, view, listed, *color, k as u32 + 1)
+                })
+                .collect();
+            let mode = match materials.sort_order {
+                SortOrder::BackToFront => PaintMode::Overwrite,
+                SortOrder::FrontToBack => PaintMode::FirstWins,
+            };
+            let painted = frame.paint(&items, mode);
+            crate::cancel::check()?;
+            return Ok(painted);
+        }
+        let items: Vec<DepthItem> = sorted
             .iter()
             .zip(colors)
             .enumerate()
-            .map(|(k, (listed, color))| paint_item(materials, view, listed, *color, k as u32 + 1))
+            .map(|(k, ((points, _, _), color))| DepthItem {
+                points: points.clone(),
+                color: *color,
+                id: k as u32 + 1,
+            })
             .collect();
-        let mode = match materials.sort_order {
-            SortOrder::BackToFront => PaintMode::Overwrite,
-            SortOrder::FrontToBack => PaintMode::FirstWins,
+        let painted = match self.algorithm {
+            Algorithm::ZBuffer => z_buffer::paint(frame, &items),
+            Algorithm::ScanLine => scan_line::paint(frame, &items),
+            _ => warnock::paint(frame, &items, self.budgets.window_tests)?,
         };
-        return frame.paint(&items, mode);
-    }
-    let items: Vec<DepthItem> = sorted
-        .iter()
-        .zip(colors)
-        .enumerate()
-        .map(|(k, ((points, _, _), color))| DepthItem {
-            points: points.clone(),
-            color: *color,
-            id: k as u32 + 1,
-        })
-        .collect();
-    match algorithm {
-        Algorithm::ZBuffer => z_buffer::paint(frame, &items),
-        Algorithm::ScanLine => scan_line::paint(frame, &items),
-        _ => warnock::paint(frame, &items),
+        crate::cancel::check()?;
+        Ok(painted)
     }
 }
 
@@ -280,19 +346,27 @@ fn simple_sorted_lists(mut lists: Vec<Vec<ScreenPolygon>>, order: SortOrder) -> 
     out
 }
 
-/// Casts a ray per pixel and paints the faceted shade of what it hits.
+/// Casts a ray per pixel and paints the faceted shade of what it hits,
+/// within [`Budgets::ray_tests`].
 fn ray_cast(
     scene: &Scene,
     materials: &Materials<'_>,
     view: &View,
     frame: &mut FrameBuffer,
+    options: &RenderOptions,
     stats: &mut RenderStats,
-) -> Vec<(u32, u32)> {
+) -> Result<Vec<(u32, u32)>> {
     let t = Instant::now();
     let caster = RayCaster::new(scene);
     stats.sort_time = t.elapsed();
     let t = Instant::now();
-    let hits = caster.id_image(frame.width, frame.height);
+    let meter = Meter::new(
+        "ray-polygon tests of ray casting",
+        options.budgets.ray_tests,
+        "--max-ray-tests",
+    );
+    let hits = caster.id_image_within(frame.width, frame.height, &meter);
+    meter.result()?;
     stats.paint_time = t.elapsed();
     let mut ids = std::collections::HashMap::new();
     let mut polygons = Vec::new();
@@ -310,7 +384,7 @@ fn ray_cast(
     }
     stats.polygons_listed = polygons.len();
     stats.polygons_tiled = polygons.len();
-    polygons
+    Ok(polygons)
 }
 
 /// Faceted shades, computed once per source polygon and side.

@@ -16,6 +16,7 @@
 use glam::{DVec3, DVec4};
 use rayon::prelude::*;
 
+use crate::budget::Meter;
 pub use crate::geometry::bvh::Hit;
 use crate::geometry::bvh::{WorldPolygon, WorldPolygons};
 use crate::math::Matrix4;
@@ -164,6 +165,39 @@ impl RayCaster {
                     self.ray(x, y)
                         .and_then(|(o, d)| self.trace(o, d, max_level, threshold))
                 })
+            })
+            .collect()
+    }
+
+    /// [`RayCaster::id_image`], counting on `meter` a test per polygon
+    /// each ray meets in the hierarchy (and one per ray), and leaving
+    /// the rest of the image empty once `meter` says stop (past its
+    /// budget, or a stop requested: looked at before every ray).
+    pub fn id_image_within(&self, width: u32, height: u32, meter: &Meter) -> Vec<Option<Hit>> {
+        (0..height)
+            .into_par_iter()
+            .flat_map_iter(|row| {
+                let mut pending = 0;
+                let hits: Vec<Option<Hit>> = (0..width)
+                    .map(|col| {
+                        if meter.stopped() {
+                            return None;
+                        }
+                        let x = (col as f64 + 0.5) / width as f64 * 2.0 - 1.0;
+                        let y = 1.0 - (row as f64 + 0.5) / height as f64 * 2.0;
+                        let tests = std::cell::Cell::new(1);
+                        let hit = self.ray(x, y).and_then(|(o, d)| {
+                            self.polygons.cast(o, d, false, &|p, front| {
+                                tests.set(tests.get() + 1);
+                                front || p.open
+                            })
+                        });
+                        meter.add_batched(&mut pending, tests.get());
+                        hit
+                    })
+                    .collect();
+                meter.add(pending);
+                hits
             })
             .collect()
     }

@@ -31,7 +31,9 @@ struct Edge {
 }
 
 /// Paints `items` scan line by scan line. Returns how many polygons
-/// covered at least one pixel.
+/// covered at least one pixel. Stops early, between lines, when a stop
+/// is requested ([`crate::cancel`]): the caller looks at the request and
+/// discards the frame.
 pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
     let (w, h) = (frame.width, frame.height);
     let planes: Vec<Option<(f64, f64, f64)>> =
@@ -86,7 +88,12 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
             .collect();
         let mut spans: Vec<(u32, u32, u32)> = Vec::new();
         let mut crossings: Vec<(u32, f64)> = Vec::new();
+        let mut sweep = Sweep::new(items.len());
         for j in lo..hi {
+            // A stop request ends the band; the caller reports it.
+            if crate::cancel::requested() {
+                break;
+            }
             active.retain(|e| e.last > j);
             active.extend(table[j as usize].iter().copied());
             let yc = j as f64 + 0.5;
@@ -108,7 +115,7 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
                 }
             }
             let row = (hi - 1 - j) as usize * w as usize;
-            resolve_line(&spans, yc, &planes, |i, k| {
+            sweep.resolve_line(&spans, yc, &planes, |i, k| {
                 colors[row + i as usize] = items[k as usize].color;
                 ids[row + i as usize] = items[k as usize].id;
             });
@@ -117,43 +124,102 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
     frame.distinct_ids()
 }
 
-/// Sweeps the spans of one line left to right; between consecutive span
-/// ends the set of covering polygons is fixed: one polygon fills its pixels
-/// outright, several are compared by depth at each pixel.
-fn resolve_line(
-    spans: &[(u32, u32, u32)],
-    yc: f64,
-    planes: &[Option<(f64, f64, f64)>],
-    mut put: impl FnMut(u32, u32),
-) {
-    let mut cuts: Vec<u32> = spans.iter().flat_map(|s| [s.0, s.1]).collect();
-    cuts.sort_unstable();
-    cuts.dedup();
-    let mut covering: Vec<u32> = Vec::new();
-    for seg in cuts.windows(2) {
-        let (a, b) = (seg[0], seg[1]);
-        covering.clear();
-        covering.extend(spans.iter().filter(|s| s.0 <= a && b <= s.1).map(|s| s.2));
-        match covering.len() {
-            0 => {}
-            1 => (a..b).for_each(|i| put(i, covering[0])),
-            _ => {
-                covering.sort_unstable();
-                for i in a..b {
-                    let xc = i as f64 + 0.5;
-                    let depth = |k: u32| {
-                        let (pa, pb, pc) =
-                            planes[k as usize].expect("only planar polygons have edges");
-                        pa * xc + pb * yc + pc
-                    };
-                    let nearest = covering
-                        .iter()
-                        .copied()
-                        .min_by(|&p, &q| depth(p).total_cmp(&depth(q)).then(p.cmp(&q)))
-                        .expect("not empty");
-                    put(i, nearest);
+/// The sweep of one line's spans, with its buffers kept from line to
+/// line: the span ends in order, and the polygons covering the stretch
+/// between two consecutive ends (each polygon's place in that list, so
+/// that one enters and leaves in constant time).
+struct Sweep {
+    ends: Vec<(u32, bool, u32)>,
+    covering: Vec<u32>,
+    /// The depth planes of `covering`, in its order.
+    planes: Vec<(f64, f64, f64)>,
+    place: Vec<u32>,
+}
+
+impl Sweep {
+    fn new(polygons: usize) -> Sweep {
+        Sweep {
+            ends: Vec::new(),
+            covering: Vec::new(),
+            planes: Vec::new(),
+            place: vec![u32::MAX; polygons],
+        }
+    }
+
+    /// Sweeps the spans of one line left to right; between consecutive
+    /// span ends the set of covering polygons is fixed: one polygon fills
+    /// its pixels outright, several are compared by depth at each pixel
+    /// (ties to the polygon listed first).
+    fn resolve_line(
+        &mut self,
+        spans: &[(u32, u32, u32)],
+        yc: f64,
+        planes: &[Option<(f64, f64, f64)>],
+        mut put: impl FnMut(u32, u32),
+    ) {
+        // (x, enters, polygon): at one x the spans ending leave first.
+        self.ends.clear();
+        self.ends.extend(
+            spans
+                .iter()
+                .flat_map(|s| [(s.0, true, s.2), (s.1, false, s.2)]),
+        );
+        self.ends.sort_unstable();
+        let mut next = 0;
+        while next < self.ends.len() {
+            let a = self.ends[next].0;
+            while next < self.ends.len() && self.ends[next].0 == a {
+                let (_, enters, k) = self.ends[next];
+                if enters {
+                    let plane = planes[k as usize].expect("only planar polygons have edges");
+                    self.enter(k, plane);
+                } else {
+                    self.leave(k);
+                }
+                next += 1;
+            }
+            let Some(&(b, _, _)) = self.ends.get(next) else {
+                break;
+            };
+            match self.covering[..] {
+                [] => {}
+                [k] => (a..b).for_each(|i| put(i, k)),
+                _ => {
+                    for i in a..b {
+                        put(i, self.nearest(i as f64 + 0.5, yc));
+                    }
                 }
             }
+        }
+        debug_assert!(self.covering.is_empty(), "every span entered has left");
+    }
+
+    /// The covering polygon nearest at `(xc, yc)`, the first listed of
+    /// equally near ones.
+    fn nearest(&self, xc: f64, yc: f64) -> u32 {
+        let depth = |(a, b, c): (f64, f64, f64)| a * xc + b * yc + c;
+        let mut best = (depth(self.planes[0]), self.covering[0]);
+        for (&k, &plane) in self.covering.iter().zip(&self.planes).skip(1) {
+            let d = depth(plane);
+            if d.total_cmp(&best.0).then(k.cmp(&best.1)).is_lt() {
+                best = (d, k);
+            }
+        }
+        best.1
+    }
+
+    fn enter(&mut self, k: u32, plane: (f64, f64, f64)) {
+        self.place[k as usize] = self.covering.len() as u32;
+        self.covering.push(k);
+        self.planes.push(plane);
+    }
+
+    fn leave(&mut self, k: u32) {
+        let at = std::mem::replace(&mut self.place[k as usize], u32::MAX) as usize;
+        self.covering.swap_remove(at);
+        self.planes.swap_remove(at);
+        if let Some(&moved) = self.covering.get(at) {
+            self.place[moved as usize] = at as u32;
         }
     }
 }

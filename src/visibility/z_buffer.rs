@@ -44,6 +44,9 @@ pub fn depth_plane(points: &[DVec3]) -> Option<(f64, f64, f64)> {
 type Prepared = (Vec<DVec2>, (f64, f64, f64), f64, f64);
 
 /// Paints `items` by depth. Returns how many covered at least one pixel.
+/// Stops early, between polygons, when a stop is requested
+/// ([`crate::cancel`]): the caller looks at the request and discards the
+/// frame.
 pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
     let w = frame.width;
     let prepared: Vec<Option<Prepared>> = items
@@ -72,6 +75,10 @@ pub fn paint(frame: &mut FrameBuffer, items: &[DepthItem]) -> usize {
             let Some((pts, (a, bb, c), ymin, ymax)) = prep else {
                 continue;
             };
+            // A stop request ends the band; the caller reports it.
+            if crate::cancel::requested() {
+                break;
+            }
             if *ymax < lo as f64 || *ymin > hi as f64 + 1.0 {
                 continue;
             }

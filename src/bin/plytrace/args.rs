@@ -230,6 +230,19 @@ pub struct Cli {
     #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
           help_heading = BUDGETS)]
     pub max_rays: Option<u64>,
+    /// Pixel samples of one z-buffer, scan-line or brown painting,
+    /// estimated before it (default 10000000000).
+    #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
+          help_heading = BUDGETS)]
+    pub max_samples: Option<u64>,
+    /// Polygon-window tests of one warnock render (default 400000000).
+    #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
+          help_heading = BUDGETS)]
+    pub max_window_tests: Option<u64>,
+    /// Ray-polygon tests of one ray-cast render (default 300000000).
+    #[arg(long, value_name = "N", value_parser = positive, allow_hyphen_values = true,
+          help_heading = BUDGETS)]
+    pub max_ray_tests: Option<u64>,
 
     /// Print the help (-h is the manual's shadow-shade flag).
     #[arg(long, action = ArgAction::SetTrue)]
@@ -565,7 +578,7 @@ impl Cli {
         if let Some((w, h)) = self.size
             && u64::from(w) * u64::from(h) > budgets.pixels
         {
-            return Err(crate::host::pixels_exceeded(w, h, budgets.pixels));
+            return Err(pixels_exceeded(w, h, budgets.pixels));
         }
         if let Some(id) = &self.id_image {
             check_id_image(id, &image, self.hidden_line)?;
@@ -668,6 +681,15 @@ impl Cli {
         }
         if let Some(n) = self.max_rays {
             b.rays = n;
+        }
+        if let Some(n) = self.max_samples {
+            b.samples = n;
+        }
+        if let Some(n) = self.max_window_tests {
+            b.window_tests = n;
+        }
+        if let Some(n) = self.max_ray_tests {
+            b.ray_tests = n;
         }
         b
     }
@@ -838,6 +860,21 @@ fn positive(v: &str) -> Result<u64, String> {
         .ok()
         .filter(|n| *n >= 1)
         .ok_or_else(|| "expected a whole number of at least 1".into())
+}
+
+/// The name standard input goes by in messages and statistics.
+pub const STDIN: &str = "<stdin>";
+
+/// The message of an image over the pixel budget.
+pub fn pixels_exceeded(w: u32, h: u32, limit: u64) -> String {
+    Budgets::exceeded(
+        &format!(
+            "the image of {w} x {h} = {} pixels",
+            u64::from(w) * u64::from(h)
+        ),
+        limit,
+        "--max-pixels",
+    )
 }
 
 #[cfg(test)]
