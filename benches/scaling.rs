@@ -151,7 +151,7 @@ fn level_one_faces(scene: &plytrace::scene::Scene, view: &View) -> Vec<NnsFace> 
         .map(|p| NnsFace {
             object: p.object,
             polygon: p.polygon,
-            world: p.world,
+            world: p.world.into(),
         })
         .collect()
 }

@@ -57,7 +57,7 @@ fn nns_faces(scene: &plytrace::scene::Scene, view: &View) -> Vec<NnsFace> {
                 .map(move |world| NnsFace {
                     object: p.object,
                     polygon: p.polygon,
-                    world,
+                    world: world.into(),
                 })
         })
         .collect()

@@ -16,7 +16,7 @@ use rayon::prelude::*;
 
 use crate::geometry::view::View;
 use crate::image_tree::{Fragment, FragmentKind, VirtualImageTree};
-use crate::model::{Color, SortOrder};
+use crate::model::{Color, Points, SortOrder};
 use crate::shading::{
     Materials, interpolate_in_polygon, phong_vertices, transparency_of, vertex_shades,
     vertex_transparency,
@@ -90,7 +90,7 @@ pub fn records_freeing(
         }
         if runs.peek().is_some() {
             for &n in run {
-                tree.nodes[n].virtual_points = Box::default();
+                tree.nodes[n].virtual_points = Points::Own(Box::default());
             }
         }
     }
@@ -151,7 +151,7 @@ fn record(
 ) -> Record {
     let level = f.level.min(31) as u16;
     let points = f
-        .virtual_points
+        .points(materials.objects)
         .iter()
         .map(|&v| {
             let p = view.project(v);
@@ -168,7 +168,7 @@ fn record(
     } else {
         shades(
             materials,
-            &Lit::new(tree, f),
+            &Lit::new(materials, tree, f),
             how.blended,
             pre_gouraud,
             view.eye,
@@ -190,9 +190,9 @@ struct Lit<'t> {
 }
 
 impl<'t> Lit<'t> {
-    fn new(tree: &VirtualImageTree, f: &'t Fragment) -> Lit<'t> {
+    fn new(materials: &Materials<'_>, tree: &VirtualImageTree, f: &'t Fragment) -> Lit<'t> {
         let world = if f.kind == FragmentKind::Polygon {
-            tree.world(f)
+            tree.world(materials.objects, f)
         } else {
             Vec::new()
         };
@@ -288,7 +288,7 @@ fn shades(
         vec![0]
     };
     if t.iter().any(|&v| v > 0) {
-        let n = f.virtual_points.len();
+        let n = f.points(materials.objects).len();
         return Shades::Phong(Box::new(PhongShades {
             shininess: 1.0,
             light_colors: Vec::new(),
@@ -369,13 +369,13 @@ fn blended_vertex_shades(
             f.object,
             f.polygon,
             f.back_facing,
-            &tree.world(f),
+            &tree.world(materials.objects, f),
         );
         let parent = f.parent().and_then(|p| out[p].as_ref().map(|vs| (p, vs)));
         let blended = match parent {
             Some((p, parent_shades)) => {
-                let outline = tree.nodes[p].screen(view);
-                f.screen(view)
+                let outline = tree.nodes[p].screen(materials.objects, view);
+                f.screen(materials.objects, view)
                     .iter()
                     .zip(&own)
                     .map(|(s, c)| {

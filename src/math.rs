@@ -11,8 +11,35 @@
 //!   eye looking down the negative z axis and z growing away from the eye
 //!   after projection (004 section 4.5).
 //!
-//! This module depends on nothing else in the crate. ARCHITECTURE.md has a
-//! worked example.
+//! This module depends on nothing else in the crate.
+//!
+//! # A worked example: a corner of the manual's cut cube
+//!
+//! `ccube.des` says, after `resolution` and `perspective 45 1 0.01 1000`:
+//!
+//! ```text
+//! pushmatrix ; ident ; polarview 7 0 75 0 ; translate 0 0 -1
+//! defobj cutcube ; translate 0 0 1.05 ; rotate 30 z ; endobj
+//! ```
+//!
+//! At `endobj` the CTM is `Rz(30) * T(0,0,1.05) * T(0,0,-1) * PV` where `PV` is
+//! the polarview. The object vertex `(1, -1, -1)` goes:
+//!
+//! 1. `rotate 30 z` (given last, acts first): `(cos30 + sin30, sin30 - cos30, -1)`
+//!    = `(1.3660, -0.3660, -1)`;
+//! 2. `translate 0 0 1.05`: `(1.3660, -0.3660, 0.05)`;
+//! 3. `translate 0 0 -1` (the view): `(1.3660, -0.3660, -0.95)`;
+//! 4. polarview: `rotate(-azim=0, z)` does nothing; `rotate(-75, x)` gives
+//!    `y' = y cos(-75) - z sin(-75) = -0.0947 - 0.9176 = -1.0123`,
+//!    `z' = y sin(-75) + z cos(-75) = 0.3535 - 0.2459 = 0.1077`;
+//!    `rotate(-twist=0, z)` nothing; `translate(0,0,-7)`: z = -6.8923.
+//!
+//! So its world (here: eye) position is `(1.3660, -1.0123, -6.8923)`, which
+//! `ccube_vertex_hand_worked` in `tests/scene_language.rs` checks. `popmatrix`
+//! restores the perspective, which becomes the projection; the eye is its
+//! centre of projection, the origin. The world z axis (up) is turned into
+//! `(0, sin 75, cos 75)`: the view is from 15 degrees above the horizon, from
+//! the -y side, with the Point light at `(-4, -2, 6)` to the front left.
 
 use glam::{DVec3, DVec4};
 

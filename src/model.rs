@@ -8,12 +8,14 @@
 //! projection used to render ([`Scene::projection`]).
 
 mod index_list;
+mod points;
 
 use std::sync::Arc;
 
 use glam::{DVec3, DVec4};
 
 pub use index_list::IndexList;
+pub use points::{Points, PointsRef};
 
 use crate::math::Matrix4;
 use crate::precision;

@@ -5,6 +5,17 @@
 //! like the same scene at unit size. The only user-visible tolerance is the
 //! clipping epsilon of `setmode e` (004 appendix, default 1e-7), which is
 //! passed explicitly to the clipper rather than read from a global.
+//!
+//! # The policy
+//!
+//! f64 everywhere in geometry; f32 only for frame-buffer colours and for the
+//! boxes of the shadow casters' hierarchy, which are rounded outward (a query
+//! finds the same casters or more, and the exact tests reject the extra).
+//! Tolerances
+//! are relative to the size of what is measured: planarity (1e-4 of the
+//! polygon's diameter), zero area (1e-12 of the squared diameter), coincident
+//! vertices (1e-12 of the diameter). The clipping epsilon is `setmode e`
+//! (default 1e-7), relative to `|w|`, passed to the clipper explicitly.
 
 /// Default clipping epsilon (`setmode e`, 004 appendix).
 pub const DEFAULT_CLIP_EPSILON: f64 = 1e-7;

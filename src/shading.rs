@@ -16,6 +16,7 @@
 //! transparency `k_t = k_trp (E.N)^tpwr` (004 section 4.9). They read a
 //! scene's [`Materials`], resolved once per render: the tree builder,
 //! `emit` and the painters never look a material up in the `Scene`.
+#![doc = include_str!("shading.md")]
 
 use glam::{DVec3, DVec4};
 

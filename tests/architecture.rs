@@ -171,9 +171,8 @@ fn every_import_goes_to_the_same_stage_or_an_earlier_one() {
     );
 }
 
-#[test]
-fn no_two_files_import_each_other_around_a_circle() {
-    let graph = graph();
+/// A circle of imports in `graph`, if there is one.
+fn circle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
     // Depth-first search; a grey node met again closes a circle.
     fn visit<'a>(
         m: &'a str,
@@ -203,13 +202,57 @@ fn no_two_files_import_each_other_around_a_circle() {
         None
     }
     let mut state = BTreeMap::new();
-    for m in graph.keys() {
-        let circle = visit(m, &graph, &mut state, &mut Vec::new());
-        assert!(
-            circle.is_none(),
-            "a circle of imports: {}",
-            circle.unwrap().join(" -> ")
-        );
+    graph
+        .keys()
+        .find_map(|m| visit(m, graph, &mut state, &mut Vec::new()))
+}
+
+#[test]
+fn no_two_files_import_each_other_around_a_circle() {
+    let found = circle(&graph());
+    assert!(
+        found.is_none(),
+        "a circle of imports: {}",
+        found.unwrap().join(" -> ")
+    );
+}
+
+/// The imports between the files of the `plytrace` program
+/// (`src/bin/plytrace`), by `crate::` paths.
+fn program_graph() -> BTreeMap<String, BTreeSet<String>> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/bin/plytrace");
+    let mut files = BTreeMap::new();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "rs") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            files.insert(module_name(&path, &dir), text);
+        }
+    }
+    assert!(files.len() > 5, "{} program files found", files.len());
+    let modules: BTreeSet<String> = files.keys().cloned().collect();
+    files
+        .iter()
+        .map(|(m, text)| {
+            let deps = imports(m, &code(text), &modules);
+            (m.clone(), deps.into_iter().filter(|d| d != m).collect())
+        })
+        .collect()
+}
+
+#[test]
+fn settings_flow_into_a_run_and_a_run_into_its_report() {
+    // The program's files: the settings (`args`) import no run, the run
+    // (`host`) no session, the report (`stats`) neither.
+    let graph = program_graph();
+    let found = circle(&graph);
+    assert!(
+        found.is_none(),
+        "a circle of imports in src/bin/plytrace: {}",
+        found.unwrap().join(" -> ")
+    );
+    for (file, not) in [("args", "host"), ("host", "session"), ("stats", "host")] {
+        assert!(!graph[file].contains(not), "{file} imports {not}");
     }
 }
 

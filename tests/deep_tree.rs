@@ -121,9 +121,18 @@ type Painted = ((u32, u32, u32), bool);
 
 /// The last fragment hit at each pixel centre (rows from the top) when
 /// the tree is painted back to front.
-fn painted_fragments(tree: &VirtualImageTree, view: &View, size: u32) -> Vec<Option<usize>> {
+fn painted_fragments(
+    scene: &Scene,
+    tree: &VirtualImageTree,
+    view: &View,
+    size: u32,
+) -> Vec<Option<usize>> {
     let order = tree.output_order(SortOrder::BackToFront);
-    let screens: Vec<Vec<DVec3>> = tree.nodes.iter().map(|f| f.screen(view)).collect();
+    let screens: Vec<Vec<DVec3>> = tree
+        .nodes
+        .iter()
+        .map(|f| f.screen(&scene.objects, view))
+        .collect();
     let mut out = Vec::new();
     for row in 0..size {
         for col in 0..size {
@@ -136,8 +145,8 @@ fn painted_fragments(tree: &VirtualImageTree, view: &View, size: u32) -> Vec<Opt
 
 /// The tree painted back to front at each pixel centre (rows from the
 /// top): the last fragment hit wins; a shadow polygon shows its target.
-fn painted(tree: &VirtualImageTree, view: &View, size: u32) -> Vec<Option<Painted>> {
-    painted_fragments(tree, view, size)
+fn painted(scene: &Scene, tree: &VirtualImageTree, view: &View, size: u32) -> Vec<Option<Painted>> {
+    painted_fragments(scene, tree, view, size)
         .into_iter()
         .map(|last| {
             last.map(|n| {
@@ -179,7 +188,7 @@ fn compare(scene: &Scene, size: u32, max_level: u32) -> Counts {
         },
     );
     let want = oracle(scene, size, max_level);
-    let got = painted(&tree, &view, size);
+    let got = painted(scene, &tree, &view, size);
     let mut c = Counts::default();
     let s = size as i64;
     for y in 0..s {
@@ -348,7 +357,8 @@ fn overlapping_shadows_of_two_lights() {
     let mut count = 0;
     for f in tree.nodes.iter().filter(|f| *f.shadowed_from() == [0, 1]) {
         count += 1;
-        let at = f.virtual_points.iter().copied().sum::<DVec3>() / f.virtual_points.len() as f64;
+        let points = f.points(&scene.objects);
+        let at = points.iter().copied().sum::<DVec3>() / points.len() as f64;
         let want = plytrace::shading::facet_shade_with(
             &materials,
             tree.eye(f),
@@ -402,7 +412,7 @@ fn assert_overlap_pixels(scene: &Scene, tree: &VirtualImageTree, view: &View, si
             }));
         }
     }
-    let got = painted_fragments(tree, view, size);
+    let got = painted_fragments(scene, tree, view, size);
     let s = size as i64;
     let (mut checked, mut overlap, mut bad) = (0, 0, Vec::new());
     for y in 0..s {
@@ -524,7 +534,12 @@ fn split_vertices_get_interpolated_gouraud_shades() {
                 .map(move |(pi, p)| nns::NnsFace {
                     object: oi as u32,
                     polygon: pi as u32,
-                    world: p.indices.iter().map(|&i| o.vertices[i as usize]).collect(),
+                    world: p
+                        .indices
+                        .iter()
+                        .map(|&i| o.vertices[i as usize])
+                        .collect::<Vec<_>>()
+                        .into(),
                 })
         })
         .collect();
@@ -537,7 +552,7 @@ fn split_vertices_get_interpolated_gouraud_shades() {
         let idx = &o.polygons[f.polygon as usize].indices;
         let shade =
             |p: DVec3| vertex_shades(&materials, view.eye, f.object, f.polygon, false, &[p])[0];
-        for &p in &f.world {
+        for &p in f.world.get(&scene.objects, f.object, f.polygon).iter() {
             for k in 0..idx.len() {
                 let a = o.vertices[idx[k] as usize];
                 let b = o.vertices[idx[(k + 1) % idx.len()] as usize];

@@ -390,7 +390,7 @@ fn nns_falls_back_to_the_depth_sort_past_its_split_budget() {
         .iter()
         .map(|&r| {
             tree.nodes[r]
-                .screen(&view)
+                .screen(&scene.objects, &view)
                 .iter()
                 .map(|p| p.z)
                 .fold(f64::NEG_INFINITY, f64::max)

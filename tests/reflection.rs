@@ -193,7 +193,7 @@ fn cube_on_mirror_output_orders() {
     let (n, d) = (plane.truncate(), plane.w);
     let side = |p: DVec3| (n.dot(p) + d) / n.length();
     let mirror_image = |p: DVec3| p - n * (2.0 * (n.dot(p) + d) / n.length_squared());
-    let outline = &tree.nodes[mirror].screen(&view);
+    let outline = &tree.nodes[mirror].screen(&scene.objects, &view);
     let turn = |a: DVec3, b: DVec3, p: DVec3| (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
     let orientation = (0..outline.len())
         .map(|i| turn(outline[0], outline[i], outline[(i + 1) % outline.len()]))
@@ -202,8 +202,9 @@ fn cube_on_mirror_output_orders() {
     for c in tree.nodes[mirror].children() {
         let f = &tree.nodes[c];
         let face = &cube.polygons[f.polygon as usize];
-        assert_eq!(f.virtual_points.len(), face.indices.len());
-        for &p in &f.virtual_points {
+        let points = f.points(&scene.objects);
+        assert_eq!(points.len(), face.indices.len());
+        for &p in points.iter() {
             assert!(side(p) < -1e-3, "{p} is not beyond the mirror");
             let q = mirror_image(p);
             assert!(
@@ -214,7 +215,7 @@ fn cube_on_mirror_output_orders() {
                 f.polygon
             );
         }
-        for &p in &f.screen(&view) {
+        for &p in &f.screen(&scene.objects, &view) {
             for i in 0..outline.len() {
                 let (a, b) = (outline[i], outline[(i + 1) % outline.len()]);
                 assert!(
@@ -325,7 +326,7 @@ fn tree_file_of_the_cube_on_a_mirror() {
     let order = built.output_order(SortOrder::BackToFront);
     assert_eq!(order.len(), tree.records.len());
     for (rec, &n) in tree.records.iter().zip(&order) {
-        let screen = &built.nodes[n].screen(&view);
+        let screen = &built.nodes[n].screen(&scene.objects, &view);
         assert_eq!(rec.points.len(), screen.len());
         for (p, s) in rec.points.iter().zip(screen) {
             let want = [(s.x / 128.0) as f32, (s.y / 128.0) as f32];
@@ -382,7 +383,10 @@ fn refraction_models_map_the_pool_floor() {
                 "{model:?}: the surface sees itself"
             );
         }
-        let pts: Vec<DVec3> = refracted.iter().flat_map(|f| f.screen(&view)).collect();
+        let pts: Vec<DVec3> = refracted
+            .iter()
+            .flat_map(|f| f.screen(&scene.objects, &view))
+            .collect();
         pts.iter().copied().sum::<DVec3>() / pts.len() as f64
     };
     // Each model sees something through the water.

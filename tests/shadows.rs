@@ -155,13 +155,13 @@ fn shadow_polygons_lie_in_their_target() {
             let plane =
                 scene.objects[parent.object as usize].polygons[parent.polygon as usize].plane;
             // In the target's plane.
-            for p in &f.virtual_points {
+            for p in f.points(&scene.objects).iter() {
                 assert!((plane.truncate().dot(*p) + plane.w).abs() < 1e-9, "{p}");
             }
             // Inside the target (its convex outline, with a tolerance).
             let n = plane.truncate();
-            let t = &parent.virtual_points;
-            for p in &f.virtual_points {
+            let t = parent.points(&scene.objects);
+            for p in f.points(&scene.objects).iter() {
                 for i in 0..t.len() {
                     let (a, b) = (t[i], t[(i + 1) % t.len()]);
                     let side = (b - a).cross(*p - a).dot(n);

@@ -482,7 +482,7 @@ impl Projected {
             .map(|(k, f)| nns::NnsFace {
                 object: 0,
                 polygon: k as u32,
-                world: f.points.clone(),
+                world: f.points.clone().into(),
             })
             .collect();
         let budget = crate::budget::Budgets::default().splits;
@@ -493,10 +493,12 @@ impl Projected {
             .into_iter()
             .map(|f| {
                 let face = &self.faces[f.polygon as usize];
+                // Every face given holds its points.
+                let points = f.world.into_vec(&[], f.object, f.polygon);
                 Piece {
                     source: face.source,
-                    whole: f.world == face.points,
-                    points: f.world,
+                    whole: points == face.points,
+                    points,
                 }
             })
             .collect();

@@ -104,7 +104,7 @@ mod tests {
             branch: Branch::Direct,
             object: n as u32,
             polygon: 0,
-            virtual_points: Box::default(),
+            virtual_points: crate::model::Points::Scene,
             back_facing: false,
             shade: Default::default(),
             blended: Default::default(),

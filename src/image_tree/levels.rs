@@ -90,7 +90,7 @@ impl<'a> Builder<'a> {
         if !reflects && !refracts {
             return;
         }
-        let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
+        let Some(plane) = toward_eye_plane(&c.points(self.materials.objects), self.view.eye) else {
             return;
         };
         let pending = |branch, k: f64, m: &Matrix4| Pending {
@@ -136,7 +136,8 @@ impl<'a> Builder<'a> {
     fn refraction_matrix(&self, c: &Candidate, plane: DVec4, eta: f64) -> Option<Matrix4> {
         match self.options.refraction {
             Refraction::Linearized | Refraction::Auto => {
-                let centre = c.points.iter().copied().sum::<DVec3>() / c.points.len() as f64;
+                let points = c.points(self.materials.objects);
+                let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
                 math::refraction(plane, -self.view.to_eye(centre), eta)
             }
             Refraction::Exact => None,
@@ -280,7 +281,8 @@ impl<'a> Builder<'a> {
     /// and for a level of one chunk the chunk's shades and shadows. `None`
     /// if nothing is mapped.
     fn find_level(&self, p: &Pending) -> Option<FoundLevel<'a>> {
-        let planes = self.volume(&self.tree.nodes[p.parent].virtual_points, p.plane);
+        let parent = &self.tree.nodes[p.parent];
+        let planes = self.volume(&parent.points(self.materials.objects), p.plane);
         let found = self.mapped_level(&p.t, &planes);
         if found.is_empty() {
             return None;

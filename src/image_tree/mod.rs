@@ -29,13 +29,13 @@
 //! `I_child = I_parent + k I_child_own`, `k` the product of the
 //! coefficients on the path.
 //!
-//! Preconditions: planar polygons (the scene model's). The simple sort (or
-//! NNS with `setmode n on`) orders each level; the simple sort's key is
-//! the scene's `sort` order's (004 section 4.4): the farthest vertex for
-//! `sort btf`, the nearest for `sort ftb` (a level is stored back to front
-//! either way). Refraction uses the matrix
+//! Preconditions: planar polygons (the scene model's). NNS (the default;
+//! the simple sort with `setmode n off`) orders each level back to front;
+//! `sort ftb` reverses that one order, children before parents, so both
+//! orders give one picture. Refraction uses the matrix
 //! linearized about the ray through the polygon's centre (004 section
 //! 6.4.3), or none on total internal reflection.
+#![doc = include_str!("design.md")]
 
 mod fragments;
 mod levels;
@@ -50,7 +50,7 @@ use crate::geometry::plane_clip::{self, ClipScratch, Clipped};
 use crate::geometry::polygon;
 use crate::geometry::view::{self, View};
 use crate::math::Matrix4;
-use crate::model::Color;
+use crate::model::{Color, Object, Points, PointsRef};
 use crate::profile::{Category, Profile};
 use crate::shading::Materials;
 pub use crate::shadow::CasterReuse;
@@ -95,8 +95,17 @@ struct Builder<'a> {
 struct Candidate {
     object: u32,
     polygon: u32,
-    points: Vec<DVec3>,
+    /// Its points ([`Candidate::points`] reads them): a whole polygon of
+    /// level 1 holds none of its own.
+    points: Points,
     back_facing: bool,
+}
+
+impl Candidate {
+    /// Its points, in the scene of `objects`.
+    fn points<'a>(&'a self, objects: &'a [Object]) -> PointsRef<'a> {
+        self.points.get(objects, self.object, self.polygon)
+    }
 }
 
 /// Builds the virtual image tree of a scene, its polygons and
@@ -222,7 +231,7 @@ impl<'a> Builder<'a> {
             |p| Candidate {
                 object: p.object,
                 polygon: p.polygon,
-                points: p.vertices.iter().map(|v| v.world).collect(),
+                points: Points::new(p.vertices.iter().map(|v| v.world), !p.clipped),
                 back_facing: p.back_facing,
             },
         );
@@ -332,10 +341,10 @@ impl<'a> Builder<'a> {
                 let _t = self.profile.time(Category::Clipping);
                 plane_clip::clip_to_planes(pts, planes, self.eps, one, many)
             };
-            let candidate = |points| Candidate {
+            let candidate = |points: Vec<DVec3>| Candidate {
                 object: oi,
                 polygon: pi as u32,
-                points,
+                points: points.into(),
                 back_facing: !front,
             };
             match clipped {
@@ -386,27 +395,37 @@ impl<'a> Builder<'a> {
                 .filter(|c| c.back_facing)
                 .map(|c| ((c.object, c.polygon), true))
                 .collect();
+            let objects = self.materials.objects;
             let mut faces: Vec<nns::NnsFace> = Vec::with_capacity(candidates.len());
             for c in candidates {
                 let (object, polygon) = (c.object, c.polygon);
-                if polygon::is_convex(&c.points) {
+                let points = c.points(objects);
+                if polygon::is_convex(&points) {
+                    drop(points);
                     faces.push(nns::NnsFace {
                         object,
                         polygon,
                         world: c.points,
                     });
                 } else {
-                    faces.extend(polygon::triangulate(&c.points).into_iter().map(|t| {
-                        nns::NnsFace {
-                            object,
-                            polygon,
-                            world: t.to_vec(),
-                        }
-                    }));
+                    faces.extend(
+                        polygon::triangulate(&points)
+                            .into_iter()
+                            .map(|t| nns::NnsFace {
+                                object,
+                                polygon,
+                                world: t.to_vec().into(),
+                            }),
+                    );
                 }
             }
-            let (sorted, stats) =
-                nns::sort_budgeted(faces, self.view, self.eps, self.options.budgets.splits);
+            let (sorted, stats) = nns::sort_in_scene(
+                objects,
+                faces,
+                self.view,
+                self.eps,
+                self.options.budgets.splits,
+            );
             let sorted = sorted
                 .into_iter()
                 .map(|f| Candidate {
@@ -430,7 +449,7 @@ impl<'a> Builder<'a> {
             .with_min_len(1024)
             .map(|c| {
                 let far = c
-                    .points
+                    .points(self.materials.objects)
                     .iter()
                     .map(|p| self.view.project(*p).z)
                     .fold(f64::NEG_INFINITY, f64::max);
@@ -547,8 +566,9 @@ impl<'a> Builder<'a> {
         if !shadows && branching.is_empty() {
             return (sorted, 0);
         }
+        let objects = self.materials.objects;
         let outline = |c: &Candidate| Outline {
-            points: screen_points(view, c).collect(),
+            points: screen_points(objects, view, c).collect(),
             opaque: !self.materials.is_transparent(c.object),
         };
         let hidden = if shadows {
@@ -558,13 +578,13 @@ impl<'a> Builder<'a> {
             let boxes = merged(
                 branching
                     .iter()
-                    .filter_map(|&k| screen_box(screen_points(view, &sorted[k]))),
+                    .filter_map(|&k| screen_box(screen_points(objects, view, &sorted[k]))),
             );
             // Only the outlines asked about are made.
             let asked: Vec<usize> = match boxes {
                 Some(boxes) => (0..sorted.len())
                     .into_par_iter()
-                    .filter(|&k| overlaps(screen_points(view, &sorted[k]), &boxes))
+                    .filter(|&k| overlaps(screen_points(objects, view, &sorted[k]), &boxes))
                     .collect(),
                 // Branching polygons scattered over the picture: all.
                 None => (0..sorted.len()).collect(),
@@ -638,7 +658,7 @@ impl<'a> Builder<'a> {
                 object: c.object,
                 polygon: c.polygon,
                 // Set below, once the candidate's points are no more read.
-                virtual_points: Box::default(),
+                virtual_points: Points::Scene,
                 back_facing: c.back_facing,
                 shade: own,
                 blended,
@@ -657,7 +677,7 @@ impl<'a> Builder<'a> {
             if at.level < self.options.max_level && !c.back_facing {
                 self.queue_branches(at, &c, id, blended);
             }
-            self.tree.nodes[id].virtual_points = std::mem::take(&mut c.points).into_boxed_slice();
+            self.tree.nodes[id].virtual_points = std::mem::take(&mut c.points);
         }
     }
 
@@ -810,9 +830,15 @@ fn object_by_object(candidates: &[Candidate], keys: &[f64]) -> Vec<usize> {
     permutation
 }
 
-/// The screen points of candidate `c`'s outline.
-fn screen_points<'a>(view: &'a View, c: &'a Candidate) -> impl Iterator<Item = glam::DVec2> + 'a {
-    c.points.iter().map(|p| view.project(*p).truncate())
+/// The screen points of candidate `c`'s outline (of the scene of
+/// `objects`).
+fn screen_points<'a>(
+    objects: &'a [Object],
+    view: &'a View,
+    c: &'a Candidate,
+) -> impl Iterator<Item = glam::DVec2> + 'a {
+    let points = c.points(objects);
+    (0..points.len()).map(move |k| view.project(points[k]).truncate())
 }
 
 /// Whether the outline of `points` has a box that meets one of `boxes`,

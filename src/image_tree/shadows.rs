@@ -45,16 +45,17 @@ impl ShadowCaster<'_> {
         if self.materials.resolved[c.object as usize].unshaded {
             return Vec::new();
         }
-        let Some(plane) = toward_eye_plane(&c.points, self.view.eye) else {
+        let points = c.points(self.materials.objects);
+        let Some(plane) = toward_eye_plane(&points, self.view.eye) else {
             return Vec::new();
         };
         let target = crate::shadow::Target {
             object: c.object,
             polygon: c.polygon,
-            points: &c.points,
+            points: &points,
             plane,
             t,
-            convex: polygon::is_convex(&c.points),
+            convex: polygon::is_convex(&points),
         };
         let casting = crate::shadow::Casting {
             objects: self.materials.objects,
@@ -107,14 +108,17 @@ fn with_scratch<R>(f: impl FnOnce(&mut crate::shadow::Scratch) -> R) -> R {
 /// while the other threads take the rest, and the pieces of a polygon
 /// mostly find their polygon's regions kept instead of casting them again
 /// side by side.
-fn shadow_order(chunk: &[Candidate]) -> Vec<u32> {
+fn shadow_order(objects: &[crate::model::Object], chunk: &[Candidate]) -> Vec<u32> {
     let mut seen = rustc_hash::FxHashSet::default();
     seen.reserve(chunk.len());
     let (mut first, rest): (Vec<u32>, Vec<u32>) = (0..chunk.len() as u32).partition(|&i| {
         let c = &chunk[i as usize];
         seen.insert((c.object, c.polygon))
     });
-    let area: Vec<f64> = chunk.iter().map(|c| polygon::area(&c.points)).collect();
+    let area: Vec<f64> = chunk
+        .iter()
+        .map(|c| polygon::area(&c.points(objects)))
+        .collect();
     first.sort_by(|&a, &b| {
         area[b as usize]
             .total_cmp(&area[a as usize])
@@ -194,7 +198,7 @@ impl<'a> super::pipeline::Job for ChunkWork<'a> {
 
     fn order(&self, chunk: &Vec<Candidate>) -> Vec<u32> {
         if self.caster.is_some() {
-            shadow_order(chunk)
+            shadow_order(self.materials.objects, chunk)
         } else {
             Vec::new()
         }
@@ -356,7 +360,7 @@ impl<'a> Builder<'a> {
                 branch: Branch::Shadow,
                 object: c.object,
                 polygon: c.polygon,
-                virtual_points: points.into_boxed_slice(),
+                virtual_points: points.into(),
                 back_facing: c.back_facing,
                 shade,
                 blended: at.parent_blend + shade * at.weight,

@@ -9,7 +9,7 @@ use glam::{DVec3, DVec4};
 use super::fragments::Fragments;
 use crate::geometry::view::{GeometryStats, View};
 use crate::math::Matrix4;
-use crate::model::{Color, SortOrder};
+use crate::model::{Color, Object, Points, PointsRef, SortOrder};
 
 /// What a fragment of the tree is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,9 +53,11 @@ pub struct Fragment {
     pub object: u32,
     /// Index of the polygon in the object's `polygons`.
     pub polygon: u32,
-    /// Points in the virtual coordinates of its level; its screen points
-    /// are their projections ([`Fragment::screen`]), made when needed.
-    pub virtual_points: Box<[DVec3]>,
+    /// Points in the virtual coordinates of its level ([`Fragment::points`]
+    /// reads them): at level 1 a whole polygon's are its object's own,
+    /// held as nothing. Its screen points are their projections
+    /// ([`Fragment::screen`]), made when needed.
+    pub virtual_points: Points,
     /// Whether the viewer sees the polygon's back (`type open`).
     pub back_facing: bool,
     /// Its own shade (ambient, diffuse, specular).
@@ -126,10 +128,17 @@ impl Fragment {
         self.links = kids.into_boxed_slice();
     }
 
+    /// Its points in the virtual coordinates of its level, in the scene
+    /// of `objects` the tree was built from.
+    pub fn points<'a>(&'a self, objects: &'a [Object]) -> PointsRef<'a> {
+        self.virtual_points.get(objects, self.object, self.polygon)
+    }
+
     /// Its screen points (x, y in pixels, y up; z normalized depth): the
-    /// projections of its virtual points by the real eye.
-    pub fn screen(&self, view: &View) -> Vec<DVec3> {
-        self.virtual_points
+    /// projections of its virtual points by the real eye (`objects` as
+    /// for [`Fragment::points`]).
+    pub fn screen(&self, objects: &[Object], view: &View) -> Vec<DVec3> {
+        self.points(objects)
             .iter()
             .map(|p| view.project(*p))
             .collect()
@@ -181,15 +190,13 @@ pub struct VirtualImageTree {
 
 impl VirtualImageTree {
     /// Fragment `f`'s points in true world coordinates (its virtual
-    /// points mapped back by `T^-1`).
-    pub fn world(&self, f: &Fragment) -> Vec<DVec3> {
+    /// points mapped back by `T^-1`), the tree built from the scene of
+    /// `objects`.
+    pub fn world(&self, objects: &[Object], f: &Fragment) -> Vec<DVec3> {
+        let points = f.points(objects);
         match self.spaces[f.space as usize].inverse {
-            Some(i) => f
-                .virtual_points
-                .iter()
-                .map(|p| i.transform_point(*p))
-                .collect(),
-            None => f.virtual_points.to_vec(),
+            Some(i) => points.iter().map(|p| i.transform_point(*p)).collect(),
+            None => points.to_vec(),
         }
     }
 

@@ -7,6 +7,31 @@
 //! lathing and extrusion ([`sweep`]) and constructive solid geometry
 //! ([`csg`], figs. 8.12-8.15). [`solid`] holds the properties of closed
 //! meshes (volume, closedness, orientation) they share.
+//!
+//! # Design notes
+//!
+//! `modeling::{parametric, patch, sweep}` make a `modeling::Generated`: a
+//! `Mesh` in object coordinates (clockwise from outside), exact vertex
+//! normals for curved surfaces (vertices on creases repeated, one copy per
+//! side) and an `open` flag. `modeling::Primitive::face_count` is computed
+//! from the parameters alone, so the polygon budget refuses before anything
+//! is allocated (patch files: from their first line). `scene::parse` reads
+//! their commands like every other, and `scene::interpreter::generators` records
+//! them in the active object and at `endobj` builds the object with the
+//! ordinary `build_object`, then replaces the averaged vertex normals by the
+//! exact ones transformed by the inverse transpose.
+//!
+//! CSG (`modeling::csg`) takes the operands' world polygons (they are already
+//! placed), triangulates non-convex faces, builds one BSP tree per operand in
+//! an arena (iteratively: a convex solid makes a chain as deep as its face
+//! count) and runs the classic clip/invert sequences. Splits interpolate the
+//! per-corner normals. The fragments are welded (tolerance 1e-9 of the
+//! operands' size, on a hash grid) and points lying on unmatched edges are
+//! inserted into them, so the result is a closed mesh. It becomes an object
+//! whose mesh is in world coordinates and whose transform is
+//! `C0^-1 * CTM_endobj` (only the block's own transforms), with per-face
+//! polygon colours from the operands. `modeling::solid` holds the shared
+//! checks: signed volume, closedness by edge pairing, outward orientation.
 
 pub mod csg;
 pub mod geodesic;

@@ -49,7 +49,7 @@ pub fn with_traced_branches(
         .collect();
     let pixels: usize = sites
         .iter()
-        .map(|&n| pixel_box(&tree.nodes[n].screen(view), view).count())
+        .map(|&n| pixel_box(&tree.nodes[n].screen(&scene.objects, view), view).count())
         .sum();
     if pixels > budget {
         return None;
@@ -69,7 +69,11 @@ pub fn with_traced_branches(
         .map(|&n| {
             let own = &file.records[place[n]];
             let at = insert_at(tree, n, place[n], file.front_to_back);
-            (at, branch(tree, n, own, view, traced, file.blended))
+            let objects = &scene.objects;
+            (
+                at,
+                branch(objects, tree, n, own, view, traced, file.blended),
+            )
         })
         .collect();
     inserts.sort_by_key(|(at, _)| *at);
@@ -124,6 +128,7 @@ fn subtree(tree: &VirtualImageTree, n: usize) -> usize {
 /// Site `n`'s refracted branch as records: the special record when it
 /// also reflects, then its pieces. `own` is the site's record.
 fn branch(
+    objects: &[crate::model::Object],
     tree: &VirtualImageTree,
     n: usize,
     own: &Record,
@@ -142,7 +147,7 @@ fn branch(
             shades: Shades::Special,
         });
     }
-    let outline = f.screen(view);
+    let outline = f.screen(objects, view);
     let (w, h) = (view.width, view.height);
     let level = (f.level + 1).min(31) as u16;
     for (col, row) in pixel_box(&outline, view) {

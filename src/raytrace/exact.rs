@@ -252,11 +252,13 @@ fn site_colour(
     let Some((o, d)) = view.ray(col as f64 + 0.5, view.height - row as f64 - 0.5) else {
         return Color::ZERO;
     };
-    let Some(pv) = plane_hit(&f.virtual_points, o, d) else {
+    let objects = &tracer.scene.objects;
+    let points = f.points(objects);
+    let Some(pv) = plane_hit(&points, o, d) else {
         return Color::ZERO;
     };
     let t = ((pv - o).dot(d) / d.length_squared()).clamp(0.0, 1.0);
-    let Some(pw) = map_in_plane(&f.virtual_points, &tree.world(f), pv) else {
+    let Some(pw) = map_in_plane(&points, &tree.world(objects, f), pv) else {
         return Color::ZERO;
     };
     let eye = tree.eye(f);

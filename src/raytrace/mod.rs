@@ -34,6 +34,53 @@
 //! skipped unless `type open`, except the inside faces of a transmitting
 //! solid, which a refracted ray leaves through: there it bends back into
 //! air (index 1; no own shade, no second `kt`). Media do not nest.
+//!
+//! # Design notes
+//!
+//! `geometry::bvh` is the one BVH over world polygons (median splits on box
+//! centres, leaves of 4; a nearest/any-hit ray query and a convex-volume
+//! query). `visibility::ray_cast` (the oracle) and `raytrace` cast through
+//! it. The shadow casters have their own hierarchies (`shadow::CasterIndex`):
+//! `f32` boxes in the coordinates of the faces of a cube around each light,
+//! and, for the volumes those cannot take, world boxes; the second is
+//! still a copy of this one, not yet moved onto it.
+//!
+//! `raytrace::RayTracer` is a Whitted tracer that shades exactly as the
+//! tree does: faceted shades at the polygon's centroid seen from the eye
+//! mapped along the ray (under mirrors this is the tree's `T^-1` eye),
+//! shadowed lights subtracted as the shadow polygons' shades are, `k_t`
+//! transparency, `kr`/`kt` branches below `depth` and above `threshold`; a
+//! secondary ray that meets nothing adds nothing (as an empty branch). Rays
+//! keep their near-to-far length across bends (the far plane bounds the
+//! unfolded ray). One thread gives the same image as many (rayon over rows,
+//! no shared state).
+//!
+//! `--refraction exact` keeps data flowing one way:
+//!
+//! ```text
+//! tree (no refracted branches) --emit--> records --scan (picture)--> rows --(+ mask * layer)--> sink
+//! records, sites white, rest black --scan (same method)--> mask (coverage, anti-aliased)
+//! records --point scan--> ids --> site at each pixel --rays--> layer = k kt L
+//! ```
+//!
+//! A "site" is a fragment whose refracted branch the tree would have
+//! traced. The layer and mask are made in `render::prepare`, before the
+//! picture's scan conversion; `scan_into` wraps the sink in
+//! `raytrace::exact::LayeredSink`, which adds `mask * layer` to each row.
+//! The scan converters and the record format are unchanged. A tree file
+//! (`setmode o`) gets the layer as records (`raytrace::branch_records`):
+//! per site, the special record if it also reflects, then one record a
+//! pixel (the pixel's square cut to the site's outline, in the layer's
+//! colour before the mask), spliced into the file's order; past the tree
+//! budget the file is emitted from a second tree built with the linearized
+//! matrix. `auto` (the
+//! default) measures the linearized matrix's error in pixels through each
+//! transmitting polygon (`exact::linear_error`): near its corners (the exact
+//! refracted ray is cast to what it meets, that point mapped by the
+//! linearized matrix must project onto the corner) and at the scene's
+//! vertices beyond its plane (where Snell's law crosses the plane,
+//! `exact::snell_crossing`, against where the matrix projects the vertex),
+//! and picks exact above one pixel.
 
 pub mod branch_records;
 pub mod exact;

@@ -16,6 +16,36 @@
 //! 1), transparency, curved objects under Gouraud or Phong shading, and
 //! shadows (`run y`; without them, `run n`, these algorithms render every
 //! scene that has none of the others).
+//!
+//! # Animation and the live display
+//!
+//! - Brown's order (`visibility::brown`) depends on vertex directions and the
+//!   viewing axis only. `modeling::geodesic::TurnedRadial` turns a radial
+//!   function inside fixed directions and `reshape` moves vertices along
+//!   them; the interpreter keeps, per geodesic object number, its generated
+//!   mesh and turned function for `radial rotate` outside `defobj`.
+//!   `brown::PriorityCache` (inside `render::Reuse`, owned by the caller of
+//!   `render::plan_with`; the CLI keeps one per session) stores each object's order with its
+//!   directions, faces, centre and axis, and reuses it when all are equal
+//!   (directions within `SAME_DIRECTION`); `RenderStats::brown` counts sorted
+//!   and reused objects.
+//! - A camera moving through a still world (`render::Reuse`, kept by the
+//!   CLI from `run` to `run`): `shadow::CasterReuse` keeps the last frame's
+//!   caster index, with the shadows kept on whole polygons, while a keyed
+//!   hash (SipHash with a per-process key) of everything they depend on is
+//!   unchanged: every object's points, polygons and planes, which objects
+//!   are hidden, open or concave, the Point lights' positions and the
+//!   tolerance. A world's first frame keeps only the hash, so a still frees
+//!   its index with its tree; the second frame of the same world builds it
+//!   again and keeps it. Worlds over 2^20 polygons are not kept. A frame is the same
+//!   with or without it (`tests/walkthrough.rs` renders each frame of a path
+//!   both ways). From the second `run` on, the program lets jemalloc keep
+//!   freed pages for 5 s, so frames reuse each other's pages.
+//! - The live display observes, never steers: `display::scan_levels` scan
+//!   converts the picture's records cut at each level (`record.level <= k`)
+//!   and hands each frame to a `FrameObserver`, then the full stream (the
+//!   image written). The window is one observer; the interpreter tells the
+//!   host about `disp` through `Host::display`.
 
 use std::time::Instant;
 

@@ -199,7 +199,7 @@ fn original_edge_flags(scene: &Scene, tree: &VirtualImageTree, n: usize) -> Vec<
             distance_to_segment(a, p, q) <= tol && distance_to_segment(b, p, q) <= tol
         })
     };
-    let world = tree.world(f);
+    let world = tree.world(&scene.objects, f);
     let m = world.len();
     (0..m)
         .map(|k| on_edge(world[k], world[(k + 1) % m]))

@@ -44,6 +44,7 @@
 //! one polygon seen directly, in mirrors or split by the sort share one
 //! casting, and an animation whose world does not change between frames
 //! ([`CasterReuse`]) keeps them all.
+#![doc = include_str!("design.md")]
 
 mod casters;
 mod kept;

@@ -20,6 +20,41 @@
 //! Framing: user units are pixels of the PNG, `x` to the right and `y`
 //! down from the top left corner (SVG); PDF and TikZ flip `y` so that the
 //! picture stands upright. Coordinates are rounded to 0.01 units.
+//!
+//! # Design notes
+//!
+//! `vector::prepare_for` builds the tree with NNS forced (a vector painter
+//! must be exact) and emits it back to front, pre-blended, with each
+//! record's `Source`; for hidden lines it stops at level 1 without shadows
+//! and marks, per level-1 piece and edge, whether the edge lies on an edge
+//! of the original polygon (both ends within 1e-6 of the polygon's size of
+//! one original edge, in world space): NNS split lines and viewport clip
+//! lines are not. `vector::picture` turns records into `Item`s (filled
+//! paths, Gouraud runs, strokes), after `overlay` has inserted, behind
+//! every faceted child of a shadowed ancestor, the child's intersection with
+//! each shadow polygon in the shade `I_S + (I_C - I_P)` (what method 4's
+//! post-blending gives, which the pre-blended painter would lose); `merge` puts consecutive-in-effect
+//! records of one opaque colour into one path: a group stays open while no
+//! record of another colour overlapping it (64 x 64 screen cells from
+//! bounding boxes, one unit of margin) is painted; open groups are
+//! pairwise disjoint, so closing order never matters. Before merging,
+//! `seal` gives every vertex shared by opaque records a *cap*: the union of
+//! the faces around it (one closed subpath through their far edges, filled
+//! nonzero), added to the path of the first of them painted, so no
+//! background shows through the anti-aliased shared edges of later faces;
+//! faces near free edges (silhouettes, folds) enter a cap without a band
+//! 0.4 units wide inside those edges, so outlines do not thicken; `merge`
+//! carries a cap in its owner's group and drops caps over the group's own
+//! records. `gouraud` cuts a
+//! Gouraud triangle into `n x n` flat pieces (`n` = largest channel range
+//! in levels), which SVG and TikZ stroke 1 unit wide in their colour; PDF
+//! writes one type-4 shading per run. `hidden_line` cuts each flagged edge
+//! by the later (front) pieces that strictly contain its points (a grid of
+//! piece bounding boxes finds candidates) and rasterizes segments for PNG
+//! with the exact box-filtered coverage of a 1-pixel line. Writers round
+//! every coordinate to 0.01 user units; y is down in SVG and up in PDF and
+//! TikZ. The binary picks vector output by the extension of `-o` and
+//! writes it through the same `AtomicFile`/`Staged` commit as the PNG.
 
 pub mod gouraud;
 pub mod hidden_line;

@@ -578,7 +578,7 @@ impl Cli {
         if let Some((w, h)) = self.size
             && u64::from(w) * u64::from(h) > budgets.pixels
         {
-            return Err(crate::host::pixels_exceeded(w, h, budgets.pixels));
+            return Err(pixels_exceeded(w, h, budgets.pixels));
         }
         if let Some(id) = &self.id_image {
             check_id_image(id, &image, self.hidden_line)?;
@@ -860,6 +860,21 @@ fn positive(v: &str) -> Result<u64, String> {
         .ok()
         .filter(|n| *n >= 1)
         .ok_or_else(|| "expected a whole number of at least 1".into())
+}
+
+/// The name standard input goes by in messages and statistics.
+pub const STDIN: &str = "<stdin>";
+
+/// The message of an image over the pixel budget.
+pub fn pixels_exceeded(w: u32, h: u32, limit: u64) -> String {
+    Budgets::exceeded(
+        &format!(
+            "the image of {w} x {h} = {} pixels",
+            u64::from(w) * u64::from(h)
+        ),
+        limit,
+        "--max-pixels",
+    )
 }
 
 #[cfg(test)]

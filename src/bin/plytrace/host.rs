@@ -456,7 +456,11 @@ impl CliHost {
             .size
             .unwrap_or((scene.viewport.width(), scene.viewport.height()));
         if u64::from(w) * u64::from(h) > self.budgets.pixels {
-            return Err(Error::Invalid(pixels_exceeded(w, h, self.budgets.pixels)));
+            return Err(Error::Invalid(crate::args::pixels_exceeded(
+                w,
+                h,
+                self.budgets.pixels,
+            )));
         }
         Ok((w, h))
     }
@@ -586,7 +590,7 @@ impl CliHost {
             utc_now(),
             self.scene_file
                 .as_deref()
-                .map_or_else(|| crate::session::STDIN.into(), field),
+                .map_or_else(|| crate::args::STDIN.into(), field),
             field(image),
             s.polygons_tiled,
             s.max_depth,
@@ -663,7 +667,10 @@ impl CliHost {
             } else {
                 String::new()
             };
-            self.say(&format!("Scan conversion: {}{fragments}", method_name(m)));
+            self.say(&format!(
+                "Scan conversion: {}{fragments}",
+                crate::stats::method_name(m)
+            ));
         }
         if let Some(p) = &rendered.profile {
             self.say(&p.to_string());
@@ -782,7 +789,11 @@ impl Host for CliHost {
             .size
             .unwrap_or((scene.viewport.width(), scene.viewport.height()));
         if u64::from(w) * u64::from(h) > self.budgets.pixels {
-            return Err(Error::Invalid(pixels_exceeded(w, h, self.budgets.pixels)));
+            return Err(Error::Invalid(crate::args::pixels_exceeded(
+                w,
+                h,
+                self.budgets.pixels,
+            )));
         }
         self.budgets
             .check_frame(w, h, pipeline::FRAME_BYTES_PER_PIXEL)
@@ -807,7 +818,7 @@ impl Host for CliHost {
 
     fn scanning(&mut self, file: &Path) {
         self.say(&format!("Scanning descriptor file {}", file.display()));
-        if file == Path::new(crate::session::STDIN) {
+        if file == Path::new(crate::args::STDIN) {
             // A scene without `fname` from standard input writes plytrace.png.
             self.scene_stem = None;
             self.scene_file = None;
@@ -857,18 +868,6 @@ pub fn hms(d: Duration) -> String {
     )
 }
 
-/// The message of an image over the pixel budget.
-pub fn pixels_exceeded(w: u32, h: u32, limit: u64) -> String {
-    Budgets::exceeded(
-        &format!(
-            "the image of {w} x {h} = {} pixels",
-            u64::from(w) * u64::from(h)
-        ),
-        limit,
-        "--max-pixels",
-    )
-}
-
 /// A ratio with four significant digits: 1.067, 0.0002500.
 fn significant(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
@@ -876,19 +875,6 @@ fn significant(x: f64) -> String {
     }
     let digits = (3 - x.abs().log10().floor() as i32).max(0) as usize;
     format!("{x:.digits$}")
-}
-
-/// The scan conversion method in words.
-pub fn method_name(m: Antialiasing) -> String {
-    use Antialiasing as Method;
-    match m {
-        Method::Point => "point sampled (--aa none)".into(),
-        Method::Area => "method 1, area coverage".into(),
-        Method::Mask => "method 2, 4x4 pixel masks".into(),
-        Method::Hybrid => "method 3, hybrid area/mask".into(),
-        Method::Multilevel => "method 4, multi-level pixel masks".into(),
-        Method::Supersample(n) => format!("Donovan's {n} x {n} supersampling"),
-    }
 }
 
 /// The settings that decide the pixels, as text: the manual's letters

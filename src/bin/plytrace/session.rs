@@ -15,7 +15,7 @@ use plytrace::api::program::parts::note_input;
 use plytrace::api::program::session::{Flow, Host, Interpreter, MAX_SCENE_BYTES, Scene};
 use plytrace::{Error, Result};
 
-use crate::args::{SceneSource, Settings, StatsTarget};
+use crate::args::{STDIN, SceneSource, Settings, StatsTarget};
 use crate::help::help_request;
 use crate::host::CliHost;
 use crate::repl;
@@ -56,9 +56,6 @@ fn print_warnings(interp: &mut Interpreter) {
         err(&w.to_string());
     }
 }
-
-/// The name standard input goes by in messages.
-pub const STDIN: &str = "<stdin>";
 
 /// Reads a scene file (the manual's `get`), or standard input for `-`.
 fn load_scene(interp: &mut Interpreter, host: &mut CliHost, source: &SceneSource) -> Result<Flow> {

@@ -5,6 +5,7 @@
 use std::path::Path;
 use std::time::Duration;
 
+use plytrace::api::Antialiasing;
 use plytrace::api::program::pipeline::RenderStats;
 use serde_json::{Value, json};
 
@@ -36,7 +37,7 @@ impl RunStats {
         }
         if let Some(m) = s.method {
             run["scan_conversion"] = json!({
-                "method": crate::host::method_name(m),
+                "method": method_name(m),
                 "polygons_tiled": s.scan.polygons_tiled,
                 "pixels_written": s.scan.pixels_written,
                 "peak_fragments": s.scan.peak_fragments,
@@ -92,4 +93,17 @@ pub fn document(scene: Option<&Path>, counts: SceneCounts, runs: &[RunStats], ok
     let mut text = doc.to_string();
     text.push('\n');
     text
+}
+
+/// The scan conversion method in words.
+pub fn method_name(m: Antialiasing) -> String {
+    use Antialiasing as Method;
+    match m {
+        Method::Point => "point sampled (--aa none)".into(),
+        Method::Area => "method 1, area coverage".into(),
+        Method::Mask => "method 2, 4x4 pixel masks".into(),
+        Method::Hybrid => "method 3, hybrid area/mask".into(),
+        Method::Multilevel => "method 4, multi-level pixel masks".into(),
+        Method::Supersample(n) => format!("Donovan's {n} x {n} supersampling"),
+    }
 }

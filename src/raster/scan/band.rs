@@ -63,6 +63,26 @@ pub(crate) trait Integrator: Send {
         level: u16,
         shade: impl FnOnce() -> Shade,
     ) -> bool;
+    /// The pixels `base + i`, `i` in `cols`, that a record at `level`
+    /// covers wholly (`full`), in order: the same as [`Self::pixel`] with
+    /// `full` at each; `shade(i)` gives the colour at column `i` and
+    /// `seen(i)` is called for each pixel of which some was visible.
+    #[inline]
+    fn span(
+        &mut self,
+        base: usize,
+        cols: std::ops::Range<u32>,
+        full: &Fragment,
+        level: u16,
+        mut shade: impl FnMut(u32) -> Shade,
+        mut seen: impl FnMut(u32),
+    ) {
+        for i in cols {
+            if self.pixel(base + i as usize, full, level, || shade(i)) {
+                seen(i);
+            }
+        }
+    }
     /// A special record at `level` covers the pixel.
     fn restore(&mut self, _px: usize, _level: u16) {}
     /// Whether a fragment at tree depth `level` would be hidden in every
@@ -71,8 +91,14 @@ pub(crate) trait Integrator: Send {
     fn hidden(&self, _pixels: std::ops::Range<usize>, _level: u16) -> bool {
         false
     }
-    /// The final background pass.
+    /// The final background pass at one pixel.
     fn background(&mut self, px: usize, bg: [f32; 3]);
+    /// The final background pass over the band's first `pixels` pixels.
+    fn background_all(&mut self, pixels: usize, bg: [f32; 3]) {
+        for px in 0..pixels {
+            self.background(px, bg);
+        }
+    }
     /// Writes the band's colours and method outputs.
     fn output(&mut self, out: &mut BandOut);
     /// Peak and total pixel-fragments of the last band.
@@ -211,9 +237,7 @@ impl<I: Integrator> Worker<I> {
             return false;
         }
         if let Some(bg) = plan.background {
-            for px in 0..pixels {
-                self.integ.background(px, bg);
-            }
+            self.integ.background_all(pixels, bg);
         }
         self.integ.output(&mut done.out);
         done.fragments = self.integ.fragments();
@@ -259,6 +283,22 @@ impl<I: Integrator> Worker<I> {
                 continue;
             };
             shader.setup(poly, row.j, row.edges);
+            let mut seen = |i: u32, frag: &Fragment| {
+                let px = base + i as usize;
+                *written += 1;
+                if plan.ids && frag.centre && (plan.last_wins || ids[px] == 0) {
+                    ids[px] = id;
+                }
+            };
+            for &(i0, i1) in row.runs {
+                any = true;
+                if special {
+                    (i0..i1).for_each(|i| integ.restore(base + i as usize, poly.level));
+                    continue;
+                }
+                let shade = |i: u32| shader.shade(poly, i);
+                integ.span(base, i0..i1, full, poly.level, shade, |i| seen(i, full));
+            }
             let mut put = |i: u32, frag: &Fragment| {
                 let px = base + i as usize;
                 if special {
@@ -266,18 +306,9 @@ impl<I: Integrator> Worker<I> {
                     return;
                 }
                 if integ.pixel(px, frag, poly.level, || shader.shade(poly, i)) {
-                    *written += 1;
-                    if plan.ids && frag.centre && (plan.last_wins || ids[px] == 0) {
-                        ids[px] = id;
-                    }
+                    seen(i, frag);
                 }
             };
-            for &(i0, i1) in row.runs {
-                any = true;
-                for i in i0..i1 {
-                    put(i, full);
-                }
-            }
             for p in row.partials {
                 if p.area > 0.0 || !p.mask.is_empty() || p.centre {
                     any = true;

@@ -49,6 +49,12 @@ impl SampleMask {
         SampleMask(std::array::from_fn(|k| self.0[k] | other.0[k]))
     }
 
+    /// Bits in exactly one of the two.
+    #[inline]
+    pub fn xor(self, other: SampleMask) -> SampleMask {
+        SampleMask(std::array::from_fn(|k| self.0[k] ^ other.0[k]))
+    }
+
     /// Number of bits set.
     pub fn count(self) -> u32 {
         self.0.iter().map(|w| w.count_ones()).sum()
@@ -82,6 +88,8 @@ mod tests {
         assert_eq!(f.and_not(m).count(), 90);
         assert_eq!(f.and(m), m);
         assert_eq!(m.or(f), f);
+        assert_eq!(f.xor(m), f.and_not(m));
+        assert_eq!(m.xor(m), SampleMask::EMPTY);
         assert!(SampleMask::EMPTY.is_empty() && !m.is_empty());
     }
 }

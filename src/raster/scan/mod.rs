@@ -35,6 +35,51 @@
 //! pixel; back to front, the last record painted at the centre. Special
 //! records never become ids. With 16 or `N x N` samples "visible" is
 //! judged on the pixel's samples, not on the centre alone.
+//!
+//! # Design notes
+//!
+//! - `tiler`: section 5.5 for any simple polygon. An active edge list is
+//!   walked row by row; each edge is clipped to the row strip with its
+//!   fractional heights and adds signed trapezoid areas to the columns it
+//!   crosses, so a running sum along the row gives every pixel's exact area;
+//!   pixels no edge passes through form constant runs (full, empty, or
+//!   partly covered when a horizontal edge crosses the strip). Masks come
+//!   from `n x n` subpixel centres with the point sampler's half-open rule,
+//!   so abutting polygons own every sample once. Shades follow Garcia's two
+//!   steps (along edges, then across), at the pixel centre. The band walks
+//!   a polygon's rows itself (`rows`, `enter`, `cover`): entering a row
+//!   gives the columns its coverage can reach, and a row whose pixels the
+//!   hidden-surface logic says would all stay as they are (`hidden`:
+//!   method 4's case 2) is passed over before its masks are found.
+//! - Hidden-surface logic, one module each: `single` (methods 1-3 and the
+//!   pre-blended point/supersample paths), `multilevel` (method 4's six
+//!   cases, fragment pool, restore records, final background pass; also
+//!   point sampling and Donovan's N x N on post-blended streams), `painter`
+//!   (back to front, overwriting, at the pixel centre or at the N x N or
+//!   4 x 4 samples of every method: the only logic Donovan's transparency
+//!   rule (3) can run under, since it needs the colour behind first). Which one runs follows from the method and
+//!   the stream (`scan/mod.rs` has the table); a wrong pairing is an error
+//!   naming the setting to change.
+//! - `band`: the virtual frame buffer. Records are bucketed by band once;
+//!   workers each take the next band of `act_lines` rows as they finish
+//!   one, and the calling thread hands finished bands, top first and in
+//!   order, to a `RowSink` (frame buffer, streamed PNG, separations,
+//!   pixel-struct file) while the others scan; at most 2 x threads bands
+//!   wait. The workers are tasks of rayon's pool, already running when the
+//!   tree is done (threads spawned then started milliseconds late on busy
+//!   cores); a task that finds the window full returns rather than wait in
+//!   the pool, where a sink's own parallel work may need it, and the
+//!   calling thread starts it again after a delivery. A caller inside the
+//!   pool gets threads of its own. The output is bit-identical for any
+//!   thread count and band height.
+//! - Transparency follows 004 section 4.9 (`I = I_front + k_t I_behind`) in
+//!   plytrace's own picture, whatever the method, so every method agrees
+//!   with the painter inside polygons; rftb2 and rftb4, to which the manual
+//!   gives no transparency, keep it too. rftb1 and rftb3 follow their manual
+//!   page and section 5.6 (`TransparencyRule::Coverage`: a transparent
+//!   fragment covers `A (1 - T)` and adds that share of its intensity).
+//!   Blending is linear in the written values (no gamma), as the thesis's
+//!   arithmetic.
 
 mod band;
 mod edge;

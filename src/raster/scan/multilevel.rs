@@ -157,7 +157,13 @@ impl MultiLevel {
     ) -> bool {
         let (m_pix, c_pix) = self.state(px);
         let m_cov = frag.mask.and_not(m_pix);
-        let share = (m_cov.count() as f64 / self.samples as f64).min(1.0 - c_pix);
+        // A full fragment's mask is every sample.
+        let count = if frag.full && m_pix.is_empty() {
+            self.samples
+        } else {
+            m_cov.count()
+        };
+        let share = (count as f64 / self.samples as f64).min(1.0 - c_pix);
         if share <= 0.0 {
             return false;
         }
@@ -243,6 +249,31 @@ impl Integrator for MultiLevel {
         self.blend(px, frag, level, shade)
     }
 
+    /// Pixels covered at no deeper a level are passed over at the cost
+    /// of a test (case 2), the others blended as by `pixel`.
+    fn span(
+        &mut self,
+        base: usize,
+        cols: std::ops::Range<u32>,
+        full: &Fragment,
+        level: u16,
+        mut shade: impl FnMut(u32) -> Shade,
+        mut seen: impl FnMut(u32),
+    ) {
+        let lv = level as u8;
+        for i in cols {
+            let px = base + i as usize;
+            let stat = self.pixels[px].stat;
+            if stat & COVERED != 0 && stat & DEPTH <= lv {
+                continue;
+            }
+            self.restore_to(px, lv);
+            if self.pixels[px].stat & COVERED == 0 && self.blend(px, full, lv, || shade(i)) {
+                seen(i);
+            }
+        }
+    }
+
     fn restore(&mut self, px: usize, level: u16) {
         self.restore_to(px, level as u8);
     }
@@ -264,6 +295,16 @@ impl Integrator for MultiLevel {
             centre: true,
         };
         self.pixel(px, &frag, 1, || Shade { rgb: bg, t: 0.0 });
+    }
+
+    /// Pixels covered at level 1 are passed over at the cost of a test.
+    fn background_all(&mut self, pixels: usize, bg: [f32; 3]) {
+        for px in 0..pixels {
+            let stat = self.pixels[px].stat;
+            if stat & COVERED == 0 || stat & DEPTH > 1 {
+                self.background(px, bg);
+            }
+        }
     }
 
     fn output(&mut self, out: &mut BandOut) {

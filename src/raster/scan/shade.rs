@@ -35,11 +35,15 @@ pub(crate) struct Attr {
 }
 
 impl Attr {
+    /// The shade and transparency `t` of the way to `other`.
+    #[inline]
+    fn lerp_rgbt(&self, other: &Attr, t: f32) -> [f32; 4] {
+        std::array::from_fn(|k| self.rgbt[k] + (other.rgbt[k] - self.rgbt[k]) * t)
+    }
+
     fn lerp(&self, other: &Attr, t: f32, lights: usize) -> Attr {
         let mut out = *self;
-        for k in 0..4 {
-            out.rgbt[k] = self.rgbt[k] + (other.rgbt[k] - self.rgbt[k]) * t;
-        }
+        out.rgbt = self.lerp_rgbt(other, t);
         for l in 0..lights {
             for k in 0..3 {
                 let (a, b) = (self.normals[l][k], other.normals[l][k]);
@@ -227,6 +231,14 @@ impl RowShader {
                 t: 0.0,
             },
             Shading::Flat(s) => *s,
+            Shading::Interpolated(attrs, None) => {
+                // No highlights: the shade alone is interpolated.
+                let rgbt = match self.span_at(i as f64 + 0.5) {
+                    Some((a0, a1, t)) => a0.lerp_rgbt(a1, t),
+                    None => attrs[0].rgbt,
+                };
+                finish(rgbt)
+            }
             Shading::Interpolated(attrs, hl) => {
                 let lights = hl.as_ref().map_or(0, |h| h.colors.len());
                 let v = self.value_at(i as f64 + 0.5, lights).unwrap_or(attrs[0]);
@@ -237,6 +249,13 @@ impl RowShader {
 
     /// The attributes at `x`, in the span holding it or else the nearest.
     fn value_at(&self, x: f64, lights: usize) -> Option<Attr> {
+        let (a0, a1, t) = self.span_at(x)?;
+        Some(a0.lerp(a1, t, lights))
+    }
+
+    /// The ends of the span holding `x`, or else the nearest, and where
+    /// `x` lies between them (0 to 1).
+    fn span_at(&self, x: f64) -> Option<(&Attr, &Attr, f32)> {
         let mut best: Option<(f64, &[(f64, Attr)])> = None;
         for pair in self.ends.chunks_exact(2) {
             let d = if x < pair[0].0 {
@@ -251,13 +270,13 @@ impl RowShader {
             }
         }
         let (_, pair) = best?;
-        let ((x0, a0), (x1, a1)) = (pair[0], pair[1]);
+        let ((x0, a0), (x1, a1)) = (&pair[0], &pair[1]);
         let t = if x1 > x0 {
             ((x - x0) / (x1 - x0)).clamp(0.0, 1.0)
         } else {
             0.0
         } as f32;
-        Some(a0.lerp(&a1, t, lights))
+        Some((a0, a1, t))
     }
 }
 
@@ -276,8 +295,14 @@ fn evaluate(v: &Attr, hl: Option<&Highlights>) -> Shade {
             }
         }
     }
+    finish([c[0], c[1], c[2], v.rgbt[3]])
+}
+
+/// A shade from a colour and transparency, clamped to 0..1.
+#[inline]
+fn finish(rgbt: [f32; 4]) -> Shade {
     Shade {
-        rgb: c.map(|x| x.clamp(0.0, 1.0)),
-        t: v.rgbt[3].clamp(0.0, 1.0),
+        rgb: [rgbt[0], rgbt[1], rgbt[2]].map(|x| x.clamp(0.0, 1.0)),
+        t: rgbt[3].clamp(0.0, 1.0),
     }
 }

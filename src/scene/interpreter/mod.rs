@@ -24,6 +24,44 @@
 //! - `surface`: surface attributes of the active object or the globals;
 //! - `lighting`: lights, `setmode` and the scene-wide settings;
 //! - `files`: `call`, `get`, `det_dir`, `init`, `run`, the display.
+//!
+//! # How a file flows through the language
+//!
+//! The scene language flows one way too: `lexer` (words with line and
+//! column) --> `parse` (one pass per statement: the word looked up in the
+//! `commands` table, the arguments read into a typed `command::Command`, one
+//! variant per command) --> `interpreter` (a whole file is parsed before its
+//! first statement runs; `call`/`get` push frames) --> its handler
+//! submodules, by concern (`view`, `objects`, `generators`, `surface`,
+//! `lighting`, `files`) --> `build` (an object placed in world
+//! coordinates). Since a file is parsed whole first, `read_ahead` starts
+//! reading the object files its definitions will need, in statement order,
+//! on all the pool's threads but one (the interpreter, which builds each
+//! object, keeps a core), while the statements before them run; the
+//! statements of one file that read one path share one read (and its
+//! `Arc<Mesh>`), which the first of them does itself if no thread has
+//! started it, and a statement whose file another thread is reading reads
+//! the files queued after it rather than wait. The interpreter takes a read only for the very path it
+//! looks up and only if it succeeded within that statement's budget;
+//! anything else it reads again in turn, so errors do not change. A run
+//! (one file or console line, with what it calls) looks each object file up
+//! once per name and folders (`Interpreter::object_file`, found or not); a
+//! statement whose file was not found looks again for its error's list of
+//! paths tried. Objects
+//! leave the scene only through `Interpreter::retain_objects` (`delobj`,
+//! a CSG's operands), which lowers the polygon count and tells
+//! `FreeNumbers` (the set of used numbers behind `defobj`'s numbering and
+//! its check that a given number is free) which numbers left. `delobj`
+//! statements in a row only mark their objects (`interpreter::deleting`,
+//! numbers and names looked up once); they leave together before any other
+//! statement runs, when a run of statements ends and when the scene is
+//! handed out. The reading's notes (the inputs
+//! an output may not overwrite, the contents' hashes in the outputs'
+//! fingerprint) are held on the reading thread (`input_guard::recording`)
+//! and entered when the interpreter takes the file, in statement order. The `commands` table is the one list of names, the
+//! manual's/added mark that decides abbreviations, usage and help: the
+//! parser, the prompt's `help`, its completion and `--help` all read it, and
+//! each entry's `Verb` is the type the parser matches on exhaustively.
 
 mod active;
 mod deleting;
