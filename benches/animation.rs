@@ -14,11 +14,11 @@ use std::path::Path;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::DVec3;
-use plytrace::geometry::view::{View, towards_eye};
-use plytrace::render::{RenderOptions, Reuse, plan, plan_with};
-use plytrace::scene::{Interpreter, NoHost, Scene};
-use plytrace::visibility::Algorithm;
-use plytrace::visibility::brown::{PriorityCache, priority_order};
+use plytrace::internal::geometry::view::{View, towards_eye};
+use plytrace::internal::render::{RenderOptions, Reuse, plan, plan_with};
+use plytrace::internal::scene::{Interpreter, NoHost, Scene};
+use plytrace::internal::visibility::Algorithm;
+use plytrace::internal::visibility::brown::{PriorityCache, priority_order};
 
 const SCENE: &str = "resolution 256 256\nperspective 40 1 0.1 100\n\
     light 4 -6 8 1 1 1 100 Diffuse\npushmatrix\nident\npolarview 4.5 25 65 0\n\

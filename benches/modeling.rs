@@ -3,11 +3,11 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{DVec2, DVec3};
-use plytrace::modeling::Generated;
-use plytrace::modeling::csg::{self, Face, Op};
-use plytrace::modeling::parametric::{self, Superquadric};
-use plytrace::modeling::patch::{self, Form};
-use plytrace::modeling::sweep::{self, Profile};
+use plytrace::internal::modeling::Generated;
+use plytrace::internal::modeling::csg::{self, Face, Op};
+use plytrace::internal::modeling::parametric::{self, Superquadric};
+use plytrace::internal::modeling::patch::{self, Form};
+use plytrace::internal::modeling::sweep::{self, Profile};
 
 /// A generated solid as CSG faces, moved by `offset`.
 fn faces(g: &Generated, offset: DVec3) -> Vec<Face> {

@@ -18,9 +18,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use plytrace::geometry::view::{self, GeometryStats, View};
-use plytrace::render::{RenderOptions, render};
-use plytrace::visibility::nns::{self, NnsFace};
+use plytrace::internal::geometry::view::{self, GeometryStats, View};
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::visibility::nns::{self, NnsFace};
 
 /// The cube of `det/cube.det`: corners at +-1, faces clockwise seen from
 /// outside (1-based).
@@ -140,7 +140,7 @@ fn write_scene(dir: &Path, k: usize) -> (std::path::PathBuf, usize) {
     (path, 7 * k * k)
 }
 
-fn level_one_faces(scene: &plytrace::scene::Scene, view: &View) -> Vec<NnsFace> {
+fn level_one_faces(scene: &plytrace::internal::scene::Scene, view: &View) -> Vec<NnsFace> {
     let mut polys = Vec::new();
     let mut stats = GeometryStats::default();
     for i in 0..scene.objects.len() {
@@ -199,7 +199,7 @@ fn main() {
         let k = ((target as f64 / 7.0).sqrt().round() as usize).max(1);
         let dir = tempfile::tempdir().unwrap();
         let (path, n) = write_scene(dir.path(), k);
-        let scene = plytrace::scene::load(&path).unwrap().0;
+        let scene = plytrace::internal::scene::load(&path).unwrap().0;
         let options = RenderOptions {
             size: Some((512, 512)),
             shadows: true,

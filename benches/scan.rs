@@ -3,8 +3,10 @@
 //! screen, with Phong triangles over it, front to back.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use plytrace::raster::scan::{Method, Row, RowSink, ScanOptions, TransparencyRule, scan_convert};
-use plytrace::tree::{PhongShades, Record, RecordStream, Shades};
+use plytrace::internal::raster::scan::{
+    Method, Row, RowSink, ScanOptions, TransparencyRule, scan_convert,
+};
+use plytrace::internal::tree::{PhongShades, Record, RecordStream, Shades};
 
 struct Discard;
 

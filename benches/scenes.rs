@@ -17,11 +17,11 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
-use plytrace::geometry::view::{self, GeometryStats, View};
-use plytrace::raster::scan::Method;
-use plytrace::render::{RenderOptions, render, scene_scale};
-use plytrace::visibility::Algorithm;
-use plytrace::visibility::nns::{self, NnsFace};
+use plytrace::internal::geometry::view::{self, GeometryStats, View};
+use plytrace::internal::raster::scan::Method;
+use plytrace::internal::render::{RenderOptions, render, scene_scale};
+use plytrace::internal::visibility::Algorithm;
+use plytrace::internal::visibility::nns::{self, NnsFace};
 
 fn scenes() -> Vec<(String, PathBuf)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -41,7 +41,7 @@ fn scenes() -> Vec<(String, PathBuf)> {
     v
 }
 
-fn nns_faces(scene: &plytrace::scene::Scene, view: &View) -> Vec<NnsFace> {
+fn nns_faces(scene: &plytrace::internal::scene::Scene, view: &View) -> Vec<NnsFace> {
     let mut polys = Vec::new();
     let mut stats = GeometryStats::default();
     for i in 0..scene.objects.len() {
@@ -52,7 +52,7 @@ fn nns_faces(scene: &plytrace::scene::Scene, view: &View) -> Vec<NnsFace> {
     polys
         .into_iter()
         .flat_map(|p| {
-            plytrace::geometry::polygon::triangulate_if_needed(&p.world)
+            plytrace::internal::geometry::polygon::triangulate_if_needed(&p.world)
                 .into_iter()
                 .map(move |world| NnsFace {
                     object: p.object,
@@ -74,9 +74,9 @@ fn bench(c: &mut Criterion) {
         group.warm_up_time(Duration::from_millis(500));
         group.measurement_time(Duration::from_secs(2));
         group.bench_function("parse", |b| {
-            b.iter(|| plytrace::scene::load(&path).unwrap())
+            b.iter(|| plytrace::internal::scene::load(&path).unwrap())
         });
-        let scene = plytrace::scene::load(&path).unwrap().0;
+        let scene = plytrace::internal::scene::load(&path).unwrap().0;
         for (algorithm, alg_name) in Algorithm::ALL {
             if algorithm == Algorithm::Brown {
                 continue; // only meaningful for well-tesselated surfaces
@@ -118,7 +118,7 @@ fn tree(c: &mut Criterion) {
         if !path.is_file() {
             continue;
         }
-        let scene = plytrace::scene::load(&path).unwrap().0;
+        let scene = plytrace::internal::scene::load(&path).unwrap().0;
         let mut group = c.benchmark_group(format!("tree-{name}"));
         group.sample_size(10);
         group.warm_up_time(Duration::from_millis(500));
@@ -127,7 +127,7 @@ fn tree(c: &mut Criterion) {
             let mut s = scene.clone();
             let mut kept = 0;
             s.lights.retain(|l| {
-                if l.kind == plytrace::model::LightKind::Diffuse {
+                if l.kind == plytrace::internal::model::LightKind::Diffuse {
                     return true;
                 }
                 kept += 1;
@@ -159,7 +159,7 @@ fn antialiasing(c: &mut Criterion) {
         ("donovan-8", Method::Supersample(8)),
     ];
     for name in ["mirror", "gallery", "office2"] {
-        let scene = plytrace::scene::load(&root.join(format!("{name}.des")))
+        let scene = plytrace::internal::scene::load(&root.join(format!("{name}.des")))
             .unwrap()
             .0;
         let mut group = c.benchmark_group(format!("aa-{name}"));
@@ -202,7 +202,7 @@ fn goals(c: &mut Criterion) {
         ("office2-no-shadows", "office2", false),
         ("gallery-4-lights", "gallery", true),
     ] {
-        let scene = plytrace::scene::load(&root.join(format!("{name}.des")))
+        let scene = plytrace::internal::scene::load(&root.join(format!("{name}.des")))
             .unwrap()
             .0;
         for (threads, suffix) in [(1, "1-thread"), (0, "all-cores")] {
@@ -230,14 +230,14 @@ fn object_files(c: &mut Criterion) {
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|x| x == "det"))
         .filter_map(|p| std::fs::read_to_string(&p).ok().map(|t| (p, t)))
-        .filter(|(p, t)| plytrace::scene::object_file::parse_det_ascii(t, p).is_ok())
+        .filter(|(p, t)| plytrace::internal::scene::object_file::parse_det_ascii(t, p).is_ok())
         .collect();
     files.sort();
     assert!(files.len() >= 42, "only {} ASCII object files", files.len());
     c.bench_function("object-files/parse-ascii", |b| {
         b.iter(|| {
             for (path, text) in &files {
-                plytrace::scene::object_file::parse_det_ascii(text, path).unwrap();
+                plytrace::internal::scene::object_file::parse_det_ascii(text, path).unwrap();
             }
         })
     });

@@ -21,10 +21,10 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use plytrace::model::LightKind;
-use plytrace::raytrace::{self, RayTraceOptions};
-use plytrace::render::{self, Plan, RenderOptions};
-use plytrace::scene::Scene;
+use plytrace::internal::model::LightKind;
+use plytrace::internal::raytrace::{self, RayTraceOptions};
+use plytrace::internal::render::{self, Plan, RenderOptions};
+use plytrace::internal::scene::Scene;
 
 fn scenes() -> Vec<(String, PathBuf)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes");
@@ -77,7 +77,7 @@ fn main() {
         "Scene", "Tiled", "G-Time", "R-Time", "RT 1", "RT 4x4", "RI 1", "RI 16", "diff", ">8/255"
     );
     for (name, path) in scenes() {
-        let scene = plytrace::scene::load(&path).unwrap().0;
+        let scene = plytrace::internal::scene::load(&path).unwrap().0;
         let lights = scene.lights.len();
         let mut variants = vec![(String::from("NS"), 0usize)];
         for k in [1, 2, 4] {

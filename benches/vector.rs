@@ -24,9 +24,9 @@ use std::process::Command;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use plytrace::modeling::geodesic::{Division, Radial, geodesic};
-use plytrace::render::RenderOptions;
-use plytrace::vector::{self, Style};
+use plytrace::internal::modeling::geodesic::{Division, Radial, geodesic};
+use plytrace::internal::render::RenderOptions;
+use plytrace::internal::vector::{self, Style};
 
 const N: usize = 59;
 const SCENE: &str = "resolution 512 512\nperspective 40 1 0.1 100\n\
@@ -88,15 +88,15 @@ fn bench(c: &mut Criterion) {
     } else {
         eprintln!("sketch not found: `apt-get install sketch` to compare");
     }
-    let scene = plytrace::scene::load(&des).unwrap().0;
+    let scene = plytrace::internal::scene::load(&des).unwrap().0;
     let options = RenderOptions {
         shadows: true,
         ..RenderOptions::default()
     };
     g.bench_function("stage/prepare", |b| {
-        b.iter(|| plytrace::render::vector::prepare(&scene, &options).unwrap())
+        b.iter(|| plytrace::internal::render::vector::prepare(&scene, &options).unwrap())
     });
-    let input = plytrace::render::vector::prepare(&scene, &options).unwrap();
+    let input = plytrace::internal::render::vector::prepare(&scene, &options).unwrap();
     g.bench_function("stage/picture+svg", |b| {
         b.iter(|| vector::svg::to_svg(&vector::picture(&input, Style::Shaded)))
     });
@@ -135,7 +135,7 @@ fn quads(n: usize) -> Faces {
 }
 
 fn growth(c: &mut Criterion) {
-    use plytrace::vector::hidden_line::segments_of;
+    use plytrace::internal::vector::hidden_line::segments_of;
     let mut g = c.benchmark_group("hidden-line-growth");
     g.sample_size(10);
     for n in [1_000, 10_000, 100_000, 1_000_000] {

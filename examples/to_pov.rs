@@ -15,7 +15,7 @@
 use std::fmt::Write as _;
 
 use glam::DVec3;
-use plytrace::geometry::view::View;
+use plytrace::internal::geometry::view::View;
 
 fn v(p: DVec3) -> String {
     format!("<{:.9}, {:.9}, {:.9}>", p.x, p.y, p.z)
@@ -27,7 +27,7 @@ fn main() {
         eprintln!("usage: to_pov SCENE.des SIZE OUT.pov");
         std::process::exit(2);
     }
-    let scene = plytrace::scene::load(std::path::Path::new(&args[1]))
+    let scene = plytrace::internal::scene::load(std::path::Path::new(&args[1]))
         .expect("a scene")
         .0;
     let size: u32 = args[2].parse().expect("a size");
@@ -64,7 +64,7 @@ fn main() {
     .unwrap();
     for light in &scene.lights {
         let c = light.color;
-        let shadowless = if light.kind == plytrace::model::LightKind::Point {
+        let shadowless = if light.kind == plytrace::internal::model::LightKind::Point {
             ""
         } else {
             " shadowless"

@@ -9,80 +9,128 @@
 //! figure 3.2: scene (language, object files) -> geometry (transform,
 //! cull, clip, project) -> visibility (sorting) -> shading -> the virtual
 //! image tree -> raster (scan conversion) -> output; `ARCHITECTURE.md`
-//! describes them. They are not part of the documented API: those still
-//! public are so for the integration tests, benches, examples and fuzz
-//! targets, and are hidden from the documentation.
+//! describes them. They are private; the benches, fuzz targets and the
+//! tests of internal details reach them through the hidden
+//! `internal` module, which is not part of the API.
 #![warn(missing_docs)]
 
 pub mod api;
-// Public for the tests, benches and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod budget;
-// Public for the tests and the Python crate; not part of the API.
-#[doc(hidden)]
-pub mod cancel;
-pub(crate) mod convert;
-// Public for the tests; not part of the API.
-#[doc(hidden)]
-pub mod display;
-// Public for the tests; not part of the API.
-#[doc(hidden)]
-pub mod emit;
-// Public for the tests and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod error;
-// Public for the tests, benches and examples; not part of the API.
-#[doc(hidden)]
-pub mod geometry;
-// Public for the tests and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod image_tree;
-pub(crate) mod input_guard;
-// Public for the tests; not part of the API.
-#[doc(hidden)]
-pub mod math;
-// Public for the tests, benches, examples and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod model;
-// Public for the tests, benches and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod modeling;
-// Public for the tests and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod output;
-// Public for the tests; not part of the API.
-#[doc(hidden)]
-pub mod part;
-pub(crate) mod precision;
-pub(crate) mod profile;
-// Public for the tests, benches and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod raster;
-// Public for the tests and benches; not part of the API.
-#[doc(hidden)]
-pub mod raytrace;
-// Public for the tests, benches and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod render;
-// Public for the fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod rftb;
-// Public for the tests, benches, examples and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod scene;
-// Public for the tests and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod shading;
-pub(crate) mod shadow;
-pub(crate) mod signals;
-// Public for the tests, benches and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod tree;
-// Public for the tests and benches; not part of the API.
-#[doc(hidden)]
-pub mod vector;
-// Public for the tests, benches and fuzz targets; not part of the API.
-#[doc(hidden)]
-pub mod visibility;
+mod budget;
+mod cancel;
+mod convert;
+mod display;
+mod emit;
+mod error;
+mod geometry;
+mod image_tree;
+mod input_guard;
+mod math;
+mod model;
+mod modeling;
+mod output;
+mod part;
+mod precision;
+mod profile;
+mod raster;
+mod raytrace;
+mod render;
+mod rftb;
+mod scene;
+mod shading;
+mod shadow;
+mod signals;
+mod tree;
+mod vector;
+mod visibility;
 
 pub use error::{Error, Result};
+
+/// The pipeline's stages, for the benches, the fuzz targets and the tests
+/// of internal details; not part of the API (no stability promised).
+#[doc(hidden)]
+pub mod internal {
+    #[allow(missing_docs)]
+    pub mod budget {
+        pub use crate::budget::*;
+    }
+    #[allow(missing_docs)]
+    pub mod cancel {
+        pub use crate::cancel::*;
+    }
+    #[allow(missing_docs)]
+    pub mod display {
+        pub use crate::display::*;
+    }
+    #[allow(missing_docs)]
+    pub mod emit {
+        pub use crate::emit::*;
+    }
+    #[allow(missing_docs)]
+    pub mod error {
+        pub use crate::error::*;
+    }
+    #[allow(missing_docs)]
+    pub mod geometry {
+        pub use crate::geometry::*;
+    }
+    #[allow(missing_docs)]
+    pub mod image_tree {
+        pub use crate::image_tree::*;
+    }
+    #[allow(missing_docs)]
+    pub mod math {
+        pub use crate::math::*;
+    }
+    #[allow(missing_docs)]
+    pub mod model {
+        pub use crate::model::*;
+    }
+    #[allow(missing_docs)]
+    pub mod modeling {
+        pub use crate::modeling::*;
+    }
+    #[allow(missing_docs)]
+    pub mod output {
+        pub use crate::output::*;
+    }
+    #[allow(missing_docs)]
+    pub mod part {
+        pub use crate::part::*;
+    }
+    #[allow(missing_docs)]
+    pub mod raster {
+        pub use crate::raster::*;
+    }
+    #[allow(missing_docs)]
+    pub mod raytrace {
+        pub use crate::raytrace::*;
+    }
+    #[allow(missing_docs)]
+    pub mod render {
+        pub use crate::render::*;
+    }
+    #[allow(missing_docs)]
+    pub mod rftb {
+        pub use crate::rftb::*;
+    }
+    #[allow(missing_docs)]
+    pub mod scene {
+        pub use crate::scene::*;
+    }
+    #[allow(missing_docs)]
+    pub mod shading {
+        pub use crate::shading::*;
+    }
+    #[allow(missing_docs)]
+    pub mod tree {
+        pub use crate::tree::*;
+    }
+    #[allow(missing_docs)]
+    pub mod vector {
+        pub use crate::vector::*;
+    }
+    #[allow(missing_docs)]
+    pub mod visibility {
+        pub use crate::visibility::*;
+    }
+}

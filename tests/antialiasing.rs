@@ -14,19 +14,19 @@
 
 mod support;
 
-use plytrace::geometry::view::View;
-use plytrace::raster::scan::Method;
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::Scene;
-use plytrace::shading::{Materials, facet_shade};
-use plytrace::visibility::Algorithm;
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::internal::geometry::view::View;
+use plytrace::internal::raster::scan::Method;
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::Scene;
+use plytrace::internal::shading::{Materials, facet_shade};
+use plytrace::internal::visibility::Algorithm;
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 const SIZE: u32 = 96;
 
 fn flat(name: &str) -> Scene {
     let path = support::scene_fixture(name);
-    let mut scene = plytrace::scene::load(&path).unwrap().0;
+    let mut scene = plytrace::internal::scene::load(&path).unwrap().0;
     scene.modes.max_level = 1;
     scene
 }
@@ -112,7 +112,7 @@ fn check(name: &str) {
     let default = edge_error(
         &rendered(
             &scene,
-            plytrace::render::best_method(&RenderOptions::default()),
+            plytrace::internal::render::best_method(&RenderOptions::default()),
         ),
         &reference,
         &edge,
@@ -158,8 +158,10 @@ fn mirror_edges() {
 /// 128 with every anti-aliasing method.
 #[test]
 fn half_covered_white_over_black_is_128() {
-    use plytrace::raster::scan::{Row, RowSink, ScanOptions, TransparencyRule, scan_convert};
-    use plytrace::tree::{Record, RecordStream, Shades};
+    use plytrace::internal::raster::scan::{
+        Row, RowSink, ScanOptions, TransparencyRule, scan_convert,
+    };
+    use plytrace::internal::tree::{Record, RecordStream, Shades};
     struct Keep(Vec<[f32; 3]>);
     impl RowSink for Keep {
         fn row(&mut self, row: &Row<'_>) -> plytrace::Result<()> {

@@ -218,9 +218,9 @@ fn no_two_files_import_each_other_around_a_circle() {
 }
 
 /// The imports between the files of the `plytrace` program
-/// (`src/bin/plytrace`), by `crate::` paths.
+/// (`cli/src/bin/plytrace`), by `crate::` paths.
 fn program_graph() -> BTreeMap<String, BTreeSet<String>> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/bin/plytrace");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("cli/src/bin/plytrace");
     let mut files = BTreeMap::new();
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
@@ -248,7 +248,7 @@ fn settings_flow_into_a_run_and_a_run_into_its_report() {
     let found = circle(&graph);
     assert!(
         found.is_none(),
-        "a circle of imports in src/bin/plytrace: {}",
+        "a circle of imports in cli/src/bin/plytrace: {}",
         found.unwrap().join(" -> ")
     );
     for (file, not) in [("args", "host"), ("host", "session"), ("stats", "host")] {

@@ -6,14 +6,14 @@
 mod support;
 
 use glam::{DVec2, DVec3};
-use plytrace::geometry::view::{self, GeometryStats, View};
-use plytrace::modeling::geodesic::{Division, Radial, geodesic};
-use plytrace::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::Scene;
-use plytrace::visibility::Algorithm;
-use plytrace::visibility::brown::priority_order;
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::internal::geometry::view::{self, GeometryStats, View};
+use plytrace::internal::modeling::geodesic::{Division, Radial, geodesic};
+use plytrace::internal::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::Scene;
+use plytrace::internal::visibility::Algorithm;
+use plytrace::internal::visibility::brown::priority_order;
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 fn load(des: &str, dets: &[(&str, String)]) -> Scene {
     let dir = tempfile::tempdir().unwrap();
@@ -23,7 +23,7 @@ fn load(des: &str, dets: &[(&str, String)]) -> Scene {
     }
     let path = dir.path().join("b.des");
     std::fs::write(&path, des).unwrap();
-    plytrace::scene::load(&path).unwrap().0
+    plytrace::internal::scene::load(&path).unwrap().0
 }
 
 fn sphere_scene(n: usize, division: &str, radial: &str, dist: f64) -> Scene {
@@ -88,17 +88,17 @@ fn opaque_geodesics_agree_with_the_oracle() {
 #[test]
 fn general_surface_agrees_with_the_oracle() {
     let mesh = geodesic(4, Division::EqualAngle, Radial::Bumps(0.25, 2.0)).unwrap();
-    let keep: Vec<plytrace::model::IndexList> = mesh
+    let keep: Vec<plytrace::internal::model::IndexList> = mesh
         .polygons
         .iter()
         .filter(|p| p.iter().all(|&i| mesh.vertices[i as usize].z < 0.45))
         .cloned()
         .collect();
-    let bowl = plytrace::model::Mesh {
+    let bowl = plytrace::internal::model::Mesh {
         vertices: mesh.vertices.clone(),
         polygons: keep,
     };
-    let det = plytrace::scene::object_file::write_det_ascii(&bowl, "bowl");
+    let det = plytrace::internal::scene::object_file::write_det_ascii(&bowl, "bowl");
     for inc in [40.0, 70.0, 110.0] {
         let scene = load(
             &format!(

@@ -9,13 +9,13 @@ mod support;
 
 use std::path::Path;
 
-use plytrace::error::Result;
-use plytrace::render::Reuse;
-use plytrace::render::{Plan, RenderOptions, Rendered, plan, plan_with};
-use plytrace::scene::{Host, Interpreter, Scene};
-use plytrace::visibility::Algorithm;
-use plytrace::visibility::brown::BrownStats;
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::Result;
+use plytrace::internal::render::Reuse;
+use plytrace::internal::render::{Plan, RenderOptions, Rendered, plan, plan_with};
+use plytrace::internal::scene::{Host, Interpreter, Scene};
+use plytrace::internal::visibility::Algorithm;
+use plytrace::internal::visibility::brown::BrownStats;
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 /// Renders every `run` twice: with the orders of the previous frame, and
 /// with a fresh sort.

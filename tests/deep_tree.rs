@@ -13,12 +13,12 @@
 mod support;
 
 use glam::DVec3;
-use plytrace::geometry::view::View;
-use plytrace::image_tree::{self, FragmentKind, TreeOptions, VirtualImageTree};
-use plytrace::model::{LightKind, SortOrder};
-use plytrace::scene::Scene;
-use plytrace::shading::Materials;
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::internal::geometry::view::View;
+use plytrace::internal::image_tree::{self, FragmentKind, TreeOptions, VirtualImageTree};
+use plytrace::internal::model::{LightKind, SortOrder};
+use plytrace::internal::scene::Scene;
+use plytrace::internal::shading::Materials;
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 /// The scene of `des` (without its header), with `cube.det` and a unit
 /// `square.det` facing +z in a temporary `det` folder.
@@ -29,7 +29,7 @@ fn load(depth: u32, body: &str) -> Scene {
         "resolution 96 96\nperspective 45 1 0.1 100\ndepth {depth}\npushmatrix\nident\n{body}popmatrix\n"
     );
     std::fs::write(&path, des).unwrap();
-    plytrace::scene::load(&path).unwrap().0
+    plytrace::internal::scene::load(&path).unwrap().0
 }
 
 /// What a pixel shows: (object, polygon, level) and whether it is in the
@@ -318,7 +318,7 @@ fn overlapping_shadows_of_two_lights() {
     for &n in &both {
         let f = &tree.nodes[n];
         assert_eq!(f.kind, FragmentKind::Shadow { light: 0 });
-        let without_both = plytrace::shading::facet_shade_with(
+        let without_both = plytrace::internal::shading::facet_shade_with(
             &materials,
             tree.eye(f),
             f.object,
@@ -329,7 +329,7 @@ fn overlapping_shadows_of_two_lights() {
         );
         assert!((f.shade - without_both).length() < 1e-12, "{}", f.shade);
         // Darker than the target without one light only.
-        let without_one = plytrace::shading::facet_shade_with(
+        let without_one = plytrace::internal::shading::facet_shade_with(
             &materials,
             tree.eye(f),
             f.object,
@@ -359,7 +359,7 @@ fn overlapping_shadows_of_two_lights() {
         count += 1;
         let points = f.points(&scene.objects);
         let at = points.iter().copied().sum::<DVec3>() / points.len() as f64;
-        let want = plytrace::shading::facet_shade_with(
+        let want = plytrace::internal::shading::facet_shade_with(
             &materials,
             tree.eye(f),
             f.object,
@@ -454,7 +454,7 @@ fn assert_overlap_pixels(scene: &Scene, tree: &VirtualImageTree, view: &View, si
 /// section 6 rules (1) and (2), or Garcia's 004 section 4.8).
 #[test]
 fn the_tree_shades_with_the_selected_model() {
-    use plytrace::shading::{ShadingModel, facet_shade_with_model};
+    use plytrace::internal::shading::{ShadingModel, facet_shade_with_model};
     let scene = box_beside_mirror();
     let view = View::new(&scene, 64, 64).unwrap();
     let materials = Materials::new(&scene);
@@ -519,8 +519,8 @@ fn crossed_squares() -> Scene {
 /// the ends of the original edge it lies on (so no seam appears along it).
 #[test]
 fn split_vertices_get_interpolated_gouraud_shades() {
-    use plytrace::shading::vertex_shades;
-    use plytrace::visibility::nns;
+    use plytrace::internal::shading::vertex_shades;
+    use plytrace::internal::visibility::nns;
     let scene = crossed_squares();
     let view = View::new(&scene, 64, 64).unwrap();
     let faces: Vec<nns::NnsFace> = scene

@@ -4,9 +4,9 @@
 
 use std::path::Path;
 
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::commands::COMMANDS;
-use plytrace::scene::{Interpreter, NoHost};
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::commands::COMMANDS;
+use plytrace::internal::scene::{Interpreter, NoHost};
 use proptest::prelude::*;
 
 const WORDS: &[&str] = &[
@@ -103,7 +103,7 @@ fn run_in(dir: &Path, text: &str) -> Outcome {
         .collect();
     let mut scene = interp.scene();
     // Keep renders small whatever the input asked for.
-    scene.viewport = plytrace::model::Viewport::of_size(24, 24);
+    scene.viewport = plytrace::internal::model::Viewport::of_size(24, 24);
     let render = render(
         &scene,
         &RenderOptions {

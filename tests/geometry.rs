@@ -3,9 +3,9 @@
 //! overlap) and back-face removal by the clockwise rule.
 
 use glam::{DVec3, DVec4};
-use plytrace::geometry::clip::{ClipVertex, clip_polygon, outcode};
-use plytrace::geometry::polygon::area;
-use plytrace::render::{RenderOptions, render};
+use plytrace::internal::geometry::clip::{ClipVertex, clip_polygon, outcode};
+use plytrace::internal::geometry::polygon::area;
+use plytrace::internal::render::{RenderOptions, render};
 use proptest::prelude::*;
 
 fn vertex(p: DVec3, w: f64) -> ClipVertex {
@@ -66,7 +66,7 @@ proptest! {
 #[test]
 fn near_plane_clipping_keeps_w_positive() {
     // A triangle reaching behind the eye under a real perspective.
-    let m = plytrace::math::perspective(60.0, 1.0, 0.5, 50.0);
+    let m = plytrace::internal::math::perspective(60.0, 1.0, 0.5, 50.0);
     let tri = [
         DVec3::new(0.0, 0.0, -10.0),
         DVec3::new(1.0, 0.0, 5.0),
@@ -91,7 +91,7 @@ fn near_plane_clipping_keeps_w_positive() {
     }
 }
 
-fn one_square(extra: &str) -> plytrace::render::Rendered {
+fn one_square(extra: &str) -> plytrace::internal::render::Rendered {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir(dir.path().join("det")).unwrap();
     // Clockwise seen from +z: it faces +z.
@@ -109,7 +109,7 @@ fn one_square(extra: &str) -> plytrace::render::Rendered {
         ),
     )
     .unwrap();
-    let scene = plytrace::scene::load(&path).unwrap().0;
+    let scene = plytrace::internal::scene::load(&path).unwrap().0;
     render(&scene, &RenderOptions::default()).unwrap()
 }
 

@@ -12,16 +12,16 @@
 
 mod support;
 
-use plytrace::raster::scan::Method;
-use plytrace::render::RenderOptions;
-use plytrace::scene::Scene;
-use plytrace::vector::{self, Style, hidden_line};
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::internal::raster::scan::Method;
+use plytrace::internal::render::RenderOptions;
+use plytrace::internal::scene::Scene;
+use plytrace::internal::vector::{self, Style, hidden_line};
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 const SIZE: u32 = 256;
 
 fn scene(name: &str) -> Scene {
-    plytrace::scene::load(&support::scene_fixture(name))
+    plytrace::internal::scene::load(&support::scene_fixture(name))
         .unwrap()
         .0
 }
@@ -121,7 +121,8 @@ fn drawn_edges_are_the_true_visible_edges() {
         let sc = scene(name);
         let truth = oracle_edges(&sc);
         let input =
-            plytrace::render::vector::prepare_for(&sc, &options(), Style::HiddenLine).unwrap();
+            plytrace::internal::render::vector::prepare_for(&sc, &options(), Style::HiddenLine)
+                .unwrap();
         check(name, "png aa", &png_drawn(&input, true), &truth);
         check(name, "png point", &png_drawn(&input, false), &truth);
         check(name, "svg", &svg_drawn(&input), &truth);
@@ -145,7 +146,8 @@ fn split_and_clipped_edges_are_not_drawn() {
         let sc = scene(name);
         let truth = oracle_edges(&sc);
         let mut input =
-            plytrace::render::vector::prepare_for(&sc, &options(), Style::HiddenLine).unwrap();
+            plytrace::internal::render::vector::prepare_for(&sc, &options(), Style::HiddenLine)
+                .unwrap();
         let real = stray(&png_drawn(&input, false), &truth);
         for (flags, r) in input.original_edges.iter_mut().zip(&input.stream.records) {
             if !flags.is_empty() {
@@ -165,7 +167,8 @@ fn split_and_clipped_edges_are_not_drawn() {
 #[test]
 fn hidden_line_png_is_black_on_white_and_anti_aliased_only_with_aa() {
     let sc = scene("ccube.des");
-    let input = plytrace::render::vector::prepare_for(&sc, &options(), Style::HiddenLine).unwrap();
+    let input = plytrace::internal::render::vector::prepare_for(&sc, &options(), Style::HiddenLine)
+        .unwrap();
     let segments = hidden_line::visible_edges(&input);
     let grey = |aa| {
         hidden_line::rasterize(&segments, SIZE, SIZE, aa)

@@ -12,21 +12,21 @@ mod support;
 
 use std::collections::HashSet;
 
-use plytrace::geometry::view::View;
-use plytrace::image_tree::{TreeOptions, VirtualImageTree, build};
-use plytrace::shading::Materials;
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::internal::geometry::view::View;
+use plytrace::internal::image_tree::{TreeOptions, VirtualImageTree, build};
+use plytrace::internal::shading::Materials;
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 const SIZE: u32 = 96;
 
-fn office2() -> plytrace::model::Scene {
-    plytrace::scene::load(&support::scene_fixture("office2.des"))
+fn office2() -> plytrace::internal::model::Scene {
+    plytrace::internal::scene::load(&support::scene_fixture("office2.des"))
         .unwrap()
         .0
 }
 
 /// Level 1 of `scene`, with its shadows (office2 has two Point lights).
-fn tree(scene: &plytrace::model::Scene, cull: Option<u32>) -> VirtualImageTree {
+fn tree(scene: &plytrace::internal::model::Scene, cull: Option<u32>) -> VirtualImageTree {
     let view = View::new(scene, SIZE, SIZE).unwrap();
     let options = TreeOptions {
         nns: true,
@@ -71,7 +71,7 @@ fn no_polygon_seen_at_a_sample_is_left_out() {
 }
 
 fn mirror_tree(
-    scene: &plytrace::model::Scene,
+    scene: &plytrace::internal::model::Scene,
     cull: Option<u32>,
     shadows: bool,
 ) -> VirtualImageTree {
@@ -105,7 +105,7 @@ fn below_level_one(tree: &VirtualImageTree) -> HashSet<(u32, u32, u32)> {
 #[test]
 fn no_polygon_seen_in_a_mirror_is_left_out() {
     for name in ["gallery.des", "office2.des"] {
-        let scene = plytrace::scene::load(&support::scene_fixture(name))
+        let scene = plytrace::internal::scene::load(&support::scene_fixture(name))
             .unwrap()
             .0;
         assert!(scene.modes.max_level >= 3, "{name}");
@@ -163,7 +163,7 @@ fn without_shadows_only_what_lies_over_a_mirror_is_culled() {
          popmatrix\n",
     )
     .unwrap();
-    let scene = plytrace::scene::load(&des).unwrap().0;
+    let scene = plytrace::internal::scene::load(&des).unwrap().0;
     let culled = mirror_tree(&scene, Some(4), false);
     let all = mirror_tree(&scene, None, false);
     let objects = |t: &VirtualImageTree| -> HashSet<u32> {

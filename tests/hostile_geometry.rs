@@ -5,9 +5,9 @@
 //! could not finish.
 
 use glam::DVec3;
-use plytrace::geometry::polygon;
-use plytrace::scene::Scene;
-use plytrace::shading::Materials;
+use plytrace::internal::geometry::polygon;
+use plytrace::internal::scene::Scene;
+use plytrace::internal::shading::Materials;
 
 /// Writes `det/NAME.det` for each `(name, det text)` and `s.des` holding
 /// `des` into a temporary directory, and loads the scene.
@@ -19,7 +19,7 @@ fn load(dets: &[(&str, String)], des: &str) -> Scene {
     }
     let path = dir.path().join("s.des");
     std::fs::write(&path, des).unwrap();
-    plytrace::scene::load(&path).unwrap().0
+    plytrace::internal::scene::load(&path).unwrap().0
 }
 
 /// A `.det` text of the given vertices and polygons (0-based indices).
@@ -123,9 +123,9 @@ fn a_200000_vertex_polygon_goes_through_the_pipeline() {
              defobj big\ntype open\nendobj\npopmatrix\n"
         ),
     );
-    let r = plytrace::render::render(
+    let r = plytrace::internal::render::render(
         &scene,
-        &plytrace::render::RenderOptions {
+        &plytrace::internal::render::RenderOptions {
             shadows: true,
             ..Default::default()
         },
@@ -139,11 +139,11 @@ fn a_200000_vertex_polygon_goes_through_the_pipeline() {
     // With NNS the polygon is cut into triangles (it is not convex within
     // rounding), whose shades were each an average over all 200,000
     // vertices of their source polygon.
-    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
-    let tree = plytrace::image_tree::build(
+    let view = plytrace::internal::geometry::view::View::new(&scene, 64, 64).unwrap();
+    let tree = plytrace::internal::image_tree::build(
         &Materials::new(&scene),
         &view,
-        plytrace::image_tree::TreeOptions {
+        plytrace::internal::image_tree::TreeOptions {
             nns: true,
             ..Default::default()
         },
@@ -164,22 +164,27 @@ fn a_200000_vertex_polygon_goes_through_the_pipeline() {
 // ---------------------------------------------------------------------
 
 /// The tree of `scene` at 64 x 64 with shadows, level 1.
-fn shadow_tree(scene: &Scene) -> plytrace::image_tree::VirtualImageTree {
-    let view = plytrace::geometry::view::View::new(scene, 64, 64).unwrap();
-    plytrace::image_tree::build(
+fn shadow_tree(scene: &Scene) -> plytrace::internal::image_tree::VirtualImageTree {
+    let view = plytrace::internal::geometry::view::View::new(scene, 64, 64).unwrap();
+    plytrace::internal::image_tree::build(
         &Materials::new(scene),
         &view,
-        plytrace::image_tree::TreeOptions {
+        plytrace::internal::image_tree::TreeOptions {
             shadows: true,
             ..Default::default()
         },
     )
 }
 
-fn shadow_count(tree: &plytrace::image_tree::VirtualImageTree) -> usize {
+fn shadow_count(tree: &plytrace::internal::image_tree::VirtualImageTree) -> usize {
     tree.nodes
         .iter()
-        .filter(|f| matches!(f.kind, plytrace::image_tree::FragmentKind::Shadow { .. }))
+        .filter(|f| {
+            matches!(
+                f.kind,
+                plytrace::internal::image_tree::FragmentKind::Shadow { .. }
+            )
+        })
         .count()
 }
 
@@ -211,7 +216,12 @@ fn shadows_of_65535_identical_triangles() {
     let shadow = tree
         .nodes
         .iter()
-        .find(|f| matches!(f.kind, plytrace::image_tree::FragmentKind::Shadow { .. }))
+        .find(|f| {
+            matches!(
+                f.kind,
+                plytrace::internal::image_tree::FragmentKind::Shadow { .. }
+            )
+        })
         .unwrap();
     assert_eq!(shadow.object, 0, "the shadow falls on the floor");
 }
@@ -278,7 +288,12 @@ fn twenty_thousand_point_lights() {
     let shadows: Vec<_> = tree
         .nodes
         .iter()
-        .filter(|f| matches!(f.kind, plytrace::image_tree::FragmentKind::Shadow { .. }))
+        .filter(|f| {
+            matches!(
+                f.kind,
+                plytrace::internal::image_tree::FragmentKind::Shadow { .. }
+            )
+        })
         .collect();
     // Most lights cast the cube's shadow on the floor.
     assert!(shadows.len() > 10_000, "{}", shadows.len());
@@ -287,7 +302,7 @@ fn twenty_thousand_point_lights() {
             .filter(|k| !f.shadowed_from().contains(k))
             .map(|k| scene.lights[k as usize])
             .collect();
-        let want = plytrace::shading::facet_shade_with(
+        let want = plytrace::internal::shading::facet_shade_with(
             &Materials::new(&scene),
             tree.eye(f),
             f.object,
@@ -339,21 +354,21 @@ fn random_scene(n: usize) -> Scene {
 #[test]
 fn nns_on_20000_random_intersecting_triangles() {
     let scene = random_scene(20_000);
-    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
-    let tree = plytrace::image_tree::build(
+    let view = plytrace::internal::geometry::view::View::new(&scene, 64, 64).unwrap();
+    let tree = plytrace::internal::image_tree::build(
         &Materials::new(&scene),
         &view,
-        plytrace::image_tree::TreeOptions {
+        plytrace::internal::image_tree::TreeOptions {
             nns: true,
             ..Default::default()
         },
     );
     let nns = tree.nns.unwrap();
-    let budgets = plytrace::budget::Budgets::default();
+    let budgets = plytrace::internal::budget::Budgets::default();
     assert!(nns.splits <= budgets.splits);
     // The work is checked between searches: one search may overrun it by
     // what it visits.
-    let max_work = budgets.splits * plytrace::visibility::nns::WORK_PER_SPLIT;
+    let max_work = budgets.splits * plytrace::internal::visibility::nns::WORK_PER_SPLIT;
     assert!(nns.work <= max_work + max_work / 10, "{}", nns.work);
     assert_eq!(tree.roots.len(), nns.faces_out);
     assert!(nns.faces_out >= nns.faces_in);
@@ -366,15 +381,15 @@ fn nns_on_20000_random_intersecting_triangles() {
 #[test]
 fn nns_falls_back_to_the_depth_sort_past_its_split_budget() {
     let scene = random_scene(2_000);
-    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
-    let budgets = plytrace::budget::Budgets {
+    let view = plytrace::internal::geometry::view::View::new(&scene, 64, 64).unwrap();
+    let budgets = plytrace::internal::budget::Budgets {
         splits: 50,
         ..Default::default()
     };
-    let tree = plytrace::image_tree::build(
+    let tree = plytrace::internal::image_tree::build(
         &Materials::new(&scene),
         &view,
-        plytrace::image_tree::TreeOptions {
+        plytrace::internal::image_tree::TreeOptions {
             nns: true,
             budgets,
             ..Default::default()
@@ -438,16 +453,16 @@ fn glass_slabs() -> Scene {
     load(&[("floor", floor_det()), ("cube", cube)], &des)
 }
 
-fn glass_tree(budget: usize) -> plytrace::image_tree::VirtualImageTree {
+fn glass_tree(budget: usize) -> plytrace::internal::image_tree::VirtualImageTree {
     let scene = glass_slabs();
-    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
-    plytrace::image_tree::build(
+    let view = plytrace::internal::geometry::view::View::new(&scene, 64, 64).unwrap();
+    plytrace::internal::image_tree::build(
         &Materials::new(&scene),
         &view,
-        plytrace::image_tree::TreeOptions {
+        plytrace::internal::image_tree::TreeOptions {
             max_level: scene.modes.max_level,
             threshold: scene.threshold,
-            budgets: plytrace::budget::Budgets {
+            budgets: plytrace::internal::budget::Budgets {
                 tree_nodes: budget,
                 ..Default::default()
             },
@@ -509,20 +524,20 @@ fn overlapping_shadows_of_many_lights_stay_within_the_node_budget() {
     }
     des.push_str("popmatrix\n");
     let scene = load(&[("floor", floor_det()), ("cube", cube)], &des);
-    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
-    let options = |tree_nodes| plytrace::image_tree::TreeOptions {
+    let view = plytrace::internal::geometry::view::View::new(&scene, 64, 64).unwrap();
+    let options = |tree_nodes| plytrace::internal::image_tree::TreeOptions {
         shadows: true,
-        budgets: plytrace::budget::Budgets {
+        budgets: plytrace::internal::budget::Budgets {
             tree_nodes,
             ..Default::default()
         },
         ..Default::default()
     };
     let materials = Materials::new(&scene);
-    let free = plytrace::image_tree::build(&materials, &view, options(1 << 20));
+    let free = plytrace::internal::image_tree::build(&materials, &view, options(1 << 20));
     assert!(shadow_count(&free) > 300, "{}", shadow_count(&free));
     let budget = 200;
-    let tree = plytrace::image_tree::build(&materials, &view, options(budget));
+    let tree = plytrace::internal::image_tree::build(&materials, &view, options(budget));
     assert!(tree.nodes.len() <= budget, "{} nodes", tree.nodes.len());
     assert!(tree.pruned > 0);
     assert!(

@@ -3,9 +3,9 @@
 //! CSG results that must stay closed solids.
 
 use glam::{DVec2, DVec3};
-use plytrace::modeling::Generated;
-use plytrace::modeling::csg::{self, Face, Op};
-use plytrace::modeling::{parametric, solid};
+use plytrace::internal::modeling::Generated;
+use plytrace::internal::modeling::csg::{self, Face, Op};
+use plytrace::internal::modeling::{parametric, solid};
 
 /// A generated solid as CSG faces, scaled by `scale` and moved by `offset`.
 fn faces(g: &Generated, scale: f64, offset: DVec3) -> Vec<Face> {
@@ -193,9 +193,9 @@ mod hostile_support {
     use std::sync::mpsc;
     use std::time::Duration;
 
-    use plytrace::budget::Budgets;
-    use plytrace::error::Error;
-    use plytrace::scene::{Interpreter, NoHost};
+    use plytrace::Error;
+    use plytrace::internal::budget::Budgets;
+    use plytrace::internal::scene::{Interpreter, NoHost};
 
     /// Runs `body` as a scene file under `budgets` on another thread,
     /// failing the test past `secs` seconds.
@@ -220,7 +220,7 @@ mod hostile_support {
     }
 }
 
-use plytrace::budget::Budgets;
+use plytrace::internal::budget::Budgets;
 
 #[test]
 fn generators_past_the_model_memory_are_refused_before_building() {
@@ -317,7 +317,7 @@ fn big_lathe_and_extrude_outlines_are_checked_in_seconds() {
 
 #[test]
 fn the_sweep_finds_the_same_first_crossing_as_all_pairs() {
-    use plytrace::modeling::sweep::self_intersection_within;
+    use plytrace::internal::modeling::sweep::self_intersection_within;
     let mut state = 12345u64;
     let mut next = move || {
         state ^= state << 13;
@@ -380,7 +380,7 @@ fn brute_self_intersection(points: &[DVec2]) -> Option<(usize, usize)> {
 }
 
 /// A fan of `n` triangles about a hub at (0, 0, 1).
-fn fan(n: usize, jitter: bool) -> plytrace::model::Mesh {
+fn fan(n: usize, jitter: bool) -> plytrace::internal::model::Mesh {
     let mut vertices = vec![DVec3::new(0.0, 0.0, 1.0)];
     for i in 0..n {
         let mut a = std::f64::consts::TAU * i as f64 / n as f64;
@@ -390,12 +390,12 @@ fn fan(n: usize, jitter: bool) -> plytrace::model::Mesh {
         vertices.push(DVec3::new(0.5 * a.cos(), 0.5 * a.sin(), 0.8));
     }
     let polygons = (0..n as u32).map(|i| [0, 1 + i, 1 + (i + 1) % n as u32]);
-    plytrace::model::Mesh::new(vertices, polygons)
+    plytrace::internal::model::Mesh::new(vertices, polygons)
 }
 
 #[test]
 fn brown_check_of_a_wide_fan_is_fast_and_exact() {
-    use plytrace::modeling::geodesic::check_tessellation;
+    use plytrace::internal::modeling::geodesic::check_tessellation;
     // The hub's nonadjacent minimum against all pairs, on fans of degree
     // 17 to 60 (past the small-fan all-pairs path).
     for n in [17, 23, 40, 60] {
@@ -439,7 +439,7 @@ fn brown_check_of_a_wide_fan_is_fast_and_exact() {
 
 #[test]
 fn a_one_line_patch_file_reads_in_linear_time() {
-    use plytrace::modeling::patch::{self, Form};
+    use plytrace::internal::modeling::patch::{self, Form};
     // 6,000 patches on one line: counting every column from the line's
     // start read 300,000 tokens in quadratic time.
     let mut text = String::from("6000");

@@ -1,15 +1,15 @@
 //! Ctrl-C during scan conversion: a band of many records over many rows
-//! stops when a stop is requested ([`plytrace::cancel`]), instead of
+//! stops when a stop is requested ([`plytrace::internal::cancel`]), instead of
 //! running to its end. The request is process-wide, so this file holds a
 //! single test (its own process), which runs the cases one after another.
 
 use std::sync::mpsc;
 use std::time::Duration;
 
-use plytrace::raster::scan::{
+use plytrace::internal::raster::scan::{
     Method, Row, RowSink, ScanOptions, ScanStats, TransparencyRule, scan_convert,
 };
-use plytrace::tree::{Record, RecordStream, Shades};
+use plytrace::internal::tree::{Record, RecordStream, Shades};
 
 /// Far longer than a cancelled scan takes, far shorter than the whole
 /// scan (minutes): a hang guard, not a measure of promptness.
@@ -66,7 +66,7 @@ fn scan_then_cancel(
     options: ScanOptions,
     after: Duration,
 ) -> (plytrace::Result<ScanStats>, u32) {
-    plytrace::cancel::reset();
+    plytrace::internal::cancel::reset();
     let (send, receive) = mpsc::channel();
     std::thread::spawn(move || {
         let mut rows = Rows(0);
@@ -74,11 +74,11 @@ fn scan_then_cancel(
         let _ = send.send((r, rows.0));
     });
     std::thread::sleep(after);
-    plytrace::cancel::request();
+    plytrace::internal::cancel::request();
     let out = receive
         .recv_timeout(HANG_GUARD)
         .expect("the scan did not stop within the hang guard after the request");
-    plytrace::cancel::reset();
+    plytrace::internal::cancel::reset();
     out
 }
 
@@ -104,12 +104,12 @@ fn a_stop_request_ends_scan_conversion_inside_a_band() {
     assert!(matches!(r, Err(plytrace::Error::Cancelled)), "{r:?}");
 
     // A request made before the scan starts stops it before any band.
-    plytrace::cancel::request();
+    plytrace::internal::cancel::request();
     let r = scan_convert(&squares(3), &options(64, 64, 1), &mut Rows(0));
     assert!(matches!(r, Err(plytrace::Error::Cancelled)), "{r:?}");
 
     // With no request (it was reset) the same scan runs to its end.
-    plytrace::cancel::reset();
+    plytrace::internal::cancel::reset();
     let mut rows = Rows(0);
     let stats = scan_convert(&squares(3), &options(64, 16, 2), &mut rows).unwrap();
     assert_eq!(rows.0, 64);

@@ -8,9 +8,9 @@ use std::time::Duration;
 
 mod support;
 
-use plytrace::budget::Budgets;
-use plytrace::error::Error;
-use plytrace::scene::{Interpreter, NoHost};
+use plytrace::Error;
+use plytrace::internal::budget::Budgets;
+use plytrace::internal::scene::{Interpreter, NoHost};
 use support::within;
 
 const CUBE: &str = "title cube\ndata\n8 6\n\
@@ -159,7 +159,7 @@ fn call_of_a_fifo_is_refused_without_hanging() {
     assert!(m.contains("no geometry file"), "{m}");
     let det = d.path("det/pipe.det");
     let m = within(10, move || {
-        message(&plytrace::scene::object_file::read_det(&det).unwrap_err())
+        message(&plytrace::internal::scene::object_file::read_det(&det).unwrap_err())
     });
     assert!(m.contains("FIFO"), "{m}");
 }
@@ -175,7 +175,9 @@ fn dev_zero_and_directories_are_refused() {
     assert!(m.contains("/dev/zero"), "{m}");
     assert!(m.contains("character device"), "{m}");
     let m = within(10, || {
-        message(&plytrace::scene::object_file::read_det(Path::new("/dev/zero")).unwrap_err())
+        message(
+            &plytrace::internal::scene::object_file::read_det(Path::new("/dev/zero")).unwrap_err(),
+        )
     });
     assert!(m.contains("character device"), "{m}");
     let m = message(&d.run("call det\n").err().unwrap());
@@ -189,7 +191,7 @@ fn a_file_over_the_size_limit_is_refused_before_reading() {
     let big = d.path("big.des");
     std::fs::File::create(&big)
         .unwrap()
-        .set_len(plytrace::scene::interpreter::MAX_SCENE_BYTES + 1)
+        .set_len(plytrace::internal::scene::interpreter::MAX_SCENE_BYTES + 1)
         .unwrap();
     let m = within(10, move || {
         message(&run_file(&big, Budgets::default()).unwrap_err())
@@ -198,10 +200,10 @@ fn a_file_over_the_size_limit_is_refused_before_reading() {
     let big = d.path("det/big.det");
     std::fs::File::create(&big)
         .unwrap()
-        .set_len(plytrace::scene::object_file::MAX_INPUT_BYTES + 1)
+        .set_len(plytrace::internal::scene::object_file::MAX_INPUT_BYTES + 1)
         .unwrap();
     let m = within(10, move || {
-        message(&plytrace::scene::object_file::read_det(&big).unwrap_err())
+        message(&plytrace::internal::scene::object_file::read_det(&big).unwrap_err())
     });
     assert!(m.contains("more than the 1073741824 bytes"), "{m}");
 }
@@ -270,8 +272,8 @@ fn polygons_read_from_files_count() {
 #[derive(Default)]
 struct Runs(usize);
 
-impl plytrace::scene::Host for Runs {
-    fn run(&mut self, _: &plytrace::scene::Scene, _: bool) -> plytrace::error::Result<()> {
+impl plytrace::internal::scene::Host for Runs {
+    fn run(&mut self, _: &plytrace::internal::scene::Scene, _: bool) -> plytrace::Result<()> {
         self.0 += 1;
         Ok(())
     }

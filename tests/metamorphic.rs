@@ -13,9 +13,9 @@
 
 mod support;
 
-use plytrace::raster::scan::Method;
-use plytrace::render::{RenderOptions, Rendered, render};
-use plytrace::scene::Scene;
+use plytrace::internal::raster::scan::Method;
+use plytrace::internal::render::{RenderOptions, Rendered, render};
+use plytrace::internal::scene::Scene;
 
 const SIZE: u32 = 64;
 
@@ -59,7 +59,7 @@ fn scene(camera: &str, world: &str, objects: &[&str], extra: &str) -> Scene {
         ),
     )
     .unwrap();
-    let (scene, warnings) = plytrace::scene::load(&path).unwrap();
+    let (scene, warnings) = plytrace::internal::scene::load(&path).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     assert_eq!(scene.objects.len(), objects.len());
     scene

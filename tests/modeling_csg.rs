@@ -8,21 +8,21 @@ mod support;
 use std::collections::HashMap;
 
 use glam::DVec3;
-use plytrace::error::Diagnostic;
-use plytrace::model::Object;
-use plytrace::scene::Scene;
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::internal::error::Diagnostic;
+use plytrace::internal::model::Object;
+use plytrace::internal::scene::Scene;
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 const PRELUDE: &str =
     "resolution 48 48\nperspective 40 1 0.1 100\npolarview 8 30 60 0\npushmatrix\nident\n";
 
 /// The scene, and its warnings followed by its notes (a CSG operation's
 /// figures are a note, not a warning).
-fn try_scene(body: &str) -> plytrace::error::Result<(Scene, Vec<Diagnostic>)> {
+fn try_scene(body: &str) -> plytrace::Result<(Scene, Vec<Diagnostic>)> {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("c.des");
     std::fs::write(&path, format!("{PRELUDE}{body}\npopmatrix\n")).unwrap();
-    plytrace::scene::load_with_notes(&path).map(|(s, mut w, n)| {
+    plytrace::internal::scene::load_with_notes(&path).map(|(s, mut w, n)| {
         w.extend(n);
         (s, w)
     })
@@ -237,7 +237,9 @@ fn bad_csg_is_a_located_error() {
         format!("{PRELUDE}defobj tri\nendobj\ndefobj b\n{box_}\nendobj\ndefobj r\nunion tri b\nendobj\npopmatrix\n"),
     )
     .unwrap();
-    let e = plytrace::scene::load(&path).unwrap_err().to_string();
+    let e = plytrace::internal::scene::load(&path)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("not a closed solid") && e.contains("hole"),
         "{e}"

@@ -5,10 +5,10 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
-use plytrace::error::Error;
-use plytrace::model::{ColorEntry, Mesh};
-use plytrace::scene::mesh_import::*;
-use plytrace::scene::object_file::*;
+use plytrace::Error;
+use plytrace::internal::model::{ColorEntry, Mesh};
+use plytrace::internal::scene::mesh_import::*;
+use plytrace::internal::scene::object_file::*;
 use proptest::prelude::*;
 
 fn fixture(name: &str) -> PathBuf {

@@ -5,9 +5,9 @@
 
 mod support;
 
-use plytrace::image_tree::{self, TreeOptions};
-use plytrace::render::{RenderOptions, render};
-use plytrace::shading::Materials;
+use plytrace::internal::image_tree::{self, TreeOptions};
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::shading::Materials;
 
 fn pool(n: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
@@ -24,11 +24,11 @@ const SCENES: [&str; 2] = ["office2.des", "gallery.des"];
 #[test]
 fn the_tree_does_not_depend_on_the_thread_count() {
     for name in SCENES {
-        let mut scene = plytrace::scene::load(&support::scene_fixture(name))
+        let mut scene = plytrace::internal::scene::load(&support::scene_fixture(name))
             .unwrap()
             .0;
         scene.modes.max_level = scene.modes.max_level.min(4);
-        let view = plytrace::geometry::view::View::new(&scene, 48, 48).unwrap();
+        let view = plytrace::internal::geometry::view::View::new(&scene, 48, 48).unwrap();
         let options = TreeOptions {
             max_level: scene.modes.max_level,
             shadows: true,
@@ -60,7 +60,7 @@ fn the_tree_does_not_depend_on_the_thread_count() {
 #[test]
 fn the_picture_does_not_depend_on_the_thread_count() {
     for name in SCENES {
-        let scene = plytrace::scene::load(&support::scene_fixture(name))
+        let scene = plytrace::internal::scene::load(&support::scene_fixture(name))
             .unwrap()
             .0;
         let options = |threads| RenderOptions {
@@ -72,7 +72,7 @@ fn the_picture_does_not_depend_on_the_thread_count() {
         let one = render(&scene, &options(1)).unwrap();
         for threads in [2, 3] {
             let many = render(&scene, &options(threads)).unwrap();
-            let bits = |r: &plytrace::render::Rendered| {
+            let bits = |r: &plytrace::internal::render::Rendered| {
                 r.frame
                     .color
                     .iter()

@@ -6,15 +6,15 @@
 
 use std::path::{Path, PathBuf};
 
-use plytrace::error::Result;
-use plytrace::model::Scene;
-use plytrace::output::{DisplayMode, PngSink};
-use plytrace::part::{MergeFormat, PartInfo, PartSink, PartSpec};
-use plytrace::raster::frame_buffer::FrameBuffer;
-use plytrace::raster::scan::Method;
-use plytrace::render::{Plan, Prepared, RenderOptions, plan, scan_rows};
-use plytrace::scene::Host;
-use plytrace::scene::interpreter::Interpreter;
+use plytrace::Result;
+use plytrace::internal::model::Scene;
+use plytrace::internal::output::{DisplayMode, PngSink};
+use plytrace::internal::part::{MergeFormat, PartInfo, PartSink, PartSpec};
+use plytrace::internal::raster::frame_buffer::FrameBuffer;
+use plytrace::internal::raster::scan::Method;
+use plytrace::internal::render::{Plan, Prepared, RenderOptions, plan, scan_rows};
+use plytrace::internal::scene::Host;
+use plytrace::internal::scene::interpreter::Interpreter;
 
 const SIZE: (u32, u32) = (64, 48);
 const COUNTS: [u32; 5] = [1, 2, 3, 7, 64];
@@ -67,8 +67,12 @@ fn parts(prepared: &Prepared, mode: DisplayMode, count: u32, dir: &Path) -> Vec<
     (0..count)
         .map(|index| {
             let spec = PartSpec { index, count };
-            let rows =
-                plytrace::raster::scan::part_rows(&prepared.picture, &prepared.scan, index, count);
+            let rows = plytrace::internal::raster::scan::part_rows(
+                &prepared.picture,
+                &prepared.scan,
+                index,
+                count,
+            );
             let path = dir.join(format!("part-{count}-{index}.png"));
             let info = PartInfo {
                 part: spec,
@@ -127,7 +131,8 @@ fn merged_parts_are_the_image_byte_for_byte() {
                 for count in COUNTS {
                     let files = parts(&prepared, mode, count, dir.path());
                     let out = dir.path().join("merged.png");
-                    plytrace::part::merge(&files, Some(&out), None, &Default::default()).unwrap();
+                    plytrace::internal::part::merge(&files, Some(&out), None, &Default::default())
+                        .unwrap();
                     assert!(
                         std::fs::read(&out).unwrap() == whole,
                         "{what}: {count} parts merged differ from the image"
@@ -138,9 +143,9 @@ fn merged_parts_are_the_image_byte_for_byte() {
                         let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
                         scan_rows(&prepared, 0..h, &mut frame).unwrap();
                         let ppm = dir.path().join("whole.ppm");
-                        plytrace::output::write_ppm(&ppm, &frame, scene.outmode).unwrap();
+                        plytrace::internal::output::write_ppm(&ppm, &frame, scene.outmode).unwrap();
                         let merged = dir.path().join("merged.ppm");
-                        plytrace::part::merge(
+                        plytrace::internal::part::merge(
                             &files,
                             Some(&merged),
                             Some(MergeFormat::Ppm),

@@ -17,19 +17,19 @@
 mod support;
 
 use glam::DVec3;
-use plytrace::geometry::view::View;
-use plytrace::image_tree::Refraction;
-use plytrace::raster::scan::Method;
-use plytrace::raytrace::{self, RayTraceOptions, RayTracer};
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::Scene;
-use plytrace::shading::ShadingModel;
+use plytrace::internal::geometry::view::View;
+use plytrace::internal::image_tree::Refraction;
+use plytrace::internal::raster::scan::Method;
+use plytrace::internal::raytrace::{self, RayTraceOptions, RayTracer};
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::Scene;
+use plytrace::internal::shading::ShadingModel;
 
 fn scene_of(text: &str) -> Scene {
     let dir = support::cube_and_square_dir();
     let path = dir.path().join("s.des");
     std::fs::write(&path, text).unwrap();
-    plytrace::scene::load(&path).unwrap().0
+    plytrace::internal::scene::load(&path).unwrap().0
 }
 
 /// Where a ray from (0, 0, 10) going down at 45 degrees along +x meets
@@ -131,7 +131,7 @@ fn agreement(scene: &Scene, size: u32, model: Refraction, aa: Method) -> (f64, u
 
 /// The pool of underwater.des with its water fully transparent.
 fn clear_pool() -> Scene {
-    let mut scene = plytrace::scene::load(&support::scene_fixture("underwater.des"))
+    let mut scene = plytrace::internal::scene::load(&support::scene_fixture("underwater.des"))
         .unwrap()
         .0;
     for o in &mut scene.objects {
@@ -229,7 +229,7 @@ fn auto_picks_exact_when_the_linear_map_is_off_and_says_so() {
     assert!(r.stats.raytrace.is_some_and(|s| s.rays > 0));
     // Seen straight down in parallel projection the linear map is exact.
     let mut straight = scene.clone();
-    straight.projection = plytrace::math::ortho(-3.2, 3.2, -3.2, 3.2, 0.01, 1000.0);
+    straight.projection = plytrace::internal::math::ortho(-3.2, 3.2, -3.2, 3.2, 0.01, 1000.0);
     let r = render(
         &straight,
         &RenderOptions {

@@ -6,9 +6,9 @@ mod support;
 
 use std::path::Path;
 
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::{self, Scene};
-use plytrace::shading::Materials;
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::{self, Scene};
+use plytrace::internal::shading::Materials;
 
 fn ccube() -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ccube.des");
@@ -19,7 +19,7 @@ fn byte(v: f64) -> u8 {
     (v * 255.0).round() as u8
 }
 
-fn rgb(r: &plytrace::render::Rendered, x: u32, y: u32) -> [u8; 3] {
+fn rgb(r: &plytrace::internal::render::Rendered, x: u32, y: u32) -> [u8; 3] {
     r.frame.pixel(x, y).map(|c| (c * 255.0).round() as u8)
 }
 
@@ -85,7 +85,7 @@ fn assert_matches_oracle(scene: &Scene, size: u32) {
     )
     .unwrap();
     let mut scene = scene.clone();
-    scene.viewport = plytrace::model::Viewport::of_size(size, size);
+    scene.viewport = plytrace::internal::model::Viewport::of_size(size, size);
     let oracle = support::oracle_ids(&scene, size, size);
     let painted = support::painted_ids(&r);
     let (checked, bad) = support::mismatches(&oracle, &painted, size, size);
@@ -136,7 +136,7 @@ fn front_to_back_and_back_to_front_agree_on_separated_polygons() {
     .unwrap();
     let mut scene = scene::load(&scene_path).unwrap().0;
     let a = render(&scene, &RenderOptions::default()).unwrap();
-    scene.sort_order = plytrace::model::SortOrder::FrontToBack;
+    scene.sort_order = plytrace::internal::model::SortOrder::FrontToBack;
     let b = render(&scene, &RenderOptions::default()).unwrap();
     let (ia, ib) = (support::painted_ids(&a), support::painted_ids(&b));
     let differing = ia.iter().zip(&ib).filter(|(x, y)| x != y).count();
@@ -239,7 +239,7 @@ fn phong_keeps_a_highlight_inside_a_polygon() {
 #[test]
 fn parent_shade_interpolation_of_figure_4_16() {
     use glam::DVec3;
-    use plytrace::shading::interpolate_in_polygon;
+    use plytrace::internal::shading::interpolate_in_polygon;
     // A triangle with a linear value x + 2y: exact everywhere inside.
     let tri = [
         DVec3::new(0.0, 0.0, 0.0),
@@ -291,7 +291,7 @@ fn gouraud_tree_records() {
     let gouraud = tree
         .records
         .iter()
-        .filter(|r| matches!(r.shades, plytrace::tree::Shades::Gouraud(_)))
+        .filter(|r| matches!(r.shades, plytrace::internal::tree::Shades::Gouraud(_)))
         .count();
     assert!(gouraud > 10 && tree.records.iter().any(|r| r.level == 2));
 }
@@ -345,14 +345,14 @@ fn vertex_colours_are_interpolated() {
 #[test]
 fn transparency_per_vertex_follows_the_roll_off() {
     let scene = square_scene(&[], "defobj square\n transparency 0.8 2\nendobj");
-    let view = plytrace::geometry::view::View::new(&scene, 65, 65).unwrap();
+    let view = plytrace::internal::geometry::view::View::new(&scene, 65, 65).unwrap();
     let o = &scene.objects[0];
     let world: Vec<glam::DVec3> = o.polygons[0]
         .indices
         .iter()
         .map(|&i| o.vertices[i as usize])
         .collect();
-    let kt = plytrace::shading::vertex_transparency(
+    let kt = plytrace::internal::shading::vertex_transparency(
         &Materials::new(&scene),
         view.eye,
         0,
@@ -366,7 +366,7 @@ fn transparency_per_vertex_follows_the_roll_off() {
         assert!((k as f64 - 0.8 * cos * cos).abs() < 1e-6, "{k}");
     }
     let centre = [world.iter().copied().sum::<glam::DVec3>() / 4.0];
-    let kt = plytrace::shading::vertex_transparency(
+    let kt = plytrace::internal::shading::vertex_transparency(
         &Materials::new(&scene),
         view.eye,
         0,
@@ -385,7 +385,7 @@ fn transparency_per_vertex_follows_the_roll_off() {
 #[test]
 fn light_kinds_and_tree_output_do_not_change_the_picture() {
     let mut scene = ccube();
-    scene.sort_order = plytrace::model::SortOrder::FrontToBack;
+    scene.sort_order = plytrace::internal::model::SortOrder::FrontToBack;
     let options = RenderOptions {
         shadows: true,
         ..RenderOptions::default()
@@ -393,7 +393,7 @@ fn light_kinds_and_tree_output_do_not_change_the_picture() {
     let point = render(&scene, &options).unwrap();
     let mut diffuse = scene.clone();
     for l in &mut diffuse.lights {
-        l.kind = plytrace::model::LightKind::Diffuse;
+        l.kind = plytrace::internal::model::LightKind::Diffuse;
     }
     let diffuse = render(&diffuse, &options).unwrap();
     let (w, h) = (point.frame.width, point.frame.height);
@@ -417,12 +417,12 @@ fn light_kinds_and_tree_output_do_not_change_the_picture() {
 #[test]
 fn image_space_algorithms_refuse_the_tree_by_name() {
     let path = support::scene_fixture("mirror.des");
-    let scene = plytrace::scene::load(&path).unwrap().0;
+    let scene = plytrace::internal::scene::load(&path).unwrap().0;
     for algorithm in [
-        plytrace::visibility::Algorithm::ZBuffer,
-        plytrace::visibility::Algorithm::ScanLine,
-        plytrace::visibility::Algorithm::Warnock,
-        plytrace::visibility::Algorithm::RayCast,
+        plytrace::internal::visibility::Algorithm::ZBuffer,
+        plytrace::internal::visibility::Algorithm::ScanLine,
+        plytrace::internal::visibility::Algorithm::Warnock,
+        plytrace::internal::visibility::Algorithm::RayCast,
     ] {
         let options = RenderOptions {
             visibility: Some(algorithm),
@@ -444,7 +444,7 @@ fn image_space_algorithms_refuse_the_tree_by_name() {
 /// without shadows (one run, the tree freed on another thread).
 #[test]
 fn records_made_while_freeing_the_tree_are_the_records_of_the_tree() {
-    use plytrace::image_tree::{self, TreeOptions};
+    use plytrace::internal::image_tree::{self, TreeOptions};
     let office2 = support::scene_fixture("office2.des");
     let dir = tempfile::tempdir().unwrap();
     std::os::unix::fs::symlink(office2.with_file_name("det"), dir.path().join("det")).unwrap();
@@ -458,7 +458,7 @@ fn records_made_while_freeing_the_tree_are_the_records_of_the_tree() {
     let des = dir.path().join("office2.des");
     std::fs::write(&des, text).unwrap();
     let scene = scene::load(&des).unwrap().0;
-    let view = plytrace::geometry::view::View::new(&scene, 64, 64).unwrap();
+    let view = plytrace::internal::geometry::view::View::new(&scene, 64, 64).unwrap();
     let materials = Materials::new(&scene);
     for shadows in [true, false] {
         let options = TreeOptions {
@@ -479,11 +479,11 @@ fn records_made_while_freeing_the_tree_are_the_records_of_the_tree() {
 
 fn same_records_while_freeing(
     materials: &Materials,
-    tree: &plytrace::image_tree::VirtualImageTree,
-    view: &plytrace::geometry::view::View,
+    tree: &plytrace::internal::image_tree::VirtualImageTree,
+    view: &plytrace::internal::geometry::view::View,
 ) {
-    use plytrace::emit::{self, Emit};
-    use plytrace::model::SortOrder;
+    use plytrace::internal::emit::{self, Emit};
+    use plytrace::internal::model::SortOrder;
     for order in [SortOrder::FrontToBack, SortOrder::BackToFront] {
         for blended in [false, true] {
             let how = Emit {

@@ -4,13 +4,13 @@
 mod support;
 
 use glam::DVec2;
-use plytrace::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
-use plytrace::raster::scan::{
+use plytrace::internal::raster::frame_buffer::{FrameBuffer, PaintItem, PaintMode};
+use plytrace::internal::raster::scan::{
     Method, PixelStruct, Row, RowSink, SavedFragment, ScanOptions, ScanStats, TransparencyRule,
     scan_convert,
 };
-use plytrace::shading::PhongVertices;
-use plytrace::tree::{PhongShades, Record, RecordStream, Shades};
+use plytrace::internal::shading::PhongVertices;
+use plytrace::internal::tree::{PhongShades, Record, RecordStream, Shades};
 use proptest::prelude::*;
 use support::within;
 

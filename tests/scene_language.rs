@@ -5,10 +5,10 @@
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
-use plytrace::error::Result;
-use plytrace::math::Matrix4;
-use plytrace::model::*;
-use plytrace::scene::{Flow, Host, Interpreter, NoHost, Scene};
+use plytrace::Result;
+use plytrace::internal::math::Matrix4;
+use plytrace::internal::model::*;
+use plytrace::internal::scene::{Flow, Host, Interpreter, NoHost, Scene};
 
 const SQUARE: &str =
     "title square facing +z\ndata\n4 1\n-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n4 4 3 2 1\n";
@@ -312,7 +312,7 @@ mod deleting {
     fn deleted_polygons_leave_the_budget() {
         let f = Fixture::new();
         let mut i = Interpreter::new();
-        i.set_budgets(plytrace::budget::Budgets {
+        i.set_budgets(plytrace::internal::budget::Budgets {
             polygons: 7,
             ..Default::default()
         });
@@ -331,7 +331,7 @@ mod deleting {
             .expect("cube 0 went before the missing 5");
         // Many references in one statement (looked up by number and name).
         let mut i = Interpreter::new();
-        i.set_budgets(plytrace::budget::Budgets {
+        i.set_budgets(plytrace::internal::budget::Budgets {
             polygons: 12,
             ..Default::default()
         });
@@ -397,27 +397,27 @@ fn matrix_commands_premultiply_and_projections_load() {
     let i = f.run("translate 5 5 5\nperspective 60 2 1 10\n").unwrap();
     assert!(mat_close(
         &i.ctm(),
-        &plytrace::math::perspective(60.0, 2.0, 1.0, 10.0)
+        &plytrace::internal::math::perspective(60.0, 2.0, 1.0, 10.0)
     ));
     let i = f.run("translate 5 5 5\northo -1 1 -2 2 0 10\n").unwrap();
     assert!(mat_close(
         &i.ctm(),
-        &plytrace::math::ortho(-1.0, 1.0, -2.0, 2.0, 0.0, 10.0)
+        &plytrace::internal::math::ortho(-1.0, 1.0, -2.0, 2.0, 0.0, 10.0)
     ));
     let i = f.run("translate 5 5 5\northo2 -1 1 -2 2\n").unwrap();
     assert!(mat_close(
         &i.ctm(),
-        &plytrace::scene::interpreter::ortho2(-1.0, 1.0, -2.0, 2.0)
+        &plytrace::internal::scene::interpreter::ortho2(-1.0, 1.0, -2.0, 2.0)
     ));
     let i = f.run("translate 5 5 5\nwindow -1 1 -1 1 1 10\n").unwrap();
     assert!(mat_close(
         &i.ctm(),
-        &plytrace::math::window(-1.0, 1.0, -1.0, 1.0, 1.0, 10.0)
+        &plytrace::internal::math::window(-1.0, 1.0, -1.0, 1.0, 1.0, 10.0)
     ));
     let i = f.run("translate 5 5 5\nresolution 640 480\n").unwrap();
     assert!(mat_close(
         &i.ctm(),
-        &plytrace::math::perspective(45.0, 640.0 / 480.0, 0.01, 10000.0)
+        &plytrace::internal::math::perspective(45.0, 640.0 / 480.0, 0.01, 10000.0)
     ));
     let s = i.scene();
     assert_eq!((s.viewport.width(), s.viewport.height()), (640, 480));
@@ -452,7 +452,7 @@ fn matrix_commands_premultiply_and_projections_load() {
 #[test]
 fn ccube_vertex_hand_worked() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ccube.des");
-    let (s, warnings) = plytrace::scene::load(&path).unwrap();
+    let (s, warnings) = plytrace::internal::scene::load(&path).unwrap();
     assert!(warnings.is_empty());
     let (s30, c30) = 30f64.to_radians().sin_cos();
     // rotate 30 z, then translate (0, 0, 1.05), then translate (0, 0, -1):
@@ -480,7 +480,7 @@ fn ccube_vertex_hand_worked() {
     // The projection left at the end is the perspective.
     assert!(mat_close(
         &s.projection,
-        &plytrace::math::perspective(45.0, 1.0, 0.01, 1000.0)
+        &plytrace::internal::math::perspective(45.0, 1.0, 0.01, 1000.0)
     ));
     assert_eq!(s.fname.as_deref(), Some("ccube"));
 }
@@ -654,7 +654,7 @@ fn clockwise_polygons_face_outward_and_mirrors_keep_them_so() {
 
 #[test]
 fn ortho2_does_not_clip_z() {
-    use plytrace::geometry::clip::outcode;
+    use plytrace::internal::geometry::clip::outcode;
     let f = Fixture::new();
     let i = f.run("ortho2 -1 1 -1 1\n").unwrap();
     for z in [-1e6, -50.0, 0.0, 50.0, 1e6] {
@@ -723,7 +723,7 @@ fn lookat_with_parentheses() {
 /// the nearer hides the farther.
 #[test]
 fn ortho2_renders_without_z_clipping_and_keeps_depth_order() {
-    use plytrace::render::{RenderOptions, render};
+    use plytrace::internal::render::{RenderOptions, render};
     let f = Fixture::new();
     let s = f.scene(
         "viewport 0 63 0 63\northo2 -2 2 -2 2\npushmatrix\nident\n\

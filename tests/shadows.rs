@@ -8,13 +8,13 @@
 mod support;
 
 use glam::DVec3;
-use plytrace::geometry::view::View;
-use plytrace::image_tree::{self, FragmentKind, TreeOptions};
-use plytrace::model::LightKind;
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::Scene;
-use plytrace::shading::Materials;
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::internal::geometry::view::View;
+use plytrace::internal::image_tree::{self, FragmentKind, TreeOptions};
+use plytrace::internal::model::LightKind;
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::Scene;
+use plytrace::internal::shading::Materials;
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 fn level_one(name: &str) -> Scene {
     let path = if name == "ccube.des" {
@@ -22,7 +22,7 @@ fn level_one(name: &str) -> Scene {
     } else {
         support::scene_fixture(name)
     };
-    let mut scene = plytrace::scene::load(&path).unwrap().0;
+    let mut scene = plytrace::internal::scene::load(&path).unwrap().0;
     scene.modes.max_level = 1;
     scene.modes.nns = true;
     scene

@@ -10,12 +10,12 @@
 
 mod support;
 
-use plytrace::render::Rendered;
-use plytrace::scene::Scene;
-use plytrace::vector::{self, Format, Style};
+use plytrace::internal::render::Rendered;
+use plytrace::internal::scene::Scene;
+use plytrace::internal::vector::{self, Format, Style};
 
 fn scene(name: &str) -> Scene {
-    plytrace::scene::load(&support::scene_fixture(name))
+    plytrace::internal::scene::load(&support::scene_fixture(name))
         .unwrap()
         .0
 }
@@ -24,7 +24,7 @@ fn scene_text(des: &str) -> Scene {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("v.des");
     std::fs::write(&path, des).unwrap();
-    plytrace::scene::load(&path).unwrap().0
+    plytrace::internal::scene::load(&path).unwrap().0
 }
 
 /// Writes an RGB raster as PNG (for looking at failures).
@@ -46,7 +46,8 @@ fn interior(r: &Rendered) -> Vec<bool> {
 fn object_mismatch(name: &str) -> (usize, usize) {
     let sc = scene(name);
     let r = support::vector_png(&sc);
-    let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
+    let input =
+        plytrace::internal::render::vector::prepare(&sc, &support::vector_options()).unwrap();
     let svg = vector::svg::to_svg(&vector::picture(&input, Style::Ids));
     let (w, h) = (r.frame.width, r.frame.height);
     let raster = support::resvg_rgb(&svg, w, h);
@@ -100,7 +101,8 @@ fn shaded_svg_matches_the_png_s_colours() {
     ] {
         let sc = scene(name);
         let r = support::vector_png(&sc);
-        let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
+        let input =
+            plytrace::internal::render::vector::prepare(&sc, &support::vector_options()).unwrap();
         let svg = vector::svg::to_svg(&vector::picture(&input, Style::Shaded));
         let (w, h) = (r.frame.width, r.frame.height);
         let raster = support::resvg_rgb(&svg, w, h);
@@ -165,7 +167,8 @@ fn seam_share(svg: &[u8], r: &Rendered) -> (usize, usize) {
 fn a_one_colour_sphere_of_5120_triangles_has_no_seams() {
     let sc = one_colour_sphere("");
     let r = support::vector_png(&sc);
-    let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
+    let input =
+        plytrace::internal::render::vector::prepare(&sc, &support::vector_options()).unwrap();
     eprintln!("sphere records: {}", input.stream.records.len());
     assert!(input.stream.records.len() > 1500);
     let svg = vector::svg::to_svg(&vector::picture(&input, Style::Shaded));
@@ -196,7 +199,8 @@ fn a_one_colour_sphere_of_5120_triangles_has_no_seams() {
 #[test]
 fn pdf_is_one_upright_page_with_type_4_shadings_for_gouraud() {
     let sc = sphere("setmode v on", "curved");
-    let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
+    let input =
+        plytrace::internal::render::vector::prepare(&sc, &support::vector_options()).unwrap();
     let pic = vector::picture(&input, Style::Shaded);
     assert!(
         pic.items
@@ -219,7 +223,8 @@ fn pdf_is_one_upright_page_with_type_4_shadings_for_gouraud() {
 #[test]
 fn tikz_is_one_picture_with_the_frame_as_bounding_box() {
     let sc = scene("cycles.des");
-    let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
+    let input =
+        plytrace::internal::render::vector::prepare(&sc, &support::vector_options()).unwrap();
     let pic = vector::picture(&input, Style::Shaded);
     let tex = String::from_utf8(vector::tikz::to_tikz(&pic)).unwrap();
     assert_eq!(tex.matches("\\begin{tikzpicture}").count(), 1);
@@ -256,7 +261,8 @@ fn tikz_is_one_picture_with_the_frame_as_bounding_box() {
 fn gouraud_sphere_in_flat_pieces_matches_the_png() {
     let sc = sphere("setmode v on", "curved");
     let r = support::vector_png(&sc);
-    let input = plytrace::render::vector::prepare(&sc, &support::vector_options()).unwrap();
+    let input =
+        plytrace::internal::render::vector::prepare(&sc, &support::vector_options()).unwrap();
     let svg = vector::svg::to_svg(&vector::picture(&input, Style::Shaded));
     let raster = support::resvg_rgb(&svg, r.frame.width, r.frame.height);
     // Pixels with the sphere all over their 5 x 5 neighbourhood: the

@@ -36,7 +36,7 @@
 //!   it (NNS cuts the star along the whole line), so that the star's
 //!   pieces are separate paths with the square painted between them.
 //!
-//! Before the vertex caps of `plytrace::vector::seal` (resvg, rsvg-convert,
+//! Before the vertex caps of `plytrace::internal::vector::seal` (resvg, rsvg-convert,
 //! pdftoppm): the surface had 60.6, 63.2 and 45.4 % of its interior
 //! pixels off, the mesh 60.8, 62.7 and 46.1 %, the star 0.44, 0.43 and
 //! 0.30 %.
@@ -47,9 +47,9 @@
 
 mod support;
 
-use plytrace::render::Rendered;
-use plytrace::scene::Scene;
-use plytrace::vector::{self, Item, Picture, Style};
+use plytrace::internal::render::Rendered;
+use plytrace::internal::scene::Scene;
+use plytrace::internal::vector::{self, Item, Picture, Style};
 
 /// Share of interior pixels that may be off, per figure and rasterizer.
 const LIMIT: f64 = 0.0005;
@@ -131,13 +131,13 @@ fn surface(dir: &std::path::Path) -> Scene {
          popmatrix\n",
     )
     .unwrap();
-    plytrace::scene::load(&des).unwrap().0
+    plytrace::internal::scene::load(&des).unwrap().0
 }
 
 fn scene_text(dir: &std::path::Path, name: &str, des: &str) -> Scene {
     let path = dir.join(name);
     std::fs::write(&path, des).unwrap();
-    plytrace::scene::load(&path).unwrap().0
+    plytrace::internal::scene::load(&path).unwrap().0
 }
 
 /// A geodesic sphere of 69,620 triangles (59 divisions), lit by a
@@ -344,7 +344,8 @@ fn cracks(
 ) -> Vec<(&'static str, usize, usize)> {
     let r = support::vector_png(scene);
     let (w, h) = (r.frame.width, r.frame.height);
-    let input = plytrace::render::vector::prepare(scene, &support::vector_options()).unwrap();
+    let input =
+        plytrace::internal::render::vector::prepare(scene, &support::vector_options()).unwrap();
     let pic = vector::picture(&input, Style::Shaded);
     let svg = vector::svg::to_svg(&pic);
     let pdf = vector::pdf::to_pdf(&pic);
@@ -432,14 +433,15 @@ fn a_colormapped_surface_has_no_cracks() {
     check("surface", &figures, 60_000);
     // The same faces painted one path each, without caps, do crack: the
     // test can see cracks.
-    let input = plytrace::render::vector::prepare(&scene, &support::vector_options()).unwrap();
+    let input =
+        plytrace::internal::render::vector::prepare(&scene, &support::vector_options()).unwrap();
     let mut unsealed = vector::picture(&input, Style::Shaded);
     unsealed.items = input
         .stream
         .records
         .iter()
         .filter_map(|rec| match rec.shades {
-            plytrace::tree::Shades::Faceted(color) => Some(Item::Fill {
+            plytrace::internal::tree::Shades::Faceted(color) => Some(Item::Fill {
                 paths: vec![vector::user_points(rec, 512.0, 512.0)],
                 color,
                 opacity: 1.0,
@@ -506,7 +508,8 @@ fn silhouettes_grow_by_at_most_half_a_pixel() {
         ("mesh", mesh(dir.path())),
         ("star", star(dir.path())),
     ] {
-        let input = plytrace::render::vector::prepare(&scene, &support::vector_options()).unwrap();
+        let input = plytrace::internal::render::vector::prepare(&scene, &support::vector_options())
+            .unwrap();
         let pic = vector::picture(&input, Style::Shaded);
         let (w, h) = (input.width, input.height);
         let test = white(&pic);

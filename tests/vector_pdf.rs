@@ -7,12 +7,13 @@
 
 mod support;
 
-use plytrace::scene::Scene;
-use plytrace::vector::{self, Style};
+use plytrace::internal::scene::Scene;
+use plytrace::internal::vector::{self, Style};
 
 /// The PDF of `scene` as pdftoppm paints it: RGB rows, top first.
 fn pdf_raster(scene: &Scene) -> (Vec<[u8; 3]>, u32, u32) {
-    let input = plytrace::render::vector::prepare(scene, &support::vector_options()).unwrap();
+    let input =
+        plytrace::internal::render::vector::prepare(scene, &support::vector_options()).unwrap();
     let pdf = vector::pdf::to_pdf(&vector::picture(&input, Style::Shaded));
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("p.pdf");
@@ -48,7 +49,7 @@ fn pdf_shows_the_png_s_colours_on_the_scenes() {
         ("office1.des", 0.005),
         ("mirror.des", 0.005),
     ] {
-        let sc = plytrace::scene::load(&support::scene_fixture(name))
+        let sc = plytrace::internal::scene::load(&support::scene_fixture(name))
             .unwrap()
             .0;
         let (checked, bad) = compare(&sc);
@@ -73,7 +74,7 @@ fn gouraud_sphere_as_type_4_shadings_matches_the_png() {
          radial sphere\nendobj\npopmatrix\n",
     )
     .unwrap();
-    let sc = plytrace::scene::load(&path).unwrap().0;
+    let sc = plytrace::internal::scene::load(&path).unwrap().0;
     let (checked, bad) = compare(&sc);
     eprintln!("gouraud sphere: {bad} of {checked} interior pixels differ by > 12 levels");
     assert!(checked > 10_000);

@@ -7,9 +7,9 @@
 
 mod support;
 
-use plytrace::render::RenderOptions;
-use plytrace::scene::Scene;
-use plytrace::vector::{self, Style};
+use plytrace::internal::render::RenderOptions;
+use plytrace::internal::scene::Scene;
+use plytrace::internal::vector::{self, Style};
 
 fn pool(n: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
@@ -20,7 +20,7 @@ fn pool(n: usize) -> rayon::ThreadPool {
 
 /// Loading included: an object's planes are found in parallel too.
 fn load(path: &std::path::Path) -> Scene {
-    plytrace::scene::load(path).unwrap().0
+    plytrace::internal::scene::load(path).unwrap().0
 }
 
 fn svg(path: &std::path::Path, style: Style) -> Vec<u8> {
@@ -29,7 +29,7 @@ fn svg(path: &std::path::Path, style: Style) -> Vec<u8> {
         shadows: true,
         ..RenderOptions::default()
     };
-    let input = plytrace::render::vector::prepare_for(&scene, &options, style).unwrap();
+    let input = plytrace::internal::render::vector::prepare_for(&scene, &options, style).unwrap();
     vector::svg::to_svg(&vector::picture(&input, style))
 }
 

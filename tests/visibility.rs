@@ -8,10 +8,10 @@ mod support;
 
 use std::path::Path;
 
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::Scene;
-use plytrace::visibility::Algorithm;
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::Scene;
+use plytrace::internal::visibility::Algorithm;
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 /// (pixels checked, pixels differing, first differing pixels).
 fn compare(scene: &Scene, algorithm: Algorithm, size: u32) -> (usize, usize, Vec<(u32, u32)>) {
@@ -55,7 +55,7 @@ fn assert_agrees(name: &str, scene: &Scene, algorithm: Algorithm, size: u32) {
 /// reflecting oracle in tests/reflection.rs).
 fn shared(name: &str) -> Scene {
     let path = support::scene_fixture(name);
-    let mut scene = plytrace::scene::load(&path).unwrap().0;
+    let mut scene = plytrace::internal::scene::load(&path).unwrap().0;
     scene.modes.max_level = 1;
     // Visibility only: the image-space algorithms refuse transparency.
     for o in &mut scene.objects {
@@ -78,7 +78,7 @@ const SCENES: [&str; 8] = [
 #[test]
 fn library_ray_caster_equals_brute_force_oracle() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ccube.des");
-    let mut scenes = vec![plytrace::scene::load(&path).unwrap().0];
+    let mut scenes = vec![plytrace::internal::scene::load(&path).unwrap().0];
     scenes.extend(
         ["intersect.des", "cycles.des", "mirror.des"]
             .iter()
@@ -87,7 +87,7 @@ fn library_ray_caster_equals_brute_force_oracle() {
     for scene in scenes {
         let size = 64;
         let mut s = scene.clone();
-        s.viewport = plytrace::model::Viewport::of_size(size, size);
+        s.viewport = plytrace::internal::model::Viewport::of_size(size, size);
         let brute = support::oracle_ids(&s, size, size);
         let bvh: Vec<Option<(u32, u32)>> = RayCaster::new(&scene)
             .id_image(size, size)
@@ -112,8 +112,8 @@ fn the_default_sort_agrees_with_the_oracle_on_every_shared_scene() {
     for name in SCENES {
         let mut scene = shared(name);
         for order in [
-            plytrace::model::SortOrder::BackToFront,
-            plytrace::model::SortOrder::FrontToBack,
+            plytrace::internal::model::SortOrder::BackToFront,
+            plytrace::internal::model::SortOrder::FrontToBack,
         ] {
             scene.sort_order = order;
             let (checked, bad, first) = compare_with(&scene, None, 160);
@@ -154,7 +154,7 @@ fn warnock_agrees_with_the_oracle_on_every_shared_scene() {
 fn nns_front_to_back_agrees_too() {
     for name in ["intersect.des", "cycles.des", "office1.des"] {
         let mut scene = shared(name);
-        scene.sort_order = plytrace::model::SortOrder::FrontToBack;
+        scene.sort_order = plytrace::internal::model::SortOrder::FrontToBack;
         assert_agrees(name, &scene, Algorithm::Nns, 128);
     }
 }
@@ -211,7 +211,7 @@ fn scene_from(files: &[(&str, String)], des: &str) -> Scene {
     }
     let path = dir.path().join("g.des");
     std::fs::write(&path, des).unwrap();
-    plytrace::scene::load(&path).unwrap().0
+    plytrace::internal::scene::load(&path).unwrap().0
 }
 
 /// Random triangles in a box, two-sided (`type open`), many of them

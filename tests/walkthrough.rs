@@ -12,9 +12,11 @@ mod support;
 
 use std::path::Path;
 
-use plytrace::error::Result;
-use plytrace::render::{Plan, RenderOptions, Rendered, Reuse, plan_with, scan_into_frame};
-use plytrace::scene::{Host, Interpreter, Scene};
+use plytrace::Result;
+use plytrace::internal::render::{
+    Plan, RenderOptions, Rendered, Reuse, plan_with, scan_into_frame,
+};
+use plytrace::internal::scene::{Host, Interpreter, Scene};
 
 /// Renders every `run` twice: with what the previous frame left, and cold.
 #[derive(Default)]

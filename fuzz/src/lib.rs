@@ -19,10 +19,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
 
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::object_file::{self, ColorKind};
-use plytrace::scene::{Interpreter, NoHost, mesh_import};
-use plytrace::tree::RecordStream;
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::object_file::{self, ColorKind};
+use plytrace::internal::scene::{Interpreter, NoHost, mesh_import};
+use plytrace::internal::tree::RecordStream;
 
 /// The names the fuzz targets are known by, which are also the folders of
 /// `tests/data/fuzz-regressions/`.
@@ -125,7 +125,7 @@ fn check_error(e: &plytrace::Error) {
 }
 
 /// `scene_language`: the bytes as a scene file, read by the interpreter as
-/// `get file` does (`plytrace::scene::load`), in the sandbox.
+/// `get file` does (`plytrace::internal::scene::load`), in the sandbox.
 pub fn scene_language(data: &[u8]) {
     if names_a_path(data) {
         return;
@@ -137,7 +137,7 @@ pub fn scene_language(data: &[u8]) {
     std::env::set_current_dir(sandbox.dir.join("work")).expect("chdir to the sandbox");
     let file = sandbox.dir.join("f.des");
     std::fs::write(&file, data).expect("write the scene");
-    match plytrace::scene::load(&file) {
+    match plytrace::internal::scene::load(&file) {
         Ok((scene, _warnings)) => {
             let _ = scene.polygon_count();
             let _ = scene.size();
@@ -408,10 +408,10 @@ fn overrides(bytes: &mut Bytes) -> Vec<String> {
 /// surface algorithm, scan conversion method, shadows, shading model,
 /// refraction), within the budgets above.
 pub fn pipeline(data: &[u8]) {
-    use plytrace::image_tree::Refraction;
-    use plytrace::raster::scan::Method;
-    use plytrace::shading::ShadingModel;
-    use plytrace::visibility::Algorithm;
+    use plytrace::internal::image_tree::Refraction;
+    use plytrace::internal::raster::scan::Method;
+    use plytrace::internal::shading::ShadingModel;
+    use plytrace::internal::visibility::Algorithm;
 
     let mut bytes = Bytes(data);
     let visibility = match bytes.byte() % 8 {
@@ -446,7 +446,7 @@ pub fn pipeline(data: &[u8]) {
             ShadingModel::Garcia
         },
         // Small budgets: the whole pipeline under its limits.
-        budgets: plytrace::budget::Budgets {
+        budgets: plytrace::internal::budget::Budgets {
             polygons: 20_000,
             call_depth: 8,
             tree_nodes: 20_000,
@@ -481,7 +481,7 @@ pub fn pipeline(data: &[u8]) {
     if scene.polygon_count() > MAX_POLYGONS || scene.lights.len() > MAX_LIGHTS {
         return;
     }
-    scene.viewport = plytrace::model::Viewport::of_size(SIZE, SIZE);
+    scene.viewport = plytrace::internal::model::Viewport::of_size(SIZE, SIZE);
     match render(&scene, &options) {
         Ok(r) => {
             assert_eq!((r.frame.width, r.frame.height), (SIZE, SIZE), "image size");
@@ -516,7 +516,7 @@ pub fn pipeline(data: &[u8]) {
 /// file has structs and the resolution of the side file, each list
 /// decodes to its fragments, and the two readers agree.
 pub fn pixel_structs(data: &[u8]) {
-    use plytrace::output::{
+    use plytrace::internal::output::{
         FRAGMENT_BYTES, PIXEL_STRUCT_BYTES, read_pixel_structs, visit_pixel_structs,
     };
     let Some((&first, rest)) = data.split_first() else {
@@ -568,7 +568,7 @@ pub fn pixel_structs(data: &[u8]) {
 /// budgets, the output names, the file size limit). Nothing is read or
 /// written; the checks must not panic whatever the numbers.
 pub fn rftb_args(data: &[u8]) {
-    use plytrace::rftb::{self, Command, Program};
+    use plytrace::internal::rftb::{self, Command, Program};
     use std::ffi::OsString;
     use std::os::unix::ffi::OsStringExt;
     let argv: Vec<OsString> = data
@@ -629,7 +629,7 @@ const PATCH_PAIRS: u64 = 10_000;
 /// vertices, there is a unit normal per vertex, and every join names two
 /// patches of the file.
 pub fn patch_files(data: &[u8]) {
-    use plytrace::modeling::patch::{self, Form};
+    use plytrace::internal::modeling::patch::{self, Form};
     let Some((&first, rest)) = data.split_first() else {
         return;
     };
@@ -649,7 +649,7 @@ pub fn patch_files(data: &[u8]) {
             _ => {
                 refused.set(true);
                 Err(plytrace::Error::at(
-                    plytrace::error::Location::file(path),
+                    plytrace::internal::error::Location::file(path),
                     "over the fuzz budget",
                 ))
             }
@@ -855,7 +855,7 @@ pub fn modeling(data: &[u8]) {
     // (`pipeline` renders), and a render costs as much as the rest.
     let render_it = bytes.byte() & 3 == 1;
     let (statements, patch_text) = modeling_statements(&mut bytes);
-    let budgets = plytrace::budget::Budgets {
+    let budgets = plytrace::internal::budget::Budgets {
         polygons: MODEL_POLYGONS,
         call_depth: 8,
         tree_nodes: 20_000,
@@ -915,7 +915,7 @@ pub fn modeling(data: &[u8]) {
     if !render_it {
         return;
     }
-    scene.viewport = plytrace::model::Viewport::of_size(MODEL_SIZE, MODEL_SIZE);
+    scene.viewport = plytrace::internal::model::Viewport::of_size(MODEL_SIZE, MODEL_SIZE);
     let options = RenderOptions {
         size: Some((MODEL_SIZE, MODEL_SIZE)),
         threads: 1,

@@ -177,7 +177,9 @@ fn rows_near(
 /// up), and whether it hides what is behind it (opaque).
 #[derive(Debug, Clone)]
 pub struct Outline {
+    /// The corners, in pixels (y up).
     pub points: Vec<DVec2>,
+    /// Whether it hides what is behind it.
     pub opaque: bool,
 }
 

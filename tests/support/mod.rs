@@ -6,8 +6,8 @@
 #![allow(dead_code)]
 
 use glam::{DVec3, DVec4};
-use plytrace::math::Matrix4;
-use plytrace::scene::Scene;
+use plytrace::internal::math::Matrix4;
+use plytrace::internal::scene::Scene;
 
 /// Inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting.
 pub fn invert(m: &Matrix4) -> Option<Matrix4> {
@@ -146,7 +146,7 @@ pub fn mismatches(
 }
 
 /// The renderer's id image as (object index, polygon index) per pixel.
-pub fn painted_ids(r: &plytrace::render::Rendered) -> Vec<Option<(u32, u32)>> {
+pub fn painted_ids(r: &plytrace::internal::render::Rendered) -> Vec<Option<(u32, u32)>> {
     let f = &r.frame;
     (0..f.height)
         .flat_map(|y| (0..f.width).map(move |x| (x, y)))
@@ -154,12 +154,21 @@ pub fn painted_ids(r: &plytrace::render::Rendered) -> Vec<Option<(u32, u32)>> {
         .collect()
 }
 
+/// The repository's top folder (fixtures live in its `tests/data`), for
+/// the library's tests (run from there) and the programs' in `cli/tests`
+/// (one folder down), which include this file too.
+pub fn repo_root() -> std::path::PathBuf {
+    let manifest = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    match env!("CARGO_PKG_NAME") {
+        "plytrace-cli" => manifest.parent().unwrap().to_path_buf(),
+        _ => manifest.to_path_buf(),
+    }
+}
+
 /// Path of a benchmark scene copied into `tests/data/scenes`; a missing
 /// fixture fails loudly (never skips).
 pub fn scene_fixture(name: &str) -> std::path::PathBuf {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/scenes")
-        .join(name);
+    let p = repo_root().join("tests/data/scenes").join(name);
     assert!(
         p.is_file(),
         "missing fixture {}: the benchmark scenes are copied into tests/data/scenes",
@@ -173,10 +182,7 @@ pub fn scene_fixture(name: &str) -> std::path::PathBuf {
 pub fn cube_and_square_dir() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir(dir.path().join("det")).unwrap();
-    let cube = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/det/cube.det"),
-    )
-    .unwrap();
+    let cube = std::fs::read_to_string(repo_root().join("examples/det/cube.det")).unwrap();
     std::fs::write(dir.path().join("det/cube.det"), cube).unwrap();
     std::fs::write(
         dir.path().join("det/square.det"),
@@ -189,7 +195,7 @@ pub fn cube_and_square_dir() -> tempfile::TempDir {
 /// Volume of a mesh by the divergence theorem over its world polygons
 /// (clockwise from outside: each fan triangle reversed is
 /// counter-clockwise).
-pub fn volume(o: &plytrace::model::Object) -> f64 {
+pub fn volume(o: &plytrace::internal::model::Object) -> f64 {
     let mut six = 0.0;
     for p in &o.polygons {
         let v = |k: usize| o.vertices[p.indices[k] as usize];
@@ -202,7 +208,7 @@ pub fn volume(o: &plytrace::model::Object) -> f64 {
 
 /// Whether every edge (by vertex position) is used exactly once in each
 /// direction: a closed, consistently oriented mesh.
-pub fn closed(o: &plytrace::model::Object) -> bool {
+pub fn closed(o: &plytrace::internal::model::Object) -> bool {
     let key = |v: DVec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
     let mut edges: std::collections::HashMap<([u64; 3], [u64; 3]), i32> =
         std::collections::HashMap::new();
@@ -235,20 +241,20 @@ pub fn copy_tree(from: &std::path::Path, to: &std::path::Path) {
 }
 
 /// The options the vector tests render with: shadows on.
-pub fn vector_options() -> plytrace::render::RenderOptions {
-    plytrace::render::RenderOptions {
+pub fn vector_options() -> plytrace::internal::render::RenderOptions {
+    plytrace::internal::render::RenderOptions {
         shadows: true,
-        ..plytrace::render::RenderOptions::default()
+        ..plytrace::internal::render::RenderOptions::default()
     }
 }
 
 /// The PNG's picture of `scene` as the vector output sees it: NNS
 /// visibility, shadows on, ids included.
-pub fn vector_png(scene: &Scene) -> plytrace::render::Rendered {
-    plytrace::render::render(
+pub fn vector_png(scene: &Scene) -> plytrace::internal::render::Rendered {
+    plytrace::internal::render::render(
         scene,
-        &plytrace::render::RenderOptions {
-            visibility: Some(plytrace::visibility::Algorithm::Nns),
+        &plytrace::internal::render::RenderOptions {
+            visibility: Some(plytrace::internal::visibility::Algorithm::Nns),
             ..vector_options()
         },
     )
@@ -297,7 +303,7 @@ pub fn resvg_rgb(svg: &[u8], w: u32, h: u32) -> Vec<[u8; 3]> {
 /// centre's (`together(centre, neighbour)`; the border pixels are never
 /// interior).
 pub fn interior_pixels(
-    r: &plytrace::render::Rendered,
+    r: &plytrace::internal::render::Rendered,
     together: &dyn Fn(u32, u32) -> bool,
 ) -> Vec<bool> {
     let (w, h) = (r.frame.width as i64, r.frame.height as i64);
@@ -318,7 +324,7 @@ pub fn interior_pixels(
 /// the PNG `r` by more than 12 levels (of 255) in some channel).
 pub fn pixels_off(
     raster: &[[u8; 3]],
-    r: &plytrace::render::Rendered,
+    r: &plytrace::internal::render::Rendered,
     inside: &[bool],
 ) -> (usize, usize) {
     let (mut checked, mut bad) = (0, 0);

@@ -1,7 +1,7 @@
 //! Hostile inputs for the vector outputs: the hidden-line search against
 //! its brute force, and its time on identical faces and fans.
 
-use plytrace::vector::hidden_line::{segments_brute_force, segments_of};
+use plytrace::internal::vector::hidden_line::{segments_brute_force, segments_of};
 use proptest::prelude::*;
 
 type Pt = [f64; 2];

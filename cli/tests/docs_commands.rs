@@ -13,11 +13,12 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+#[path = "../../tests/support/mod.rs"]
 mod support;
 use support::copy_tree;
 
 fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
 }
 
 /// The README and every Markdown file under `docs/`, and ARCHITECTURE.md.
@@ -287,7 +288,7 @@ fn the_readme_is_for_users() {
         }
     }
     assert!(text.contains("cargo test --release"));
-    assert!(text.contains("cargo install --locked --path ."));
+    assert!(text.contains("cargo install --locked --path cli"));
 }
 
 #[test]

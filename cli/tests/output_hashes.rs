@@ -12,6 +12,7 @@
 //! Logs (`*.log`: dates and times) are left out. The hash is 64-bit FNV-1a, written here, so the table does not depend
 //! on a library's version.
 
+#[path = "../../tests/support/mod.rs"]
 mod support;
 
 use std::collections::BTreeMap;
@@ -167,7 +168,7 @@ fn bin(program: &str) -> PathBuf {
 
 /// The scenes: (label, folder to copy, scene file name).
 fn scenes() -> Vec<(String, PathBuf, String)> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let mut out = Vec::new();
     for folder in ["tests/data/scenes", "examples"] {
         let dir = root.join(folder);
@@ -297,7 +298,7 @@ fn assert_default_is_nns(lines: &[String]) {
 fn every_output_byte_is_unchanged() {
     let lines = all_outputs();
     assert_default_is_nns(&lines);
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(TABLE);
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join(TABLE);
     if std::env::var_os("PLYTRACE_BLESS_HASHES").is_some() {
         std::fs::write(&path, lines.join("\n") + "\n").unwrap();
         return;

@@ -3,6 +3,7 @@
 //! the session goes on, `clear` shows the background, the `setmode d`
 //! timings are measured, and the prompt keeps its history.
 
+#[path = "../../tests/support/mod.rs"]
 mod support;
 
 use std::io::{BufRead, BufReader, Read, Write};

@@ -56,7 +56,7 @@ impl Run {
 }
 
 fn manifest_path(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join(rel)
 }
 
 fn read_text(rel: &str) -> String {

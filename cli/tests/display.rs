@@ -3,15 +3,16 @@
 //! the tree, in order, the last equal to the final image; the frame of
 //! level `k` equals the render of the same scene with `depth k`.
 
+#[path = "../../tests/support/mod.rs"]
 mod support;
 
-use plytrace::display::{FrameObserver, PartialFrame, render_observed};
-use plytrace::raster::frame_buffer::FrameBuffer;
-use plytrace::render::{RenderOptions, Reuse, render};
-use plytrace::scene::Scene;
+use plytrace::internal::display::{FrameObserver, PartialFrame, render_observed};
+use plytrace::internal::raster::frame_buffer::FrameBuffer;
+use plytrace::internal::render::{RenderOptions, Reuse, render};
+use plytrace::internal::scene::Scene;
 
 fn scene(name: &str) -> Scene {
-    plytrace::scene::load(&support::scene_fixture(name))
+    plytrace::internal::scene::load(&support::scene_fixture(name))
         .unwrap_or_else(|e| panic!("{name}: {e}"))
         .0
 }
@@ -99,8 +100,8 @@ fn a_closure_observes_a_painted_image_once() {
     let mut seen = Vec::new();
     let mut observer = |f: &PartialFrame<'_>| seen.push((f.level, f.levels, f.is_last()));
     let o = RenderOptions {
-        visibility: Some(plytrace::visibility::Algorithm::ZBuffer),
-        aa: Some(plytrace::raster::scan::Method::Point),
+        visibility: Some(plytrace::internal::visibility::Algorithm::ZBuffer),
+        aa: Some(plytrace::internal::raster::scan::Method::Point),
         ..options(false)
     };
     render_observed(&s, &o, &Reuse::default(), &mut observer).unwrap();

@@ -5,12 +5,12 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use plytrace::output::{
+use plytrace::internal::output::{
     DisplayMode, PixelStructSink, Planes, PngSink, SeparationSink, commit_all, dither_level,
     level_byte,
 };
-use plytrace::raster::scan::{PixelStruct, Row, RowSink, SavedFragment};
-use plytrace::tree::{Record, RecordStream, Shades};
+use plytrace::internal::raster::scan::{PixelStruct, Row, RowSink, SavedFragment};
+use plytrace::internal::tree::{Record, RecordStream, Shades};
 
 fn run(bin: &str, dir: &Path, args: &[&str]) -> Output {
     Command::new(bin)
@@ -363,7 +363,8 @@ fn pixel_struct_file_round_trips_through_getrgb() {
     ];
     assert_eq!(side, expected_side);
     let back =
-        plytrace::output::read_pixel_structs(&bytes, &path, Some((&side, &side_path))).unwrap();
+        plytrace::internal::output::read_pixel_structs(&bytes, &path, Some((&side, &side_path)))
+            .unwrap();
     assert_eq!(back.resolution, Some((3, 2)));
     assert_eq!(back.pixels, rows.concat());
 

@@ -4,27 +4,25 @@
 //! Hermite basis evaluated here, our own edge counting for closedness, and
 //! renders compared with ray casts of the exact solids.
 
+#[path = "../../tests/support/mod.rs"]
 mod support;
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use glam::DVec3;
-use plytrace::error::Diagnostic;
-use plytrace::model::Object;
-use plytrace::modeling::parametric::{Superquadric, spow};
-use plytrace::modeling::patch::{self, Form};
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::Scene;
+use plytrace::internal::error::Diagnostic;
+use plytrace::internal::model::Object;
+use plytrace::internal::modeling::parametric::{Superquadric, spow};
+use plytrace::internal::modeling::patch::{self, Form};
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::Scene;
 
 const PRELUDE: &str =
     "resolution 64 64\nperspective 40 1 0.1 100\npolarview 7 30 60 0\npushmatrix\nident\n";
 
 /// Runs `body` (objects defined in object space = world space) with
 /// `files` in its `det` directory.
-fn try_scene(
-    body: &str,
-    files: &[(&str, &str)],
-) -> plytrace::error::Result<(Scene, Vec<Diagnostic>)> {
+fn try_scene(body: &str, files: &[(&str, &str)]) -> plytrace::Result<(Scene, Vec<Diagnostic>)> {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir(dir.path().join("det")).unwrap();
     for (name, text) in files {
@@ -32,7 +30,7 @@ fn try_scene(
     }
     let path = dir.path().join("m.des");
     std::fs::write(&path, format!("{PRELUDE}{body}\npopmatrix\n")).unwrap();
-    plytrace::scene::load(&path)
+    plytrace::internal::scene::load(&path)
 }
 
 fn scene(body: &str) -> Scene {
@@ -576,7 +574,7 @@ fn render_matches_exact_with(
     // poles, the background's id while its colour is right.)
     let options = RenderOptions {
         size: Some((size, size)),
-        aa: Some(plytrace::raster::scan::Method::Point),
+        aa: Some(plytrace::internal::raster::scan::Method::Point),
         ..RenderOptions::default()
     };
     let painted = support::painted_ids(&render(&s, &options).unwrap());
@@ -765,8 +763,9 @@ fn renders_match_ray_casts_of_the_exact_solids() {
 
 #[test]
 fn the_example_scene_builds_closed_solids() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/primitives.des");
-    let (s, warnings, notes) = plytrace::scene::load_with_notes(&path).unwrap();
+    let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+        .join("examples/primitives.des");
+    let (s, warnings, notes) = plytrace::internal::scene::load_with_notes(&path).unwrap();
     // 9 superquadrics, vase, letter, bolt, die, wave, ripple, post, knob.
     assert_eq!(s.objects.len(), 17, "{warnings:?}");
     for o in &s.objects {
@@ -790,7 +789,8 @@ fn the_example_scene_builds_closed_solids() {
 #[test]
 fn continuity_subcommand_reports_c0_and_c1() {
     let bin = env!("CARGO_BIN_EXE_plytrace");
-    let wave = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/det/wave.bpt");
+    let wave = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+        .join("examples/det/wave.bpt");
     let out = std::process::Command::new(bin)
         .arg("continuity")
         .arg(&wave)

@@ -5,16 +5,17 @@
 //! office1.des (depth 3). Also the output orders of 004 section 4.10 for a
 //! cube on a mirror.
 
+#[path = "../../tests/support/mod.rs"]
 mod support;
 
 use glam::DVec3;
-use plytrace::geometry::view::View;
-use plytrace::image_tree::{self, Branch, TreeOptions};
-use plytrace::model::SortOrder;
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::Scene;
-use plytrace::shading::Materials;
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::internal::geometry::view::View;
+use plytrace::internal::image_tree::{self, Branch, TreeOptions};
+use plytrace::internal::model::SortOrder;
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::Scene;
+use plytrace::internal::shading::Materials;
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 fn traced_oracle(scene: &Scene, size: u32) -> Vec<Option<(u32, u32)>> {
     RayCaster::new(scene)
@@ -55,7 +56,7 @@ fn assert_tree_agrees(name: &str, scene: &Scene, size: u32) {
 #[test]
 fn mirror_scene_reflections_agree_with_the_oracle() {
     let path = support::scene_fixture("mirror.des");
-    let scene = plytrace::scene::load(&path).unwrap().0;
+    let scene = plytrace::internal::scene::load(&path).unwrap().0;
     assert_eq!(scene.modes.max_level, 2);
     assert_tree_agrees("mirror", &scene, 192);
 }
@@ -63,7 +64,7 @@ fn mirror_scene_reflections_agree_with_the_oracle() {
 #[test]
 fn gallery_facing_mirrors_to_depth_14_agree_with_the_oracle() {
     let path = support::scene_fixture("gallery.des");
-    let scene = plytrace::scene::load(&path).unwrap().0;
+    let scene = plytrace::internal::scene::load(&path).unwrap().0;
     assert_eq!(scene.modes.max_level, 14);
     assert_tree_agrees("gallery", &scene, 192);
     let r = render(
@@ -80,7 +81,7 @@ fn gallery_facing_mirrors_to_depth_14_agree_with_the_oracle() {
 #[test]
 fn office1_reflections_agree_with_the_oracle() {
     let path = support::scene_fixture("office1.des");
-    let scene = plytrace::scene::load(&path).unwrap().0;
+    let scene = plytrace::internal::scene::load(&path).unwrap().0;
     assert_tree_agrees("office1", &scene, 192);
 }
 
@@ -99,7 +100,7 @@ fn cube_on_mirror_lit(light: &str) -> Scene {
          defobj cube\n translate 0 0 1.01\nendobj\npopmatrix\n"),
     )
     .unwrap();
-    plytrace::scene::load(&path).unwrap().0
+    plytrace::internal::scene::load(&path).unwrap().0
 }
 
 /// 004 section 4.10, figure 4.15: back to front `P11, P21, P22, P23, P12,
@@ -304,11 +305,11 @@ fn tree_file_of_the_cube_on_a_mirror() {
     assert!(tree.blended && !tree.front_to_back);
     let path = std::path::Path::new("m.out");
     assert_eq!(
-        plytrace::tree::RecordStream::from_bytes(&tree.to_bytes(), path).unwrap(),
+        plytrace::internal::tree::RecordStream::from_bytes(&tree.to_bytes(), path).unwrap(),
         tree
     );
     assert_eq!(
-        plytrace::tree::RecordStream::from_text(&tree.to_text(), path).unwrap(),
+        plytrace::internal::tree::RecordStream::from_text(&tree.to_text(), path).unwrap(),
         tree
     );
     // Normalized coordinates: each record's points are its fragment's
@@ -344,7 +345,7 @@ fn tree_file_of_the_cube_on_a_mirror() {
 #[test]
 fn refraction_models_map_the_pool_floor() {
     let path = support::scene_fixture("underwater.des");
-    let scene = plytrace::scene::load(&path).unwrap().0;
+    let scene = plytrace::internal::scene::load(&path).unwrap().0;
     let view = View::new(&scene, 128, 128).unwrap();
     let centroid_of_refracted = |model: image_tree::Refraction| {
         let tree = image_tree::build(
@@ -423,7 +424,7 @@ fn refraction_models_map_the_pool_floor() {
     // pixel where that is unambiguous. (The water's reflection is turned off, so that what is
     // painted last over it is what is seen through it.)
     let mut parallel = scene.clone();
-    parallel.projection = plytrace::math::ortho(-3.2, 3.2, -3.2, 3.2, 0.01, 1000.0);
+    parallel.projection = plytrace::internal::math::ortho(-3.2, 3.2, -3.2, 3.2, 0.01, 1000.0);
     let water = parallel
         .objects
         .iter()
@@ -449,7 +450,7 @@ fn refraction_models_map_the_pool_floor() {
             &RenderOptions {
                 size: Some((size, size)),
                 refraction: model,
-                aa: Some(plytrace::raster::scan::Method::Point),
+                aa: Some(plytrace::internal::raster::scan::Method::Point),
                 ..RenderOptions::default()
             },
         )
@@ -557,7 +558,7 @@ fn snell_oracle(scene: &Scene, size: u32) -> Vec<Option<(u32, u32)>> {
 #[test]
 fn phong_tree_records() {
     let path = support::scene_fixture("mirror.des");
-    let mut scene = plytrace::scene::load(&path).unwrap().0;
+    let mut scene = plytrace::internal::scene::load(&path).unwrap().0;
     scene.modes.phong = true;
     scene.modes.output_tree = true;
     let r = render(
@@ -573,7 +574,7 @@ fn phong_tree_records() {
         .records
         .iter()
         .filter_map(|r| match &r.shades {
-            plytrace::tree::Shades::Phong(p) => Some((r, p)),
+            plytrace::internal::tree::Shades::Phong(p) => Some((r, p)),
             _ => None,
         })
         .collect();
@@ -586,11 +587,11 @@ fn phong_tree_records() {
     }
     let path = std::path::Path::new("m.out");
     assert_eq!(
-        plytrace::tree::RecordStream::from_bytes(&tree.to_bytes(), path).unwrap(),
+        plytrace::internal::tree::RecordStream::from_bytes(&tree.to_bytes(), path).unwrap(),
         tree
     );
     assert_eq!(
-        plytrace::tree::RecordStream::from_text(&tree.to_text(), path).unwrap(),
+        plytrace::internal::tree::RecordStream::from_text(&tree.to_text(), path).unwrap(),
         tree
     );
 }

@@ -2,6 +2,7 @@
 //! writes it through the run's atomic staging; `--hidden-line` works for
 //! PNG and vector output.
 
+#[path = "../../tests/support/mod.rs"]
 mod support;
 
 use std::process::Command;

@@ -10,7 +10,8 @@ use std::time::{Duration, Instant};
 /// 12 tilted glass slabs over a floor, `depth 14`: every glass surface
 /// spawns a reflected and a refracted ray.
 fn glass_scene(dir: &Path, size: u32) {
-    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/det/cube.det");
+    let cube = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+        .join("tests/data/scenes/det/cube.det");
     std::fs::create_dir_all(dir.join("det")).unwrap();
     std::fs::copy(cube, dir.join("det/cube.det")).unwrap();
     let mut s = format!(

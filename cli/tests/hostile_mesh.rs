@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::time::{Duration, Instant};
 
-use plytrace::scene::mesh_import::read_mesh_within;
+use plytrace::internal::scene::mesh_import::read_mesh_within;
 
 /// Refused quickly, naming the flag.
 fn refused(path: &std::path::Path, budget: usize) -> String {

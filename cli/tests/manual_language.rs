@@ -5,26 +5,27 @@
 //! the simple depth sort's keys, command abbreviations, a bare `setmode`,
 //! lower-case file names, quiet CSG and the default refraction.
 
+#[path = "../../tests/support/mod.rs"]
 mod support;
 
 use std::path::{Path, PathBuf};
 
-use plytrace::raster::scan::Method;
-use plytrace::raytrace::{self, RayTraceOptions};
-use plytrace::render::{RenderOptions, chosen_algorithm, render};
-use plytrace::scene::Scene;
-use plytrace::shading::ShadingModel;
+use plytrace::internal::raster::scan::Method;
+use plytrace::internal::raytrace::{self, RayTraceOptions};
+use plytrace::internal::render::{RenderOptions, chosen_algorithm, render};
+use plytrace::internal::scene::Scene;
+use plytrace::internal::shading::ShadingModel;
 
 const BIN: &str = env!("CARGO_BIN_EXE_plytrace");
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
         .join("tests/data/manual")
         .join(name)
 }
 
 fn load(path: &Path) -> Scene {
-    plytrace::scene::load(path).unwrap().0
+    plytrace::internal::scene::load(path).unwrap().0
 }
 
 /// The largest per-channel difference between two frames, and how many
@@ -125,7 +126,7 @@ fn donovan_transparency_under_every_method_matches_the_ray_tracer() {
 // 4. Abbreviations: the manual's commands win.
 // ---------------------------------------------------------------------
 
-use plytrace::scene::commands::{self, ADDED, Lookup, MANUAL};
+use plytrace::internal::scene::commands::{self, ADDED, Lookup, MANUAL};
 
 fn resolves_to(word: &str) -> Option<&'static str> {
     match commands::lookup(word) {
@@ -213,13 +214,13 @@ fn added_commands_keep_the_prefixes_no_manual_command_claims() {
 /// The interpreter uses the same resolution: `b` sets the background.
 #[test]
 fn an_abbreviated_scene_is_interpreted() {
-    let mut interp = plytrace::scene::Interpreter::new();
+    let mut interp = plytrace::internal::scene::Interpreter::new();
     interp
         .execute_source(
             "B 0.25 0.5 1\ndif 0.3\nsp 0.2\n",
             Path::new("abbreviations.des"),
             Path::new("."),
-            &mut plytrace::scene::NoHost,
+            &mut plytrace::internal::scene::NoHost,
         )
         .unwrap();
     let scene = interp.scene();
@@ -233,15 +234,15 @@ fn an_abbreviated_scene_is_interpreted() {
 // ---------------------------------------------------------------------
 
 fn run_source(
-    interp: &mut plytrace::scene::Interpreter,
+    interp: &mut plytrace::internal::scene::Interpreter,
     source: &str,
-) -> plytrace::error::Result<()> {
+) -> plytrace::Result<()> {
     interp
         .execute_source(
             source,
             Path::new("modes.des"),
             Path::new("."),
-            &mut plytrace::scene::NoHost,
+            &mut plytrace::internal::scene::NoHost,
         )
         .map(|_| ())
 }
@@ -253,7 +254,7 @@ fn run_source(
 /// command line's `-i` is a bare flag).
 #[test]
 fn a_bare_setmode_turns_the_mode_on() {
-    let mut interp = plytrace::scene::Interpreter::new();
+    let mut interp = plytrace::internal::scene::Interpreter::new();
     assert!(!interp.scene().modes.vertex_shades);
     run_source(&mut interp, "setmode v\nsetmode X\n").unwrap();
     let modes = interp.scene().modes;
@@ -266,7 +267,7 @@ fn a_bare_setmode_turns_the_mode_on() {
 /// value is the bare flag (`-v` alone), on, and it overrides the scene.
 #[test]
 fn force_mode_takes_an_empty_value_as_the_bare_flag() {
-    let mut interp = plytrace::scene::Interpreter::new();
+    let mut interp = plytrace::internal::scene::Interpreter::new();
     interp.force_mode('v', "").unwrap();
     interp.force_mode('n', " ").unwrap();
     assert!(interp.scene().modes.vertex_shades && interp.scene().modes.nns);
@@ -287,7 +288,7 @@ fn force_mode_takes_an_empty_value_as_the_bare_flag() {
 /// mixed-case scene and object that exist only as written.
 fn ccube_folder() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
-    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let examples = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("examples");
     std::fs::create_dir(dir.path().join("det")).unwrap();
     for f in ["cube.det", "cutcube.det"] {
         std::fs::copy(examples.join("det").join(f), dir.path().join("det").join(f)).unwrap();
@@ -307,13 +308,13 @@ fn ccube_folder() -> tempfile::TempDir {
     dir
 }
 
-fn objects_after(dir: &Path, source: &str) -> plytrace::error::Result<Scene> {
-    let mut interp = plytrace::scene::Interpreter::new();
+fn objects_after(dir: &Path, source: &str) -> plytrace::Result<Scene> {
+    let mut interp = plytrace::internal::scene::Interpreter::new();
     interp.execute_source(
         source,
         &dir.join("top.des"),
         dir,
-        &mut plytrace::scene::NoHost,
+        &mut plytrace::internal::scene::NoHost,
     )?;
     Ok(interp.into_scene())
 }
@@ -336,9 +337,13 @@ fn file_names_fall_back_to_lower_case() {
     assert_eq!(scene.objects.len(), 1);
     let scene = objects_after(dir, "DEFOBJ CUBE\nPCOLORS CUBE\nENDOBJ\n").unwrap();
     assert_eq!(scene.objects.len(), 1);
-    let mut interp = plytrace::scene::Interpreter::new();
+    let mut interp = plytrace::internal::scene::Interpreter::new();
     interp
-        .execute_file(&dir.join("CCUBE.DES"), true, &mut plytrace::scene::NoHost)
+        .execute_file(
+            &dir.join("CCUBE.DES"),
+            true,
+            &mut plytrace::internal::scene::NoHost,
+        )
         .unwrap();
     assert_eq!(interp.into_scene().objects.len(), 2);
     // Mixed case, existing as written.
@@ -376,8 +381,9 @@ fn immediate_mode_opens_an_upper_case_scene_name() {
 /// so one is lost) still warns.
 #[test]
 fn a_successful_csg_is_silent() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/primitives.des");
-    let (_, warnings, notes) = plytrace::scene::load_with_notes(&path).unwrap();
+    let path =
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("examples/primitives.des");
+    let (_, warnings, notes) = plytrace::internal::scene::load_with_notes(&path).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     let csg = notes
         .iter()
@@ -387,7 +393,7 @@ fn a_successful_csg_is_silent() {
     assert!(notes.iter().all(|n| !n.message.contains("warning")));
     // The binary prints no `warning:` for it.
     let out = std::process::Command::new(BIN)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
         .args([
             "--quiet",
             "-i",
@@ -413,7 +419,7 @@ fn a_successful_csg_is_silent() {
          defobj r\nunion a b\nendobj\n",
     )
     .unwrap();
-    let (_, warnings, _) = plytrace::scene::load_with_notes(&scene).unwrap();
+    let (_, warnings, _) = plytrace::internal::scene::load_with_notes(&scene).unwrap();
     assert!(
         warnings
             .iter()
@@ -426,8 +432,8 @@ fn a_successful_csg_is_silent() {
 // 3. The simple depth sort's keys.
 // ---------------------------------------------------------------------
 
-use plytrace::model::SortOrder;
-use plytrace::visibility::Algorithm;
+use plytrace::internal::model::SortOrder;
+use plytrace::internal::visibility::Algorithm;
 
 fn ids_with(scene: &Scene, algorithm: Algorithm) -> Vec<Option<(u32, u32)>> {
     let r = render(
@@ -488,7 +494,7 @@ fn both_orders_give_one_picture_of_a_quad_under_a_floor() {
 // ---------------------------------------------------------------------
 
 fn bundled(name: &str) -> PathBuf {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let examples = root.join("examples").join(name);
     if examples.is_file() {
         examples
@@ -694,7 +700,7 @@ fn a_scene_saying_run_n_renders_with_every_algorithm() {
 // ---------------------------------------------------------------------
 
 /// The first row (from the top) with a pixel of the red cube.
-fn top_red_row(frame: &plytrace::raster::frame_buffer::FrameBuffer) -> Option<u32> {
+fn top_red_row(frame: &plytrace::internal::raster::frame_buffer::FrameBuffer) -> Option<u32> {
     (0..frame.height).find(|&y| {
         (0..frame.width).any(|x| {
             let c = frame.color[(y * frame.width + x) as usize];
@@ -740,15 +746,15 @@ fn auto_refraction_puts_the_cube_under_water_where_snell_does() {
     let linear = render(
         &scene,
         &RenderOptions {
-            refraction: plytrace::image_tree::Refraction::Linearized,
+            refraction: plytrace::internal::image_tree::Refraction::Linearized,
             ..options
         },
     )
     .unwrap();
     assert_eq!(top_red_row(&linear.frame), Some(25));
     // The estimate itself is honest: several pixels here.
-    let view = plytrace::geometry::view::View::for_scene(&scene, None).unwrap();
-    let error = plytrace::raytrace::exact::linear_error(&scene, &view);
+    let view = plytrace::internal::geometry::view::View::for_scene(&scene, None).unwrap();
+    let error = plytrace::internal::raytrace::exact::linear_error(&scene, &view);
     assert!(error > 3.0, "{error}");
 }
 
@@ -757,7 +763,7 @@ fn auto_refraction_puts_the_cube_under_water_where_snell_does() {
 #[test]
 fn snell_crossing_by_hand() {
     use glam::{DVec3, DVec4};
-    let c = plytrace::raytrace::exact::snell_crossing(
+    let c = plytrace::internal::raytrace::exact::snell_crossing(
         DVec3::new(0.0, 0.0, 2.0),
         DVec3::new(1.2, 0.0, -2.8),
         DVec4::new(0.0, 0.0, 1.0, 0.0),

@@ -8,6 +8,7 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+#[path = "../../tests/support/mod.rs"]
 mod support;
 use support::copy_tree;
 
@@ -19,7 +20,7 @@ fn bin() -> &'static str {
 /// `det/`) and office2 for the long renders.
 fn workdir() -> tempfile::TempDir {
     let dir = tempfile::tempdir().expect("a temporary directory");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     copy_tree(&root.join("examples"), dir.path());
     let scenes = root.join("tests/data/scenes");
     std::fs::copy(scenes.join("office2.des"), dir.path().join("office2.des")).expect("office2");

@@ -6,7 +6,7 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use plytrace::tree::{PhongShades, Record, RecordStream, Shades};
+use plytrace::internal::tree::{PhongShades, Record, RecordStream, Shades};
 
 fn run(bin: &str, dir: &Path, args: &[&str]) -> Output {
     Command::new(bin)
@@ -444,7 +444,7 @@ const PLYTRACE: &str = env!("CARGO_BIN_EXE_plytrace");
 
 /// The bundled scenes: the benchmark scenes and the examples.
 fn bundled_scenes() -> Vec<std::path::PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let mut v = Vec::new();
     for dir in ["tests/data/scenes", "examples"] {
         for e in std::fs::read_dir(root.join(dir)).unwrap() {
@@ -554,7 +554,7 @@ fn max_difference(dir: &Path, seed: &str, rgb: &[u8]) -> u8 {
 fn the_manual_example_chain_runs_from_examples() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     std::fs::create_dir_all(d.join("examples/det")).unwrap();
     std::fs::copy(root.join("examples/test.des"), d.join("examples/test.des")).unwrap();
     for f in ["cube.det", "cutcube.det"] {
@@ -640,7 +640,7 @@ fn share_within(dir: &Path, seed: &str, rgb: &[u8], levels: u8) -> f64 {
 fn the_tree_file_holds_the_refracted_branches_the_picture_has() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes");
+    let scenes = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("tests/data/scenes");
     std::fs::create_dir_all(d.join("det")).unwrap();
     for e in std::fs::read_dir(scenes.join("det")).unwrap() {
         let e = e.unwrap();

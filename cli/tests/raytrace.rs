@@ -1,4 +1,4 @@
-//! The Whitted ray tracer (`plytrace::raytrace`) against the virtual image
+//! The Whitted ray tracer (`plytrace::internal::raytrace`) against the virtual image
 //! tree: on scenes whose only secondary surfaces are planar mirrors the
 //! tree is exact (004 section 4.6: a reflection is a rigid map), so the
 //! two renderers must show the same colour at every pixel away from
@@ -14,18 +14,19 @@
 //! design. With shadows, shadow boundaries are edges the id oracle does
 //! not know: there up to one compared pixel in 500 may differ.
 
+#[path = "../../tests/support/mod.rs"]
 mod support;
 
-use plytrace::raster::scan::Method;
-use plytrace::raytrace::{self, RayTraceOptions};
-use plytrace::render::{RenderOptions, render};
-use plytrace::scene::Scene;
-use plytrace::visibility::ray_cast::RayCaster;
+use plytrace::internal::raster::scan::Method;
+use plytrace::internal::raytrace::{self, RayTraceOptions};
+use plytrace::internal::render::{RenderOptions, render};
+use plytrace::internal::scene::Scene;
+use plytrace::internal::visibility::ray_cast::RayCaster;
 
 const TOLERANCE: f32 = 2.0 / 255.0;
 
 fn load(name: &str) -> Scene {
-    plytrace::scene::load(&support::scene_fixture(name))
+    plytrace::internal::scene::load(&support::scene_fixture(name))
         .unwrap()
         .0
 }

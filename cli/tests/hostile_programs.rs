@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use plytrace::tree::{Record, RecordStream, Shades};
+use plytrace::internal::tree::{Record, RecordStream, Shades};
 
 const RFTB1: &str = env!("CARGO_BIN_EXE_rftb1");
 const RFTB2: &str = env!("CARGO_BIN_EXE_rftb2");

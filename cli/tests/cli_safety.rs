@@ -26,7 +26,8 @@ const TIMEOUT: Duration = Duration::from_secs(20);
 
 /// The manual's square (side 2, facing +z), from the repository.
 fn square() -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cli/square.det");
+    let path =
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("tests/data/cli/square.det");
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -878,7 +879,7 @@ fn help_refers_only_to_sections_that_exist() {
 
 #[test]
 fn mkdet_mkpcl_mkvcl_are_programs_with_the_manuals_synopsis() {
-    let objects = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/objects");
+    let objects = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("tests/data/objects");
     for (tool, name, tag) in [
         (env!("CARGO_BIN_EXE_mkdet"), "mkdet", "DET"),
         (env!("CARGO_BIN_EXE_mkpcl"), "mkpcl", "PCL"),
