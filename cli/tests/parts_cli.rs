@@ -134,14 +134,19 @@ fn scenes() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     for name in ["ccube.des", "mirror.des"] {
         std::fs::copy(
-            Path::new("tests/data/scenes").join(name),
+            Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/scenes")).join(name),
             dir.path().join(name),
         )
         .unwrap();
     }
     let det = dir.path().join("det");
     std::fs::create_dir(&det).unwrap();
-    for e in std::fs::read_dir("tests/data/scenes/det").unwrap() {
+    for e in std::fs::read_dir(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../tests/data/scenes/det"
+    ))
+    .unwrap()
+    {
         let e = e.unwrap();
         std::fs::copy(e.path(), det.join(e.file_name())).unwrap();
     }
@@ -423,7 +428,9 @@ fn part_flags_are_checked() {
 fn frames_render_only_their_runs_with_the_whole_numbering() {
     let dir = scenes();
     let d = dir.path();
-    let mut text = std::fs::read_to_string("examples/spin.des").unwrap();
+    let mut text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/spin.des"))
+            .unwrap();
     text = text.replace("resolution 256 256", "resolution 32 32");
     std::fs::write(d.join("anim.des"), &text).unwrap();
     ok(&program(
