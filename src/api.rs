@@ -745,24 +745,24 @@ impl Scene {
         let before: usize = self.inner.objects.iter().map(|o| o.polygons.len()).sum();
         let total = before.saturating_add(faces);
         if total > self.budgets.polygons {
-            return Err(invalid(&Budgets::exceeded(
+            return Err(Error::budget(
                 &format!(
                     "the mesh `{shown}` of {faces} faces (with the scene's {before} polygons, {total})"
                 ),
                 self.budgets.polygons,
                 "--max-polygons",
-            )));
+            ));
         }
         let need = crate::modeling::model_bytes(vertices, faces, corners);
         if need > self.budgets.model_memory {
-            return Err(invalid(&Budgets::exceeded(
+            return Err(Error::budget(
                 &format!(
                     "the mesh `{shown}` of {vertices} vertices and {faces} faces ({} MiB)",
                     need.div_ceil(1 << 20)
                 ),
                 format!("{} MiB", self.budgets.model_memory >> 20),
                 "--max-model-memory",
-            )));
+            ));
         }
         Ok(())
     }
@@ -962,19 +962,22 @@ impl Scene {
 ///
 /// # fn main() -> Result<(), plytrace::Error> {
 /// let scene = Scene::new(Camera::looking_at([0., -5., 0.], [0., 0., 0.]), 640, 480);
-/// let options = Options {
-///     size: Some((16, 12)),
-///     antialiasing: Some(Antialiasing::Point),
-///     threads: 1,
-///     ..Options::default()
-/// };
+/// let options = Options::default()
+///     .with_size(16, 12)
+///     .with_antialiasing(Antialiasing::Point)
+///     .with_threads(1);
 /// let image = render(&scene, &options)?;
 /// assert_eq!((image.width, image.height), (16, 12), "the size given, not the scene's");
 /// assert!(Options::default().shadows);
 /// # Ok(())
 /// # }
 /// ```
+///
+/// New fields may be added: start from [`Options::default`] (or
+/// [`Options::new`]) and change what you need with the `with_` methods or
+/// by assigning a field.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct Options {
     /// Image size overriding the scene's.
     pub size: Option<(u32, u32)>,
@@ -1001,6 +1004,43 @@ impl Default for Options {
 }
 
 impl Options {
+    /// The defaults: the scene's size and best anti-aliasing, shadows on,
+    /// all cores, the default budgets.
+    pub fn new() -> Self {
+        Options::default()
+    }
+
+    /// These options with the image size `width` x `height`, overriding
+    /// the scene's.
+    pub fn with_size(mut self, width: u32, height: u32) -> Self {
+        self.size = Some((width, height));
+        self
+    }
+
+    /// These options with anti-aliasing `aa`.
+    pub fn with_antialiasing(mut self, aa: Antialiasing) -> Self {
+        self.antialiasing = Some(aa);
+        self
+    }
+
+    /// These options with shadows on or off.
+    pub fn with_shadows(mut self, shadows: bool) -> Self {
+        self.shadows = shadows;
+        self
+    }
+
+    /// These options with `threads` worker threads (0: all cores).
+    pub fn with_threads(mut self, threads: usize) -> Self {
+        self.threads = threads;
+        self
+    }
+
+    /// These options with the limits `budgets`.
+    pub fn with_budgets(mut self, budgets: Budgets) -> Self {
+        self.budgets = budgets;
+        self
+    }
+
     fn render_options(&self) -> RenderOptions {
         RenderOptions {
             size: self.size,
@@ -1095,14 +1135,14 @@ pub fn render(scene: &Scene, options: &Options) -> Result<Image> {
     // The whole image is held: within the frame budget, before a byte.
     let need = u64::from(w) * u64::from(h) * 3;
     if need > options.budgets.frame_memory {
-        return Err(Error::Invalid(Budgets::exceeded(
+        return Err(Error::budget(
             &format!(
                 "the image of {w} x {h} pixels in memory ({} MiB)",
                 need.div_ceil(1 << 20)
             ),
             format!("{} MiB", options.budgets.frame_memory >> 20),
             "--max-frame-memory",
-        )));
+        ));
     }
     let mut rgb = Vec::new();
     let (mut width, mut height) = (0, 0);
@@ -1148,11 +1188,11 @@ pub fn render_rows(
     let (w, h) = options.size.unwrap_or(scene.size());
     check_size(w, h)?;
     if u64::from(w) * u64::from(h) > options.budgets.pixels {
-        return Err(Error::Invalid(Budgets::exceeded(
+        return Err(Error::budget(
             &format!("the image of {w} x {h} pixels"),
             options.budgets.pixels,
             "--max-pixels",
-        )));
+        ));
     }
     let mode = model.outmode;
     let mut bytes = Vec::new();

@@ -194,11 +194,11 @@ impl Meter {
     pub fn result(&self) -> crate::error::Result<()> {
         crate::cancel::check()?;
         if self.over.load(std::sync::atomic::Ordering::Relaxed) {
-            return Err(crate::error::Error::Invalid(Budgets::exceeded(
+            return Err(crate::error::Error::budget(
                 &format!("the count of {}", self.what),
                 self.limit,
                 self.flag,
-            )));
+            ));
         }
         Ok(())
     }

@@ -462,14 +462,17 @@ pub fn check_pixels(hres: u32, vres: u32, budgets: &Budgets) -> Result<()> {
     if pixels <= budgets.pixels {
         return Ok(());
     }
-    Err(Error::Invalid(format!(
-        "{} (hres x vres)",
-        Budgets::exceeded(
-            &format!("a {hres} x {vres} image ({pixels} pixels)"),
-            format!("{} pixels", budgets.pixels),
-            "--max-pixels"
-        )
-    )))
+    Err(Error::Budget {
+        flag: "--max-pixels",
+        message: format!(
+            "{} (hres x vres)",
+            Budgets::exceeded(
+                &format!("a {hres} x {vres} image ({pixels} pixels)"),
+                format!("{} pixels", budgets.pixels),
+                "--max-pixels"
+            )
+        ),
+    })
 }
 
 /// What the bands of `args` hold in memory at once, in bytes, and the
@@ -499,19 +502,22 @@ pub fn check_budgets(program: Program, args: &Args) -> Result<()> {
     check_pixels(args.hres, args.vres, &args.budgets)?;
     let (need, bands) = band_memory(program, args);
     if need > args.budgets.frame_memory {
-        return Err(Error::Invalid(format!(
-            "{}; lower act-lines (the fifth argument) or the width",
-            Budgets::exceeded(
-                &format!(
-                    "act-lines {} of {} pixels: {bands} bands in memory at once ({} MiB)",
-                    args.act_lines.min(args.vres),
-                    args.hres,
-                    need.div_ceil(1 << 20)
-                ),
-                format!("{} MiB", args.budgets.frame_memory >> 20),
-                "--max-frame-memory"
-            )
-        )));
+        return Err(Error::Budget {
+            flag: "--max-frame-memory",
+            message: format!(
+                "{}; lower act-lines (the fifth argument) or the width",
+                Budgets::exceeded(
+                    &format!(
+                        "act-lines {} of {} pixels: {bands} bands in memory at once ({} MiB)",
+                        args.act_lines.min(args.vres),
+                        args.hres,
+                        need.div_ceil(1 << 20)
+                    ),
+                    format!("{} MiB", args.budgets.frame_memory >> 20),
+                    "--max-frame-memory"
+                )
+            ),
+        });
     }
     Ok(())
 }
@@ -604,17 +610,16 @@ pub fn check_names(inputs: &[PathBuf], outputs: &[PathBuf], log: &Path) -> Resul
 
 /// Reads the input `path` (a regular file only, noted so that no output
 /// writes over it) when its size is within `limit` bytes; `budget` says
-/// what the limit is, for the message.
+/// what the limit is, for the message (a `--max-frame-memory` budget).
 fn read_input(path: &Path, limit: u64, budget: impl FnOnce(u64) -> String) -> Result<Vec<u8>> {
     if let Ok(meta) = std::fs::metadata(path)
         && meta.is_file()
         && meta.len() > limit
     {
-        return Err(Error::Invalid(format!(
-            "{}: {}",
-            shown(path),
-            budget(meta.len())
-        )));
+        return Err(Error::Budget {
+            flag: "--max-frame-memory",
+            message: format!("{}: {}", shown(path), budget(meta.len())),
+        });
     }
     crate::scene::object_file::read_regular(path, limit)
 }
@@ -1152,15 +1157,18 @@ fn read_getrgb_inputs(args: &GetrgbArgs, side_path: &Path) -> Result<(Vec<u8>, O
     let bytes = read_input(&args.name, budgets.frame_memory, memory)?;
     let n = bytes.len() / crate::output::PIXEL_STRUCT_BYTES;
     if n as u64 > budgets.pixels {
-        return Err(Error::Invalid(format!(
-            "{}: {}",
-            shown(&args.name),
-            Budgets::exceeded(
-                &format!("{n} pixel-structs"),
-                format!("{} pixels", budgets.pixels),
-                "--max-pixels"
-            )
-        )));
+        return Err(Error::Budget {
+            flag: "--max-pixels",
+            message: format!(
+                "{}: {}",
+                shown(&args.name),
+                Budgets::exceeded(
+                    &format!("{n} pixel-structs"),
+                    format!("{} pixels", budgets.pixels),
+                    "--max-pixels"
+                )
+            ),
+        });
     }
     let side = match std::fs::symlink_metadata(side_path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
