@@ -144,8 +144,7 @@ fn a_scene_from_text_renders_like_the_program() {
         ..Options::default()
     };
     let image = render(&scene, &options).unwrap();
-    let from_file =
-        render(&Scene::from_file(&dir.join("ccube.des")).unwrap(), &options).unwrap();
+    let from_file = render(&Scene::from_file(&dir.join("ccube.des")).unwrap(), &options).unwrap();
     assert_eq!(image.rgb, from_file.rgb);
     assert!(image.stats.polygons_tiled > 0);
 }

@@ -20,9 +20,8 @@ fn an_outline_is_asked_about_where_its_box_meets_or_a_point_is_not_finite() {
 /// box; boxes apart stay apart; every box given lies in one merged.
 #[test]
 fn screen_boxes_that_meet_are_merged() {
-    let b = |x0: f64, y0: f64, x1: f64, y1: f64| {
-        (glam::DVec2::new(x0, y0), glam::DVec2::new(x1, y1))
-    };
+    let b =
+        |x0: f64, y0: f64, x1: f64, y1: f64| (glam::DVec2::new(x0, y0), glam::DVec2::new(x1, y1));
     // A chain: the first meets the second, the second the third.
     let given = vec![
         b(0.0, 0.0, 2.0, 2.0),

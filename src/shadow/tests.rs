@@ -112,9 +112,8 @@ fn twice_area_between(a: &[Vec<DVec3>], b: &[Vec<DVec3>], plane: DVec4) -> f64 {
         r.iter().map(|p| frame.counter_clockwise(p)).collect()
     };
     let (a, b) = (flat(a), flat(b));
-    let area = |rings: &[Vec<boolean::Flat>]| {
-        rings.iter().map(|r| boolean::twice_area(r)).sum::<f64>()
-    };
+    let area =
+        |rings: &[Vec<boolean::Flat>]| rings.iter().map(|r| boolean::twice_area(r)).sum::<f64>();
     let both: f64 = boolean::intersection(&a, &b)
         .iter()
         .map(|shape| area(shape))
@@ -267,8 +266,7 @@ fn an_object_beside_a_shadow_volume_casts_its_outline_cut() {
             loops.within.is_empty() && !loops.cut.is_empty(),
             "half {polygon}"
         );
-        let Some(OnPolygon::Cast(shadow)) = casting.on_polygon(0, polygon, 0, light, &mut s)
-        else {
+        let Some(OnPolygon::Cast(shadow)) = casting.on_polygon(0, polygon, 0, light, &mut s) else {
             panic!("the ring shadows half {polygon}");
         };
         let points = [(0.0, 0.0), (0.75, 0.1), (-0.75, 0.1)];

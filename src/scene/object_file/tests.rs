@@ -15,8 +15,7 @@ fn place(error: Error) -> (usize, usize, String) {
 #[test]
 fn data_keyword_must_start_a_line() {
     // The manual's own example has the word `data` in its title.
-    let mesh =
-        det("title geometric data file\nDATA 3 1\n0 0 0 1 0 0 0 1 0\n3 1 2 3\n").unwrap();
+    let mesh = det("title geometric data file\nDATA 3 1\n0 0 0 1 0 0 0 1 0\n3 1 2 3\n").unwrap();
     assert_eq!(mesh.vertices[1], DVec3::X);
     assert_eq!(mesh.polygons, vec![vec![0, 1, 2]]);
 }
