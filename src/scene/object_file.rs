@@ -56,16 +56,16 @@ pub enum ConvertKind {
 }
 
 /// Tag of a binary geometry file.
-pub(super) const DET_TAG: &[u8; 3] = b"DET";
+const DET_TAG: &[u8; 3] = b"DET";
 
 /// The largest count a binary file can hold: the manual page declares
 /// every count a C `short` (`short num_vtx, num_polys`, `short nvtx,
 /// index[nvtx]`, `short num_clr`), signed 16 bits, so 32767; the
 /// manual's programs would read 32768 and up as negative.
-pub(super) const BINARY_LIMIT: usize = i16::MAX as usize;
+const BINARY_LIMIT: usize = i16::MAX as usize;
 
 /// Names of the six numbers of a colour entry, in file order.
-pub(super) const COLOR_FIELDS: [&str; 6] = [
+const COLOR_FIELDS: [&str; 6] = [
     "red",
     "green",
     "blue",
