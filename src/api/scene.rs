@@ -22,7 +22,7 @@ use super::*;
 /// ```
 #[derive(Debug, Clone)]
 pub struct Scene {
-    inner: model::Scene,
+    pub(super) inner: model::Scene,
     camera: Option<(Camera, u32, u32)>,
     budgets: Budgets,
 }
