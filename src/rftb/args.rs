@@ -161,20 +161,7 @@ pub(super) fn flag_group(
 pub fn parse_args(
     argv: impl IntoIterator<Item = OsString>,
 ) -> std::result::Result<Command<Args>, UsageError> {
-    let mut args = Args {
-        input: PathBuf::new(),
-        output: PathBuf::new(),
-        hres: 256,
-        vres: 256,
-        act_lines: 4,
-        debug: 0,
-        background: false,
-        display: None,
-        screen: false,
-        budgets: Budgets::default(),
-        part: None,
-        part_file: None,
-    };
+    let mut args = default_args();
     let mut positional: Vec<OsString> = Vec::new();
     let mut it = argv.into_iter();
     while let Some(arg) = it.next() {
@@ -186,23 +173,7 @@ pub fn parse_args(
             continue;
         }
         if s == "--part" || s.starts_with("--part=") || s == "-o" {
-            let value = match s.split_once('=') {
-                Some((_, v)) => v.to_string(),
-                None => it
-                    .next()
-                    .ok_or_else(|| UsageError(format!("{s} needs a value")))?
-                    .to_string_lossy()
-                    .into_owned(),
-            };
-            if s == "-o" {
-                args.part_file = Some(PathBuf::from(value));
-            } else {
-                args.part = Some(
-                    value
-                        .parse()
-                        .map_err(|e| UsageError(format!("--part: {e}")))?,
-                );
-            }
+            part_flag(&s, &mut it, &mut args)?;
             continue;
         }
         if s.starts_with("--") {
@@ -216,7 +187,59 @@ pub fn parse_args(
             _ => positional.push(arg),
         }
     }
-    let (input, output) = match positional.as_slice() {
+    set_positional(&positional, &mut args)?;
+    check_part(&args)?;
+    Ok(Command::Run(args))
+}
+
+/// The arguments before the command line: the manual's defaults.
+fn default_args() -> Args {
+    Args {
+        input: PathBuf::new(),
+        output: PathBuf::new(),
+        hres: 256,
+        vres: 256,
+        act_lines: 4,
+        debug: 0,
+        background: false,
+        display: None,
+        screen: false,
+        budgets: Budgets::default(),
+        part: None,
+        part_file: None,
+    }
+}
+
+/// `--part I/N` (or `--part=I/N`) and `-o FILE`, its part file, with the
+/// value from `s` or the next argument.
+fn part_flag(
+    s: &str,
+    it: &mut impl Iterator<Item = OsString>,
+    args: &mut Args,
+) -> std::result::Result<(), UsageError> {
+    let value = match s.split_once('=') {
+        Some((_, v)) => v.to_string(),
+        None => it
+            .next()
+            .ok_or_else(|| UsageError(format!("{s} needs a value")))?
+            .to_string_lossy()
+            .into_owned(),
+    };
+    if s == "-o" {
+        args.part_file = Some(PathBuf::from(value));
+    } else {
+        args.part = Some(
+            value
+                .parse()
+                .map_err(|e| UsageError(format!("--part: {e}")))?,
+        );
+    }
+    Ok(())
+}
+
+/// The positional arguments: input, output seed, hres, vres, act-lines.
+fn set_positional(positional: &[OsString], args: &mut Args) -> std::result::Result<(), UsageError> {
+    let (input, output) = match positional {
         [] => return usage_err("no input given"),
         [_, _, _, _, _, extra, ..] => {
             return usage_err(format!(
@@ -242,21 +265,23 @@ pub fn parse_args(
     if let Some(a) = output.get(3) {
         args.act_lines = number(a, "act-lines", 1)?;
     }
+    Ok(())
+}
+
+/// `--part I/N` and `-o` go together, and the part file is a PNG.
+fn check_part(args: &Args) -> std::result::Result<(), UsageError> {
     match (&args.part, &args.part_file) {
-        (Some(p), None) => {
-            return usage_err(format!(
-                "--part {p} writes a part file: name it with -o, such as -o parts/{}.png",
-                p.index
-            ));
-        }
-        (None, Some(_)) => return usage_err("-o names the part file of --part I/N"),
+        (Some(p), None) => usage_err(format!(
+            "--part {p} writes a part file: name it with -o, such as -o parts/{}.png",
+            p.index
+        )),
+        (None, Some(_)) => usage_err("-o names the part file of --part I/N"),
         (Some(_), Some(f)) if !f.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) => {
-            return usage_err(format!(
+            usage_err(format!(
                 "-o {}: a part file is a PNG; name it .png",
                 f.display()
-            ));
+            ))
         }
-        _ => {}
+        _ => Ok(()),
     }
-    Ok(Command::Run(args))
 }
