@@ -122,7 +122,7 @@ impl Budgets {
 
     /// The message for a budget exceeded: what, the limit, and the flag.
     pub fn exceeded(what: &str, limit: impl std::fmt::Display, flag: &str) -> String {
-        format!("{what} exceeds the budget of {limit}; `{flag} N` raises it")
+        crate::error::exceeded(what, limit, flag)
     }
 }
 

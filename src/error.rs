@@ -299,11 +299,11 @@ impl Error {
     }
 
     /// A budget's refusal of `what` past `limit`, raised by `flag`
-    /// (the message of [`crate::budget::Budgets::exceeded`]).
+    /// (the message of [`exceeded`]).
     pub fn budget(what: &str, limit: impl fmt::Display, flag: &'static str) -> Self {
         Error::Budget {
             flag,
-            message: crate::budget::Budgets::exceeded(what, limit, flag),
+            message: exceeded(what, limit, flag),
         }
     }
 
@@ -329,6 +329,11 @@ impl From<Diagnostic> for Error {
     fn from(d: Diagnostic) -> Self {
         Error::Input(Box::new(d))
     }
+}
+
+/// The message for a budget exceeded: what, the limit, and the flag.
+pub fn exceeded(what: &str, limit: impl fmt::Display, flag: &str) -> String {
+    format!("{what} exceeds the budget of {limit}; `{flag} N` raises it")
 }
 
 /// Result with the library's error.
@@ -395,7 +400,7 @@ mod tests {
         assert_eq!(e.budget_flag(), Some("--max-pixels"));
         assert_eq!(
             e.to_string(),
-            crate::budget::Budgets::exceeded("the image of 9 x 9 pixels", 10, "--max-pixels")
+            "the image of 9 x 9 pixels exceeds the budget of 10; `--max-pixels N` raises it"
         );
         assert_eq!(Error::Invalid("x".into()).budget_flag(), None);
     }
