@@ -122,7 +122,7 @@ impl Budgets {
 
     /// The message for a budget exceeded: what, the limit, and the flag.
     pub fn exceeded(what: &str, limit: impl std::fmt::Display, flag: &str) -> String {
-        format!("{what} exceeds the budget of {limit}; `{flag} N` raises it")
+        crate::error::exceeded(what, limit, flag)
     }
 }
 
@@ -194,11 +194,11 @@ impl Meter {
     pub fn result(&self) -> crate::error::Result<()> {
         crate::cancel::check()?;
         if self.over.load(std::sync::atomic::Ordering::Relaxed) {
-            return Err(crate::error::Error::Invalid(Budgets::exceeded(
+            return Err(crate::error::Error::budget(
                 &format!("the count of {}", self.what),
                 self.limit,
                 self.flag,
-            )));
+            ));
         }
         Ok(())
     }

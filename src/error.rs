@@ -237,8 +237,16 @@ fn source_window(src: &str, column: usize, width: usize) -> (String, String, usi
     (shown, lead, caret.max(1))
 }
 
-/// Everything that can go wrong in the library.
+/// Everything that can go wrong in the library, by kind: bad input at a
+/// place ([`Error::Input`]), a file the system refused ([`Error::Io`]), a
+/// request that cannot be honoured ([`Error::Invalid`]), a budget that
+/// refused the work before it allocated ([`Error::Budget`], naming the flag
+/// that raises it), something this program does not do
+/// ([`Error::Unsupported`]), a broken invariant ([`Error::Internal`]) and a
+/// stop request ([`Error::Cancelled`]). New kinds may be added: match with
+/// a `_` arm.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// Malformed input at a known place.
     #[error("{0}")]
@@ -255,6 +263,22 @@ pub enum Error {
     /// A request that cannot be honoured (e.g. an image too large to allocate).
     #[error("{}", escape_controls(.0, true))]
     Invalid(String),
+    /// A budget refused the work before it allocated; the message says
+    /// what, the limit, and how to raise it.
+    #[error("{}", escape_controls(.message, true))]
+    Budget {
+        /// The command-line flag that raises the limit (`--max-pixels`).
+        flag: &'static str,
+        /// What was refused, the limit, and the flag.
+        message: String,
+    },
+    /// Something this program does not do (a format variant, an option
+    /// not available with another).
+    #[error("{}", escape_controls(.0, true))]
+    Unsupported(String),
+    /// A broken invariant of the library: a bug, never the input's fault.
+    #[error("{}", escape_controls(.0, true))]
+    Internal(String),
     /// The user stopped the render (Ctrl-C); see [`crate::cancel`].
     #[error("cancelled (Ctrl-C); nothing of this run was written")]
     Cancelled,
@@ -274,6 +298,24 @@ impl Error {
         }
     }
 
+    /// A budget's refusal of `what` past `limit`, raised by `flag`
+    /// (the message of [`exceeded`]).
+    pub fn budget(what: &str, limit: impl fmt::Display, flag: &'static str) -> Self {
+        Error::Budget {
+            flag,
+            message: exceeded(what, limit, flag),
+        }
+    }
+
+    /// The flag that raises the budget that refused the work, if a budget
+    /// did.
+    pub fn budget_flag(&self) -> Option<&'static str> {
+        match self {
+            Error::Budget { flag, .. } => Some(flag),
+            _ => None,
+        }
+    }
+
     /// The diagnostic, if this is an input error.
     pub fn diagnostic(&self) -> Option<&Diagnostic> {
         match self {
@@ -287,6 +329,11 @@ impl From<Diagnostic> for Error {
     fn from(d: Diagnostic) -> Self {
         Error::Input(Box::new(d))
     }
+}
+
+/// The message for a budget exceeded: what, the limit, and the flag.
+pub fn exceeded(what: &str, limit: impl fmt::Display, flag: &str) -> String {
+    format!("{what} exceeds the budget of {limit}; `{flag} N` raises it")
 }
 
 /// Result with the library's error.
@@ -345,6 +392,17 @@ mod tests {
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines[2], "1 | f\\x1bo 1");
         assert_eq!(lines[3], "  | ^^^^^^", "{text}");
+    }
+
+    #[test]
+    fn a_budget_error_names_its_flag_and_reads_as_before() {
+        let e = Error::budget("the image of 9 x 9 pixels", 10, "--max-pixels");
+        assert_eq!(e.budget_flag(), Some("--max-pixels"));
+        assert_eq!(
+            e.to_string(),
+            "the image of 9 x 9 pixels exceeds the budget of 10; `--max-pixels N` raises it"
+        );
+        assert_eq!(Error::Invalid("x".into()).budget_flag(), None);
     }
 
     #[test]

@@ -88,12 +88,15 @@ fn to_py(py: Python<'_>, e: plytrace::Error) -> PyErr {
             PyFileNotFoundError::new_err(text)
         }
         plytrace::Error::Io { .. } => PyOSError::new_err(text),
-        plytrace::Error::Invalid(m) => match budget_message(m) {
-            Some((m, true)) => PyMemoryError::new_err(m),
-            Some((m, false)) => PyValueError::new_err(m),
-            None => PyValueError::new_err(m.clone()),
-        },
+        plytrace::Error::Invalid(m) | plytrace::Error::Budget { message: m, .. } => {
+            match budget_message(m) {
+                Some((m, true)) => PyMemoryError::new_err(m),
+                Some((m, false)) => PyValueError::new_err(m),
+                None => PyValueError::new_err(m.clone()),
+            }
+        }
         plytrace::Error::Cancelled => PyKeyboardInterrupt::new_err(text),
+        _ => PyValueError::new_err(text),
     }
 }
 
@@ -492,13 +495,11 @@ impl NativeScene {
         shadows: bool,
         budgets: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let options = Options {
-            size,
-            antialiasing: (!antialias).then_some(Antialiasing::Point),
-            shadows,
-            budgets: self.budgets(budgets)?,
-            ..Options::default()
-        };
+        let mut options = Options::default()
+            .with_shadows(shadows)
+            .with_budgets(self.budgets(budgets)?);
+        options.size = size;
+        options.antialiasing = (!antialias).then_some(Antialiasing::Point);
         let scene = &self.scene;
         let image = cancellable(py, || api::render(scene, &options))?;
         let (w, h) = (image.width as usize, image.height as usize);
@@ -517,13 +518,11 @@ impl NativeScene {
         shadows: bool,
         budgets: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Bound<'py, PyBytes>> {
-        let options = Options {
-            size,
-            antialiasing: (!antialias).then_some(Antialiasing::Point),
-            shadows,
-            budgets: self.budgets(budgets)?,
-            ..Options::default()
-        };
+        let mut options = Options::default()
+            .with_shadows(shadows)
+            .with_budgets(self.budgets(budgets)?);
+        options.size = size;
+        options.antialiasing = (!antialias).then_some(Antialiasing::Point);
         let scene = &self.scene;
         let png = cancellable(py, || api::render(scene, &options)?.to_png())?;
         Ok(PyBytes::new(py, &png))
@@ -549,12 +548,10 @@ impl NativeScene {
                 )));
             }
         };
-        let options = Options {
-            size,
-            shadows,
-            budgets: self.budgets(budgets)?,
-            ..Options::default()
-        };
+        let mut options = Options::default()
+            .with_shadows(shadows)
+            .with_budgets(self.budgets(budgets)?);
+        options.size = size;
         let scene = &self.scene;
         let bytes = cancellable(py, || api::render_vector(scene, &options, format))?;
         Ok(PyBytes::new(py, &bytes))

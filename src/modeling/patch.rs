@@ -230,54 +230,67 @@ pub fn parse(
     let mut patches = Vec::with_capacity(count);
     let mut k = 1;
     for n in 0..count {
-        if form == Form::Bezier {
-            for _ in 0..2 {
-                let t = &toks[k];
-                if t.text != "3" {
-                    return Err(Error::at(
-                        at(t),
-                        format!(
-                            "patch {}: expected the degrees `3 3` (bicubic), found `{}`",
-                            n + 1,
-                            crate::error::printable(t.text, 40)
-                        ),
-                    ));
-                }
-                k += 1;
-            }
-        }
-        let mut g = [[DVec3::ZERO; 4]; 4];
-        for row in g.iter_mut() {
-            for p in row.iter_mut() {
-                let mut c = [0.0; 3];
-                for x in c.iter_mut() {
-                    let t = &toks[k];
-                    *x = t
-                        .text
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| {
-                            Error::at(
-                                at(t),
-                                format!(
-                                    "patch {}: expected a finite coordinate, found `{}`",
-                                    n + 1,
-                                    crate::error::printable(t.text, 40)
-                                ),
-                            )
-                        })?;
-                    k += 1;
-                }
-                *p = DVec3::from_array(c);
-            }
-        }
-        patches.push(match form {
-            Form::Bezier => Patch { p: g },
-            Form::Hermite => Patch::from_hermite(&g),
-        });
+        patches.push(read_patch(&toks, &mut k, n, form, path)?);
     }
     Ok(PatchSet { patches })
+}
+
+/// Patch `n` (from 0) of a patch file, from its token `*k` on: for Bezier
+/// the degrees `3 3`, then 16 points; `*k` is left past it.
+fn read_patch(
+    toks: &[Tok],
+    k: &mut usize,
+    n: usize,
+    form: Form,
+    path: &Path,
+) -> Result<Patch, Error> {
+    let at = |t: &Tok| Location::new(path, t.line, t.column);
+    if form == Form::Bezier {
+        for _ in 0..2 {
+            let t = &toks[*k];
+            if t.text != "3" {
+                return Err(Error::at(
+                    at(t),
+                    format!(
+                        "patch {}: expected the degrees `3 3` (bicubic), found `{}`",
+                        n + 1,
+                        crate::error::printable(t.text, 40)
+                    ),
+                ));
+            }
+            *k += 1;
+        }
+    }
+    let mut g = [[DVec3::ZERO; 4]; 4];
+    for row in g.iter_mut() {
+        for p in row.iter_mut() {
+            let mut c = [0.0; 3];
+            for x in c.iter_mut() {
+                let t = &toks[*k];
+                *x = t
+                    .text
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        Error::at(
+                            at(t),
+                            format!(
+                                "patch {}: expected a finite coordinate, found `{}`",
+                                n + 1,
+                                crate::error::printable(t.text, 40)
+                            ),
+                        )
+                    })?;
+                *k += 1;
+            }
+            *p = DVec3::from_array(c);
+        }
+    }
+    Ok(match form {
+        Form::Bezier => Patch { p: g },
+        Form::Hermite => Patch::from_hermite(&g),
+    })
 }
 
 /// Triangles of `count` patches at `nu` x `nv`: `2 nu nv` each.

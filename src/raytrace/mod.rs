@@ -269,11 +269,11 @@ impl<'a> RayTracer<'a> {
             return Ok(());
         }
         crate::cancel::check()?;
-        Err(Error::Invalid(crate::budget::Budgets::exceeded(
+        Err(Error::budget(
             "the ray count of this ray-traced render",
             format!("{} rays", self.limit),
             "--max-rays",
-        )))
+        ))
     }
 
     /// The view.

@@ -39,7 +39,10 @@ pub(super) fn paint(
     options
         .budgets
         .check_frame(width, height, PAINTED_BYTES_PER_PIXEL)
-        .map_err(Error::Invalid)?;
+        .map_err(|message| Error::Budget {
+            flag: "--max-frame-memory",
+            message,
+        })?;
     let background = scene.background.as_vec3().to_array();
     let materials = Materials::new(scene);
     let (frame, polygons) = if algorithm == Algorithm::RayCast {
@@ -170,14 +173,14 @@ fn check_samples(
     if samples <= budgets.samples as f64 {
         return Ok(());
     }
-    Err(Error::Invalid(Budgets::exceeded(
+    Err(Error::budget(
         &format!(
             "painting {} polygons at {width} x {height} by {algorithm} (about {samples:.3e} pixel samples)",
             sorted.len()
         ),
         format!("{} samples", budgets.samples),
         "--max-samples",
-    )))
+    ))
 }
 
 /// What the painters of the list need beside it.

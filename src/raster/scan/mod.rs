@@ -561,13 +561,13 @@ fn check_overdraw_area(area: f64, count: usize, width: u32, height: u32, limit: 
     if overdraw <= limit as f64 {
         return Ok(());
     }
-    Err(Error::Invalid(crate::budget::Budgets::exceeded(
+    Err(Error::budget(
         &format!(
             "scan converting {count} records that cover the {width} x {height} image {overdraw:.1} times over (their bounding boxes)"
         ),
         format!("{limit} times"),
         "--max-overdraw",
-    )))
+    ))
 }
 
 /// The hidden-surface logic a run uses.
