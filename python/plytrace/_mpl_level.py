@@ -112,6 +112,7 @@ class _Draw:
         self.members = level.members
         self.renderer = level.renderer
         self.gids: Dict[int, int] = {}
+        self.scatter_colors: Dict[int, Optional[tuple]] = {}
         self.thread: Optional[threading.Thread] = None
         self.result: Optional[tuple] = None
         self.error: Optional[BaseException] = None
@@ -306,7 +307,11 @@ class _Draw:
         if isinstance(artist, art3d.Line3D):
             _draw_markers(artist, self._project_points(apoints, which), self.renderer, gid)
         elif isinstance(artist, art3d.Path3DCollection):
-            _draw_scatter(artist, np.asarray(self.anchor_index)[which], self.renderer, gid)
+            colors = self.scatter_colors.get(id(artist))
+            if colors is None:
+                colors = self.scatter_colors[id(artist)] = _scatter_colors(artist)
+            _draw_scatter(artist, np.asarray(self.anchor_index)[which], self.renderer, gid,
+                          colors)
         else:
             with swapped(artist, _gid=gid):
                 type(artist).draw(artist, self.renderer)
@@ -506,10 +511,28 @@ def _draw_line_collection(col, parts, index, renderer, gid) -> None:
         mcoll.LineCollection.draw(col, renderer)
 
 
-def _draw_scatter(col, index: np.ndarray, renderer, gid) -> None:
-    """The markers ``index`` (in painting order) of a scatter."""
+def _scatter_colors(col) -> Optional[tuple]:
+    """A scatter's face and edge colours of all its points in their own
+    order, depth-shaded as matplotlib shades them, computed once for all
+    the scatter's runs (matplotlib shades all points at each call of
+    ``get_facecolor``: once per run, it would cost the whole scatter per
+    marker drawn among the polygons). None where a run's colours are not
+    these rows picked by the run's points (an array of alphas with a
+    single colour: matplotlib then leaves them in the points' order)."""
+    if np.ndim(col._alpha) > 0 or col._vzs is None:
+        return None
+    with swapped(col, _z_markers_idx=np.arange(len(col._vzs))):
+        return col.get_facecolor(), col.get_edgecolor()
+
+
+def _draw_scatter(col, index: np.ndarray, renderer, gid, colors=None) -> None:
+    """The markers ``index`` (in painting order) of a scatter (``colors``:
+    its ``_scatter_colors``)."""
     xy = np.ma.getdata(col._offsets)[index] if len(col._offsets) > 1 else col._offsets
     style = {"_offset_zordered": np.asarray(xy), "_z_markers_idx": index, "_gid": gid}
+    if colors is not None:
+        face, edge = (c[index] if len(c) > 1 else c for c in colors)
+        style.update(get_facecolor=lambda: face, get_edgecolor=lambda: edge)
     for name, three in (("_sizes", "_sizes3d"), ("_linewidths", "_linewidths3d")):
         values = getattr(col, three, None)
         if values is not None and len(values) > 1:

@@ -384,6 +384,33 @@ def test_each_collection_keeps_its_url_clip_path_and_picker():
     plt.close(fig)
 
 
+def test_each_face_keeps_its_own_url_and_colour():
+    """A surface of 49 faces, each of its own colour and url, crossing a
+    plane (so that its faces are drawn in runs between the plane's
+    pieces): each link holds a path of its own face's colour, and every
+    face's link is there."""
+    fig, ax = _figure()
+    x = np.linspace(-1, 1, 8)
+    X, Y = np.meshgrid(x, x)
+    rgb = np.random.default_rng(3).permutation(np.arange(49))
+    colours = np.column_stack([0.2 + 0.01 * rgb, 1 - 0.01 * rgb, 0.5 + 0.005 * rgb,
+                               np.ones(49)]).reshape(7, 7, 4)
+    surf = ax.plot_surface(X, Y, 0.5 * X, facecolors=colours, shade=False, linewidth=0)
+    ax.plot_surface(X, Y, -0.5 * X, color="gray", shade=False, linewidth=0)
+    want = [matplotlib.colors.to_hex(c) for c in colours.reshape(49, 4)]  # the faces' order
+    assert len(set(want)) == 49
+    surf.set_urls([f"https://face{k}.example/" for k in range(49)])
+    svg = _svg(fig)
+    links = re.findall(r'<a xlink:href="https://face(\d+)\.example/"[^>]*>\s*'
+                       r'<(?:use|path) [^>]*?fill: (#[0-9a-f]{6})', svg)
+    assert sorted({int(k) for k, _ in links}) == list(range(49)), links
+    runs = [g for g in svg.split('<g id="Poly3DCollection')[1:] if "face" in g.split("</g>")[0]]
+    assert len(runs) >= 2, len(runs)  # drawn in runs between the plane's
+    for k, fill in links:
+        assert fill == want[int(k)], (k, fill, want[int(k)])
+    plt.close(fig)
+
+
 def test_shading_is_matplotlibs_own():
     """Two shaded surfaces side by side (one colormapped, one with a light
     source of its own) that hide nothing: the bridge paints matplotlib's

@@ -319,33 +319,7 @@ pub fn sort_in_scene(
     prior: Option<&PriorOrder>,
 ) -> (Vec<NnsFace>, NnsStats) {
     let n = faces.len();
-    let mut s = Sorter {
-        view,
-        objects,
-        eps: epsilon,
-        faces: Vec::with_capacity(n),
-        bounds: Vec::with_capacity(n),
-        alive: Vec::with_capacity(n),
-        given: (0..n).collect(),
-        next_given: 0,
-        heap: BinaryHeap::new(),
-        grid: Grid {
-            cells: Vec::new(),
-            n: 1,
-            cell_w: 1.0,
-            cell_h: 1.0,
-        },
-        stamp: Vec::new(),
-        epoch: 0,
-        stats: NnsStats {
-            faces_in: n,
-            ..NnsStats::default()
-        },
-        max_splits,
-        max_work: max_splits.saturating_mul(WORK_PER_SPLIT),
-        stopped: false,
-        found: Vec::new(),
-    };
+    let mut s = Sorter::new(objects, view, epsilon, max_splits, n);
     // Measuring is a function of each face alone: in parallel, in order.
     let measured: Vec<(Bounds, Option<DVec4>)> = {
         use rayon::prelude::*;
@@ -405,27 +379,72 @@ pub fn sort_in_scene(
         out = order.into_iter().map(take).collect();
     } else {
         let originals: Vec<NnsFace> = (0..n).map(&mut take).collect();
-        let keys: Vec<f64> = originals
-            .iter()
-            .map(|f| {
-                let zmax = f
-                    .world
-                    .get(objects, f.object, f.polygon)
-                    .iter()
-                    .map(|p| view.project(*p).z)
-                    .fold(f64::NEG_INFINITY, f64::max);
-                crate::visibility::depth_sort::sort_key(zmax)
-            })
-            .collect();
-        let mut slots: Vec<Option<NnsFace>> = originals.into_iter().map(Some).collect();
-        out = crate::visibility::depth_sort::sorted_order(&keys)
-            .into_iter()
-            .map(|k| slots[k].take().expect("a permutation"))
-            .collect();
+        out = fallback_order(objects, view, originals);
         s.stats.fallbacks = 1;
     }
     s.stats.faces_out = out.len();
     (out, s.stats)
+}
+
+impl<'a> Sorter<'a> {
+    /// An empty sorter for `n` faces.
+    fn new(
+        objects: &'a [Object],
+        view: &'a View,
+        epsilon: f64,
+        max_splits: usize,
+        n: usize,
+    ) -> Self {
+        Sorter {
+            view,
+            objects,
+            eps: epsilon,
+            faces: Vec::with_capacity(n),
+            bounds: Vec::with_capacity(n),
+            alive: Vec::with_capacity(n),
+            given: (0..n).collect(),
+            next_given: 0,
+            heap: BinaryHeap::new(),
+            grid: Grid {
+                cells: Vec::new(),
+                n: 1,
+                cell_w: 1.0,
+                cell_h: 1.0,
+            },
+            stamp: Vec::new(),
+            epoch: 0,
+            stats: NnsStats {
+                faces_in: n,
+                ..NnsStats::default()
+            },
+            max_splits,
+            max_work: max_splits.saturating_mul(WORK_PER_SPLIT),
+            stopped: false,
+            found: Vec::new(),
+        }
+    }
+}
+
+/// The fallback when the sort stopped: the faces given, in
+/// `depth_sort`'s order of their nearest-to-the-eye depth (`zmax`).
+fn fallback_order(objects: &[Object], view: &View, originals: Vec<NnsFace>) -> Vec<NnsFace> {
+    let keys: Vec<f64> = originals
+        .iter()
+        .map(|f| {
+            let zmax = f
+                .world
+                .get(objects, f.object, f.polygon)
+                .iter()
+                .map(|p| view.project(*p).z)
+                .fold(f64::NEG_INFINITY, f64::max);
+            crate::visibility::depth_sort::sort_key(zmax)
+        })
+        .collect();
+    let mut slots: Vec<Option<NnsFace>> = originals.into_iter().map(Some).collect();
+    crate::visibility::depth_sort::sorted_order(&keys)
+        .into_iter()
+        .map(|k| slots[k].take().expect("a permutation"))
+        .collect()
 }
 
 impl<'v> Sorter<'v> {

@@ -11,7 +11,8 @@
 
 use glam::DVec3;
 
-use super::{Occluders, PaintOrder, Projected, invalid, sub_segment};
+use super::segments::{Occluders, sub_segment};
+use super::{PaintOrder, Projected, invalid};
 use crate::error::Result;
 
 /// What [`Projected::layered`] gives: the paint order, and where the

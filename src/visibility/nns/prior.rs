@@ -83,9 +83,26 @@ fn before(zmax: &[f64], a: usize, b: usize) -> bool {
 
 /// The faces ordered from scratch.
 pub(super) fn cold_order(zmax: &[f64]) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..zmax.len()).collect();
-    order.sort_unstable_by(|&a, &b| HeapKey(zmax[b], b).cmp(&HeapKey(zmax[a], a)));
-    order
+    // The order of `HeapKey`s, greatest first, sorted as integer pairs:
+    // (`total_cmp`'s order of the depth as an unsigned integer, reversed;
+    // the index), held with the keys rather than looked up per comparison.
+    let mut keyed: Vec<(u64, usize)> = zmax
+        .iter()
+        .enumerate()
+        .map(|(i, &z)| (!total_order_bits(z), i))
+        .collect();
+    keyed.sort_unstable();
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
+
+/// `z` as an unsigned integer in the order of `f64::total_cmp`.
+fn total_order_bits(z: f64) -> u64 {
+    let bits = z.to_bits();
+    if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | 1 << 63
+    }
 }
 
 /// The faces ordered from `kept`, or `None` when the faces' sources are
@@ -176,6 +193,33 @@ fn merged(a: &[usize], b: &[usize], zmax: &[f64]) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The cold order is the [`HeapKey`] order, greatest first, whatever
+    /// the depths: ties, signed zeros, infinities and NaNs of both signs.
+    #[test]
+    fn the_cold_order_is_the_heap_key_order() {
+        let special = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            -f64::NAN,
+        ];
+        let mut rng = Lcg(7);
+        let zmax: Vec<f64> = (0..3000)
+            .map(|k| match rng.next() % 4 {
+                0 => special[k % special.len()],
+                1 => (rng.next() % 5) as f64 - 2.0,
+                _ => f64::from_bits(rng.next()),
+            })
+            .collect();
+        let mut want: Vec<usize> = (0..zmax.len()).collect();
+        want.sort_by(|&a, &b| HeapKey(zmax[b], b).cmp(&HeapKey(zmax[a], a)));
+        assert_eq!(cold_order(&zmax), want);
+    }
 
     /// A small deterministic generator (no seed to vary between runs).
     struct Lcg(u64);
