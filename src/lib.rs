@@ -13,6 +13,9 @@
 //! tests of internal details reach them through the hidden
 //! `internal` module, which is not part of the API.
 #![warn(missing_docs)]
+// The modules behind `api` are private and documented for the developers
+// (`cargo doc --document-private-items`), so their docs may link to each other.
+#![allow(rustdoc::private_intra_doc_links)]
 
 pub mod api;
 mod budget;

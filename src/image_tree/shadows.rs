@@ -324,7 +324,7 @@ impl<'a> Builder<'a> {
     }
 
     /// Adds the shadow `regions` of fragment `c` (see
-    /// [`Self::shadow_regions`]) under fragment `parent`, each with the
+    /// [`ShadowCaster::shadow_regions`]) under fragment `parent`, each with the
     /// target's shade without its lights, so that where the shadows of
     /// several lights overlap the region is darker than either (lifting
     /// the limit of 004 section 4.10 on "overlapped shadow regions caused
