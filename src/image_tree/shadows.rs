@@ -29,6 +29,16 @@ struct ShadowCaster<'a> {
 }
 
 impl ShadowCaster<'_> {
+    /// Casting in the scene with this caster's index.
+    fn casting(&self) -> crate::shadow::Casting<'_> {
+        crate::shadow::Casting {
+            objects: self.materials.objects,
+            index: &self.index,
+            profile: self.profile,
+            eps: self.eps,
+        }
+    }
+
     /// The shadow regions on fragment `c` (virtual coordinates under `t`)
     /// from every Point light (004 section 4.7), as overlap regions (see
     /// [`overlap_regions`]): each region carries the lights it is shadowed
@@ -57,12 +67,7 @@ impl ShadowCaster<'_> {
             t,
             convex: polygon::is_convex(&points),
         };
-        let casting = crate::shadow::Casting {
-            objects: self.materials.objects,
-            index: &self.index,
-            profile: self.profile,
-            eps: self.eps,
-        };
+        let casting = self.casting();
         casting.regions(&target, scratch, |target, scratch| {
             let mut per_light = Vec::new();
             for (j, light) in self.materials.lights.iter().enumerate() {
@@ -314,13 +319,15 @@ impl<'a> Builder<'a> {
     /// shadows on).
     fn caster(&self) -> Option<ShadowCaster<'a>> {
         let index = self.casters.clone()?;
-        Some(ShadowCaster {
+        let caster = ShadowCaster {
             materials: self.materials,
             view: self.view,
             profile: self.profile,
             eps: self.eps,
             index,
-        })
+        };
+        caster.casting().warm(self.materials.lights);
+        Some(caster)
     }
 
     /// Adds the shadow `regions` of fragment `c` (see

@@ -108,23 +108,27 @@ impl CasterIndex {
         j == 0 || (j + 1).saturating_mul(n) <= self.max_light_items
     }
 
-    /// Light `j`'s casters as it sees them ([`LightFaces`]), made for the
-    /// tolerance `tol` the first time they are asked for; `None` for a
-    /// light without hierarchies of its own, or when `tol` is larger than
-    /// theirs.
-    pub(super) fn faces(
-        &self,
-        objects: &[Object],
-        j: usize,
-        light: DVec3,
-        tol: f64,
-    ) -> Option<&LightFaces> {
+    /// Light `j`'s casters as it sees them ([`LightFaces`]), made by
+    /// [`Self::warm_faces`]; `None` before, for a light without
+    /// hierarchies of its own, or when `tol` is larger than theirs.
+    pub(super) fn faces(&self, j: usize, tol: f64) -> Option<&LightFaces> {
         if !self.light_space || !self.own_hierarchy(j) {
             return None;
         }
-        let faces =
+        self.faces[j].get().filter(|faces| tol <= faces.tol)
+    }
+
+    /// Makes light `j`'s [`LightFaces`] (world position `light`) for the
+    /// tolerance `tol`, unless made. Their build runs on the pool's
+    /// threads, so it is made before the casts, never inside one: a
+    /// worker waiting for its part of a parallel build takes other work
+    /// meanwhile, and a cast taken so would wait on the very cell being
+    /// filled (a deadlock). The closures of this index's other cells run
+    /// on their own thread only.
+    pub(super) fn warm_faces(&self, objects: &[Object], j: usize, light: DVec3, tol: f64) {
+        if self.light_space && self.own_hierarchy(j) {
             self.faces[j].get_or_init(|| LightFaces::new(objects, &self.casters, light, tol));
-        (tol <= faces.tol).then_some(faces)
+        }
     }
 }
 

@@ -41,8 +41,10 @@ impl Outline {
     /// whose plane has the light strictly in front, as the casters that
     /// face it). The edges are sorted, not hashed: a mesh of ten million
     /// triangles has fifteen million edges facing the light.
+    ///
+    /// It is made inside casts, once per object and light, so on the
+    /// calling thread alone (see [`super::CasterIndex::warm_faces`]).
     pub fn new(object: &Object, light: DVec3) -> Outline {
-        use rayon::prelude::*;
         let mut edges: Vec<u64> = Vec::new();
         for p in &object.polygons {
             if p.plane.truncate().dot(light) + p.plane.w <= 0.0 {
@@ -53,15 +55,15 @@ impl Outline {
                 edges.push(edge(ix[k], ix[(k + 1) % ix.len()]));
             }
         }
-        edges.par_sort_unstable();
+        edges.sort_unstable();
         let count = |e: u64| {
             let at = edges.partition_point(|&x| x < e);
             edges[at..].iter().take_while(|&&x| x == e).count()
         };
         // Each edge the other way round cancels one of its copies.
         let left: Vec<u64> = edges
-            .par_chunk_by(|a, b| a == b)
-            .flat_map_iter(|run| {
+            .chunk_by(|a, b| a == b)
+            .flat_map(|run| {
                 let (a, b) = ends(run[0]);
                 let back = count(edge(b, a));
                 std::iter::repeat_n(run[0], run.len().saturating_sub(back))

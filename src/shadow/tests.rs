@@ -15,12 +15,14 @@ fn casting<'a>(
     index: &'a CasterIndex,
     profile: &'a Profile,
 ) -> Casting<'a> {
-    Casting {
+    let casting = Casting {
         objects: &scene.objects,
         index,
         profile,
         eps: scene.modes.epsilon * scene.size(),
-    }
+    };
+    casting.warm(&scene.lights);
+    casting
 }
 
 /// Asserts that `a` and `b` cast the same pieces, bit for bit, on
