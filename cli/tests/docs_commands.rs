@@ -91,10 +91,9 @@ fn cargo_command(cmd: &str, place: &str) -> Option<String> {
     for pair in words.windows(2) {
         match pair[0] {
             "--bench" => assert!(
-                root()
-                    .join("benches")
-                    .join(format!("{}.rs", pair[1]))
-                    .exists(),
+                ["benches", "cli/benches"]
+                    .iter()
+                    .any(|d| root().join(d).join(format!("{}.rs", pair[1])).exists()),
                 "{place}: no bench `{}`",
                 pair[1]
             ),
