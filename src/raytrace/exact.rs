@@ -92,12 +92,6 @@ pub fn layer(
     picture: &ScanOptions,
     how: LayerOptions,
 ) -> Result<Option<ExactLayer>> {
-    let LayerOptions {
-        shadows,
-        shading,
-        max_rays,
-        keep_traced,
-    } = how;
     let sites: Vec<bool> = (0..tree.nodes.len())
         .map(|n| is_site(scene, tree, n))
         .collect();
@@ -106,8 +100,7 @@ pub fn layer(
         return Ok(None);
     }
     let (w, h) = (picture.width, picture.height);
-    let order = tree.output_order(SortOrder::FrontToBack);
-    let how = |blended| Emit {
+    let emit = |blended| Emit {
         order: SortOrder::FrontToBack,
         blended,
         width: w,
@@ -119,6 +112,45 @@ pub fn layer(
     flat.vertex_shades = false;
     flat.phong = false;
     flat.background = Color::ZERO;
+    let white = white_tree(tree, &sites);
+    let blended = matches!(picture.method, Method::Area | Method::Mask | Method::Hybrid);
+    let (mask_stream, _) = emit::records(&flat, &white, emit(blended), view);
+    let mask = scan_frame(&mask_stream, picture, picture.method, false)?;
+    // The site at each pixel centre.
+    let (id_stream, _) = emit::records(&flat, &white, emit(false), view);
+    let ids = scan_frame(&id_stream, picture, Method::Point, true)?;
+    let tracer =
+        RayTracer::new(scene, *view, how.shadows, how.shading).with_ray_limit(how.max_rays);
+    let start = std::time::Instant::now();
+    let sites = Sites {
+        tree,
+        sites: &sites,
+        order: tree.output_order(SortOrder::FrontToBack),
+    };
+    let rows = trace_rows(&tracer, &sites, &mask, &ids);
+    // Past the ray budget or on a stop request, the rays came back black.
+    tracer.stopped()?;
+    let mut stats = RayStats::default();
+    let mut add = Vec::with_capacity(w as usize * h as usize);
+    for (r, c) in rows {
+        stats.add(&c);
+        stats.primary += c.rays;
+        add.extend(r);
+    }
+    let traced = how.keep_traced.then(|| unmasked(&add, &mask));
+    stats.trace_time = start.elapsed();
+    Ok(Some(ExactLayer {
+        width: w,
+        add,
+        traced,
+        stats,
+        sites: count,
+    }))
+}
+
+/// The tree with its colours replaced for the mask: sites (and the
+/// shadows on them) white, everything else black.
+fn white_tree(tree: &VirtualImageTree, sites: &[bool]) -> VirtualImageTree {
     let mut white = tree.clone();
     // A shadow on a site stands for the site where it lies.
     let shows_site = |n: usize| {
@@ -134,32 +166,45 @@ pub fn layer(
         under[n] = on[n] || tree.nodes[n].parent().is_some_and(|p| under[p]);
     }
     for (n, f) in white.nodes.iter_mut().enumerate() {
-        let on = on[n];
-        f.shade = if on && f.weight > 0.0 {
+        f.shade = if on[n] && f.weight > 0.0 {
             Color::ONE / f.weight
         } else {
             Color::ZERO
         };
         f.blended = if under[n] { Color::ONE } else { Color::ZERO };
     }
-    let blended = matches!(picture.method, Method::Area | Method::Mask | Method::Hybrid);
-    let (mask_stream, _) = emit::records(&flat, &white, how(blended), view);
-    let mask = scan_frame(&mask_stream, picture, picture.method, false)?;
-    // The site at each pixel centre.
-    let (id_stream, _) = emit::records(&flat, &white, how(false), view);
-    let ids = scan_frame(&id_stream, picture, Method::Point, true)?;
-    // The record seen, or the nearest of its ancestors that is a site (a
-    // shadow on a site, or the site's reflection, shows the site too).
-    let site_of = |id: u32| -> Option<usize> {
-        let mut n = *order.get((id as usize).checked_sub(1)?)?;
-        while !sites[n] {
-            n = tree.nodes[n].parent()?;
+    white
+}
+
+/// The sites of a tree and the front-to-back order its records follow.
+struct Sites<'a> {
+    tree: &'a VirtualImageTree,
+    sites: &'a [bool],
+    order: Vec<usize>,
+}
+
+impl Sites<'_> {
+    /// The record seen, or the nearest of its ancestors that is a site (a
+    /// shadow on a site, or the site's reflection, shows the site too).
+    fn site_of(&self, id: u32) -> Option<usize> {
+        let mut n = *self.order.get((id as usize).checked_sub(1)?)?;
+        while !self.sites[n] {
+            n = self.tree.nodes[n].parent()?;
         }
         Some(n)
-    };
-    let tracer = RayTracer::new(scene, *view, shadows, shading).with_ray_limit(max_rays);
-    let start = std::time::Instant::now();
-    let rows: Vec<(Vec<[f32; 3]>, Counter)> = (0..h)
+    }
+}
+
+/// Traces the refracted ray of the site seen at each pixel under the
+/// mask: `mask * layer` per row, and each row's figures.
+fn trace_rows(
+    tracer: &RayTracer<'_>,
+    sites: &Sites<'_>,
+    mask: &FrameBuffer,
+    ids: &FrameBuffer,
+) -> Vec<(Vec<[f32; 3]>, Counter)> {
+    let (w, h) = (mask.width, mask.height);
+    (0..h)
         .into_par_iter()
         .map(|row| {
             let mut counter = Counter::default();
@@ -171,47 +216,31 @@ pub fn layer(
                         return [0.0; 3];
                     }
                     let site = neighbourhood(col, row, w, h)
-                        .find_map(|(x, y)| site_of(ids.ids[(y * w + x) as usize]));
+                        .find_map(|(x, y)| sites.site_of(ids.ids[(y * w + x) as usize]));
                     let Some(n) = site else {
                         return [0.0; 3];
                     };
-                    let c = site_colour(&tracer, tree, n, col, row, &mut counter);
+                    let c = site_colour(tracer, sites.tree, n, col, row, &mut counter);
                     (c * m as f64).as_vec3().to_array()
                 })
                 .collect();
             (out, counter)
         })
-        .collect();
-    // Past the ray budget or on a stop request, the rays came back black.
-    tracer.stopped()?;
-    let mut stats = RayStats::default();
-    let mut add = Vec::with_capacity(w as usize * h as usize);
-    for (r, c) in rows {
-        stats.add(&c);
-        stats.primary += c.rays;
-        add.extend(r);
-    }
-    // The layer before the mask, where the mask is not 0.
-    let traced = keep_traced.then(|| {
-        add.iter()
-            .zip(&mask.color)
-            .map(|(a, m)| {
-                if m[0] > 0.0 {
-                    a.map(|v| v / m[0])
-                } else {
-                    [0.0; 3]
-                }
-            })
-            .collect()
-    });
-    stats.trace_time = start.elapsed();
-    Ok(Some(ExactLayer {
-        width: w,
-        add,
-        traced,
-        stats,
-        sites: count,
-    }))
+        .collect()
+}
+
+/// The layer before the mask, where the mask is not 0.
+fn unmasked(add: &[[f32; 3]], mask: &FrameBuffer) -> Vec<[f32; 3]> {
+    add.iter()
+        .zip(&mask.color)
+        .map(|(a, m)| {
+            if m[0] > 0.0 {
+                a.map(|v| v / m[0])
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect()
 }
 
 /// The pixel itself, then its eight neighbours.

@@ -55,16 +55,7 @@ pub fn prepare(
 ) -> Prepared {
     let t = Instant::now();
     let profile = crate::profile::Profile::new(options.profile);
-    // `--threads N` bounds the tree's parallel work too (shadows); the
-    // tree does not depend on it.
-    let pool = (options.threads > 0)
-        .then(|| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(options.threads)
-                .build()
-                .ok()
-        })
-        .flatten();
+    let pool = thread_pool(options.threads);
     // Every polygon's material, resolved once for the tree and its records.
     let materials = Materials::new(scene);
     let (refraction, said) = refraction_model(scene, &materials, view, options.refraction);
@@ -86,15 +77,17 @@ pub fn prepare(
         budgets: options.budgets,
         cull_samples: scan.sample_grid().filter(|_| cull),
     };
-    let tree = within(&pool, || {
-        crate::image_tree::build_profiled(&materials, view, tree_options, &profile, casters, orders)
-    });
+    let builder = Builder {
+        materials: &materials,
+        view,
+        profile: &profile,
+        casters,
+        orders,
+        pool: &pool,
+    };
+    let tree = builder.build(tree_options);
     stats.sort_time = t.elapsed();
-    stats.geometry = tree.geometry;
-    stats.max_depth = tree.max_depth;
-    stats.nns = tree.nns;
-    stats.pruned = tree.pruned;
-    stats.warnings = tree.warnings.clone();
+    tree_figures(&mut stats, &tree);
     let t = Instant::now();
     let keep = refraction == Refraction::Exact;
     // `setmode o`: the tree file in the scene's order and blending.
@@ -123,24 +116,8 @@ pub fn prepare(
         (Some(file), Some(layer), Some(tree)) => Some(
             with_traced_branches(scene, view, tree, layer, file, options).unwrap_or_else(|| {
                 stats.warnings.push(linear_file_warning(options));
-                let linear = TreeOptions {
-                    refraction: Refraction::Linearized,
-                    ..tree_options
-                };
-                let tree = within(&pool, || {
-                    crate::image_tree::build_profiled(
-                        &materials, view, linear, &profile, casters, orders,
-                    )
-                });
-                stats.warnings.extend(tree.warnings.iter().cloned());
-                let (order, blended) = file_how.expect("a tree file");
-                let how = Emit {
-                    order,
-                    blended,
-                    width: view.width as u32,
-                    height: view.height as u32,
-                };
-                within(&pool, || emit::records(&materials, &tree, how, view).0)
+                let how = file_how.expect("a tree file");
+                builder.linear_file(tree_options, how, &mut stats)
             }),
         ),
         (file, _, _) => file,
@@ -153,6 +130,81 @@ pub fn prepare(
         exact,
         profile: options.profile.then_some(profile),
         stats,
+    }
+}
+
+/// A pool of `threads` threads (`--threads N` bounds the tree's parallel
+/// work too, shadows; the tree does not depend on it); `None` for all
+/// cores.
+fn thread_pool(threads: usize) -> Option<rayon::ThreadPool> {
+    (threads > 0)
+        .then(|| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .ok()
+        })
+        .flatten()
+}
+
+/// The tree's own figures, into the render's.
+fn tree_figures(stats: &mut RenderStats, tree: &VirtualImageTree) {
+    stats.geometry = tree.geometry;
+    stats.max_depth = tree.max_depth;
+    stats.nns = tree.nns;
+    stats.pruned = tree.pruned;
+    stats.warnings = tree.warnings.clone();
+}
+
+/// What building a virtual image tree takes beside its options.
+struct Builder<'a> {
+    materials: &'a Materials<'a>,
+    view: &'a View,
+    profile: &'a crate::profile::Profile,
+    casters: &'a crate::image_tree::CasterReuse,
+    orders: &'a crate::visibility::nns::PriorOrder,
+    pool: &'a Option<rayon::ThreadPool>,
+}
+
+impl Builder<'_> {
+    /// The tree of `options`, built on the run's pool.
+    fn build(&self, options: TreeOptions) -> VirtualImageTree {
+        within(self.pool, || {
+            crate::image_tree::build_profiled(
+                self.materials,
+                self.view,
+                options,
+                self.profile,
+                self.casters,
+                self.orders,
+            )
+        })
+    }
+
+    /// The tree file with the linear maps' refracted branches, when the
+    /// traced ones do not fit: the tree built again, linearized, and
+    /// emitted in the file's `(order, blended)`.
+    fn linear_file(
+        &self,
+        options: TreeOptions,
+        (order, blended): (SortOrder, bool),
+        stats: &mut RenderStats,
+    ) -> RecordStream {
+        let linear = TreeOptions {
+            refraction: Refraction::Linearized,
+            ..options
+        };
+        let tree = self.build(linear);
+        stats.warnings.extend(tree.warnings.iter().cloned());
+        let how = Emit {
+            order,
+            blended,
+            width: self.view.width as u32,
+            height: self.view.height as u32,
+        };
+        within(self.pool, || {
+            emit::records(self.materials, &tree, how, self.view).0
+        })
     }
 }
 

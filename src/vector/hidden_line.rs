@@ -343,57 +343,94 @@ struct Scratch {
     found: Vec<usize>,
 }
 
+/// The pieces grouped into fans about their busiest vertex (one met by at
+/// least `FAN` pieces), and the pieces in no fan.
+fn fans(pieces: &[Piece]) -> (Vec<Fan>, Vec<usize>) {
+    use std::collections::HashMap;
+    // Vertices by their exact coordinates, and how many pieces each.
+    let key = |p: Pt| (p[0].to_bits(), p[1].to_bits());
+    let mut degree: HashMap<(u64, u64), usize> = HashMap::new();
+    for p in pieces {
+        for &v in &p.pts {
+            *degree.entry(key(v)).or_default() += 1;
+        }
+    }
+    let mut fan_of: HashMap<(u64, u64), usize> = HashMap::new();
+    let mut fans: Vec<Fan> = Vec::new();
+    let mut single: Vec<usize> = Vec::new();
+    for (k, p) in pieces.iter().enumerate() {
+        let best = (0..p.pts.len())
+            .filter(|&i| degree[&key(p.pts[i])] >= FAN)
+            .max_by_key(|&i| degree[&key(p.pts[i])]);
+        match best
+            .filter(|_| convex(&p.pts))
+            .and_then(|i| wedge(&p.pts, i))
+        {
+            Some((v, s, w)) => {
+                let f = *fan_of.entry(key(v)).or_insert_with(|| {
+                    fans.push(Fan {
+                        at: v,
+                        wedges: Vec::new(),
+                        widest: 0.0,
+                    });
+                    fans.len() - 1
+                });
+                fans[f].wedges.push((s, w, k));
+                fans[f].widest = fans[f].widest.max(w);
+            }
+            None => single.push(k),
+        }
+    }
+    (fans, single)
+}
+
+/// The wedge of a convex piece at its vertex `i`: the vertex, the angle
+/// where the wedge starts (in `[0, TAU)`) and its width; `None` at a
+/// repeated vertex.
+fn wedge(pts: &[Pt], i: usize) -> Option<(Pt, f64, f64)> {
+    let m = pts.len();
+    let v = pts[i];
+    let (pv, nx) = (pts[(i + m - 1) % m], pts[(i + 1) % m]);
+    let (d1, d2) = ([pv[0] - v[0], pv[1] - v[1]], [nx[0] - v[0], nx[1] - v[1]]);
+    if d1 == [0.0, 0.0] || d2 == [0.0, 0.0] {
+        return None;
+    }
+    let (a1, a2) = (d1[1].atan2(d1[0]), d2[1].atan2(d2[0]));
+    let diff = (a2 - a1).rem_euclid(TAU);
+    let (s, w) = if diff <= std::f64::consts::PI {
+        (a1, diff)
+    } else {
+        (a2, TAU - diff)
+    };
+    Some((v, s.rem_euclid(TAU), w))
+}
+
+/// The cells a side of the grid for `entries` in a `w x h` picture: about
+/// two entries per cell, no finer than a pixel, and within a total of
+/// grid entries proportional to the pieces.
+fn grid_size(entries: &[(Entry, (Pt, Pt))], w: f64, h: f64) -> usize {
+    let finest = w.max(h).ceil().max(1.0) as usize;
+    let mut n = ((entries.len() as f64 / 2.0).sqrt() as usize).clamp(1, MAX_GRID.min(finest));
+    let cap = (entries.len().saturating_mul(ENTRIES_PER_PIECE)).max(1 << 20);
+    loop {
+        let (sx, sy) = (n as f64 / w.max(1.0), n as f64 / h.max(1.0));
+        let total: usize = entries
+            .iter()
+            .map(|(_, b)| {
+                let (c0, c1, r0, r1) = range(n, sx, sy, *b);
+                (c1 - c0 + 1) * (r1 - r0 + 1)
+            })
+            .sum();
+        if total <= cap || n == 1 {
+            return n;
+        }
+        n /= 2;
+    }
+}
+
 impl Index {
     fn new(pieces: &[Piece], w: f64, h: f64) -> Index {
-        use std::collections::HashMap;
-        // Vertices by their exact coordinates, and how many pieces each.
-        let key = |p: Pt| (p[0].to_bits(), p[1].to_bits());
-        let mut degree: HashMap<(u64, u64), usize> = HashMap::new();
-        for p in pieces {
-            for &v in &p.pts {
-                *degree.entry(key(v)).or_default() += 1;
-            }
-        }
-        let mut fan_of: HashMap<(u64, u64), usize> = HashMap::new();
-        let mut fans: Vec<Fan> = Vec::new();
-        let mut single: Vec<usize> = Vec::new();
-        for (k, p) in pieces.iter().enumerate() {
-            let m = p.pts.len();
-            let best = (0..m)
-                .filter(|&i| degree[&key(p.pts[i])] >= FAN)
-                .max_by_key(|&i| degree[&key(p.pts[i])]);
-            let wedge = best.filter(|_| convex(&p.pts)).and_then(|i| {
-                let v = p.pts[i];
-                let (pv, nx) = (p.pts[(i + m - 1) % m], p.pts[(i + 1) % m]);
-                let (d1, d2) = ([pv[0] - v[0], pv[1] - v[1]], [nx[0] - v[0], nx[1] - v[1]]);
-                if d1 == [0.0, 0.0] || d2 == [0.0, 0.0] {
-                    return None;
-                }
-                let (a1, a2) = (d1[1].atan2(d1[0]), d2[1].atan2(d2[0]));
-                let diff = (a2 - a1).rem_euclid(TAU);
-                let (s, w) = if diff <= std::f64::consts::PI {
-                    (a1, diff)
-                } else {
-                    (a2, TAU - diff)
-                };
-                Some((v, s.rem_euclid(TAU), w))
-            });
-            match wedge {
-                Some((v, s, w)) => {
-                    let f = *fan_of.entry(key(v)).or_insert_with(|| {
-                        fans.push(Fan {
-                            at: v,
-                            wedges: Vec::new(),
-                            widest: 0.0,
-                        });
-                        fans.len() - 1
-                    });
-                    fans[f].wedges.push((s, w, k));
-                    fans[f].widest = fans[f].widest.max(w);
-                }
-                None => single.push(k),
-            }
-        }
+        let (mut fans, single) = fans(pieces);
         let mut fan_box: Vec<(Pt, Pt)> = vec![([f64::MAX; 2], [f64::MIN; 2]); fans.len()];
         for (f, fan) in fans.iter_mut().enumerate() {
             fan.wedges.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -414,25 +451,7 @@ impl Index {
                     .map(|(f, b)| (Entry::Fan(f as u32), *b)),
             )
             .collect();
-        // About two entries per cell, no finer than a pixel, and within a
-        // total of grid entries proportional to the pieces.
-        let finest = w.max(h).ceil().max(1.0) as usize;
-        let mut n = ((entries.len() as f64 / 2.0).sqrt() as usize).clamp(1, MAX_GRID.min(finest));
-        let cap = (entries.len().saturating_mul(ENTRIES_PER_PIECE)).max(1 << 20);
-        loop {
-            let (sx, sy) = (n as f64 / w.max(1.0), n as f64 / h.max(1.0));
-            let total: usize = entries
-                .iter()
-                .map(|(_, b)| {
-                    let (c0, c1, r0, r1) = range(n, sx, sy, *b);
-                    (c1 - c0 + 1) * (r1 - r0 + 1)
-                })
-                .sum();
-            if total <= cap || n == 1 {
-                break;
-            }
-            n /= 2;
-        }
+        let n = grid_size(&entries, w, h);
         let mut index = Index {
             cells: vec![Vec::new(); n * n],
             fans,

@@ -46,29 +46,26 @@ fn mesh(triangles: &[[(Pt, [u8; 3]); 3]], w: f64, h: f64) -> Vec<u8> {
     data
 }
 
-/// The picture as a one-page PDF.
-pub fn to_pdf(p: &Picture) -> Vec<u8> {
-    let (w, h) = (p.width, p.height);
-    let mut pdf = Pdf::new();
-    let (catalog, tree, page_id, content_id) = (Ref::new(1), Ref::new(2), Ref::new(3), Ref::new(4));
-    let mut next = 5;
-    let mut alloc = || {
-        let r = Ref::new(next);
-        next += 1;
+/// A page's content and the resources it names: the Gouraud runs'
+/// shadings (name, object, mesh data) and the opacities' graphics states
+/// (name, object, alpha).
+struct Page {
+    content: Content,
+    shadings: Vec<(String, Ref, Vec<u8>)>,
+    states: Vec<(String, Ref, f32)>,
+    /// The next free object number.
+    next: i32,
+}
+
+impl Page {
+    fn alloc(&mut self) -> Ref {
+        let r = Ref::new(self.next);
+        self.next += 1;
         r
-    };
-    let mut content = Content::new();
-    let bg = unit(p.background);
-    content.set_fill_rgb(bg[0], bg[1], bg[2]);
-    path(
-        &mut content,
-        &[vec![[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]]],
-        h,
-    );
-    content.fill_nonzero();
-    let mut shadings: Vec<(String, Ref, Vec<u8>)> = Vec::new();
-    let mut states: Vec<(String, Ref, f32)> = Vec::new();
-    for item in &p.items {
+    }
+
+    /// Paints one item of a picture `w x h`.
+    fn item(&mut self, item: &Item, w: f64, h: f64) {
         match item {
             Item::Fill {
                 paths,
@@ -77,27 +74,30 @@ pub fn to_pdf(p: &Picture) -> Vec<u8> {
             } => {
                 let c = unit(*color);
                 if *opacity < 1.0 {
-                    let name = format!("G{}", states.len() + 1);
-                    content.save_state();
-                    content.set_parameters(Name(name.as_bytes()));
-                    states.push((name, alloc(), *opacity));
+                    let name = format!("G{}", self.states.len() + 1);
+                    self.content.save_state();
+                    self.content.set_parameters(Name(name.as_bytes()));
+                    let id = self.alloc();
+                    self.states.push((name, id, *opacity));
                 }
-                content.set_fill_rgb(c[0], c[1], c[2]);
-                path(&mut content, paths, h);
-                content.fill_nonzero();
+                self.content.set_fill_rgb(c[0], c[1], c[2]);
+                path(&mut self.content, paths, h);
+                self.content.fill_nonzero();
                 if *opacity < 1.0 {
-                    content.restore_state();
+                    self.content.restore_state();
                 }
             }
             Item::Gouraud { outline, triangles } => {
-                let name = format!("S{}", shadings.len() + 1);
+                let name = format!("S{}", self.shadings.len() + 1);
+                let content = &mut self.content;
                 content.save_state();
-                path(&mut content, outline, h);
+                path(content, outline, h);
                 content.clip_nonzero();
                 content.end_path();
                 content.shading(Name(name.as_bytes()));
                 content.restore_state();
-                shadings.push((name, alloc(), mesh(triangles, w, h)));
+                let id = self.alloc();
+                self.shadings.push((name, id, mesh(triangles, w, h)));
             }
             Item::Lines {
                 segments,
@@ -105,6 +105,7 @@ pub fn to_pdf(p: &Picture) -> Vec<u8> {
                 width,
             } => {
                 let c = unit(*color);
+                let content = &mut self.content;
                 content.set_stroke_rgb(c[0], c[1], c[2]);
                 content.set_line_width(*width as f32);
                 content.set_line_cap(LineCapStyle::RoundCap);
@@ -116,31 +117,64 @@ pub fn to_pdf(p: &Picture) -> Vec<u8> {
             }
         }
     }
+}
+
+/// The picture as a one-page PDF.
+pub fn to_pdf(p: &Picture) -> Vec<u8> {
+    let (w, h) = (p.width, p.height);
+    let mut pdf = Pdf::new();
+    let (catalog, tree, page_id, content_id) = (Ref::new(1), Ref::new(2), Ref::new(3), Ref::new(4));
+    let mut page = Page {
+        content: Content::new(),
+        shadings: Vec::new(),
+        states: Vec::new(),
+        next: 5,
+    };
+    let bg = unit(p.background);
+    page.content.set_fill_rgb(bg[0], bg[1], bg[2]);
+    path(
+        &mut page.content,
+        &[vec![[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]]],
+        h,
+    );
+    page.content.fill_nonzero();
+    for item in &p.items {
+        page.item(item, w, h);
+    }
     pdf.catalog(catalog).pages(tree);
     pdf.pages(tree).kids([page_id]).count(1);
     {
-        let mut page = pdf.page(page_id);
-        page.media_box(Rect::new(0.0, 0.0, w as f32, h as f32));
-        page.parent(tree);
-        page.contents(content_id);
-        let mut res = page.resources();
+        let mut writer = pdf.page(page_id);
+        writer.media_box(Rect::new(0.0, 0.0, w as f32, h as f32));
+        writer.parent(tree);
+        writer.contents(content_id);
+        let mut res = writer.resources();
         {
             let mut sh = res.shadings();
-            for (name, id, _) in &shadings {
+            for (name, id, _) in &page.shadings {
                 sh.pair(Name(name.as_bytes()), *id);
             }
         }
         {
             let mut gs = res.ext_g_states();
-            for (name, id, _) in &states {
+            for (name, id, _) in &page.states {
                 gs.pair(Name(name.as_bytes()), *id);
             }
         }
     }
-    for (_, id, alpha) in &states {
+    resources(&mut pdf, &page, w, h);
+    let bytes = page.content.finish();
+    pdf.stream(content_id, &bytes);
+    pdf.finish()
+}
+
+/// The objects a page's resources name: its graphics states and its
+/// type-4 shadings.
+fn resources(pdf: &mut Pdf, page: &Page, w: f64, h: f64) {
+    for (_, id, alpha) in &page.states {
         pdf.ext_graphics(*id).non_stroking_alpha(*alpha);
     }
-    for (_, id, data) in &shadings {
+    for (_, id, data) in &page.shadings {
         let mut s = pdf.stream_shading(*id, data);
         s.shading_type(pdf_writer::writers::StreamShadingType::FreeformGouraud);
         s.color_space().device_rgb();
@@ -149,7 +183,4 @@ pub fn to_pdf(p: &Picture) -> Vec<u8> {
             .bits_per_flag(8)
             .decode([0.0, w as f32, 0.0, h as f32, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0]);
     }
-    let bytes = content.finish();
-    pdf.stream(content_id, &bytes);
-    pdf.finish()
 }

@@ -456,7 +456,7 @@ impl CliHost {
             .size
             .unwrap_or((scene.viewport.width(), scene.viewport.height()));
         if u64::from(w) * u64::from(h) > self.budgets.pixels {
-            return Err(Error::Invalid(crate::args::pixels_exceeded(
+            return Err(Error::Invalid(crate::settings::pixels_exceeded(
                 w,
                 h,
                 self.budgets.pixels,
@@ -590,7 +590,7 @@ impl CliHost {
             utc_now(),
             self.scene_file
                 .as_deref()
-                .map_or_else(|| crate::args::STDIN.into(), field),
+                .map_or_else(|| crate::settings::STDIN.into(), field),
             field(image),
             s.polygons_tiled,
             s.max_depth,
@@ -789,7 +789,7 @@ impl Host for CliHost {
             .size
             .unwrap_or((scene.viewport.width(), scene.viewport.height()));
         if u64::from(w) * u64::from(h) > self.budgets.pixels {
-            return Err(Error::Invalid(crate::args::pixels_exceeded(
+            return Err(Error::Invalid(crate::settings::pixels_exceeded(
                 w,
                 h,
                 self.budgets.pixels,
@@ -818,7 +818,7 @@ impl Host for CliHost {
 
     fn scanning(&mut self, file: &Path) {
         self.say(&format!("Scanning descriptor file {}", file.display()));
-        if file == Path::new(crate::args::STDIN) {
+        if file == Path::new(crate::settings::STDIN) {
             // A scene without `fname` from standard input writes plytrace.png.
             self.scene_stem = None;
             self.scene_file = None;
@@ -886,7 +886,7 @@ fn significant(x: f64) -> String {
 /// The settings that decide the pixels, as text: the manual's letters
 /// (not `-o`, nor the debugging level), the size and the rendering
 /// flags. Threads, budgets, messages and output names do not count.
-fn pixel_flags(s: &crate::args::Settings) -> String {
+fn pixel_flags(s: &crate::settings::Settings) -> String {
     let modes: Vec<&(char, String)> = s
         .modes
         .iter()
@@ -902,14 +902,14 @@ fn pixel_flags(s: &crate::args::Settings) -> String {
 impl CliHost {
     /// The host of a session with these settings; `output` is where the
     /// image goes (a temporary file for `-o -`).
-    pub fn new(s: &crate::args::Settings, output: Option<PathBuf>) -> CliHost {
+    pub fn new(s: &crate::settings::Settings, output: Option<PathBuf>) -> CliHost {
         let scene_file = match &s.scene {
-            crate::args::SceneSource::File(p) => Some(p.clone()),
+            crate::settings::SceneSource::File(p) => Some(p.clone()),
             _ => None,
         };
         CliHost {
             output,
-            to_stdout: matches!(s.image, crate::args::Image::Stdout(_)),
+            to_stdout: matches!(s.image, crate::settings::Image::Stdout(_)),
             check: s.check,
             stats: Vec::new(),
             size: s.size,
@@ -942,7 +942,7 @@ impl CliHost {
             frame: 0,
             pixel_flags: pixel_flags(s),
             stats_file: match &s.stats {
-                Some(crate::args::StatsTarget::File(p)) => Some(p.clone()),
+                Some(crate::settings::StatsTarget::File(p)) => Some(p.clone()),
                 _ => None,
             },
             stats_refused: false,

@@ -12,14 +12,16 @@ mod help;
 mod host;
 mod repl;
 mod session;
+mod settings;
 mod stats;
 mod stdout_image;
 mod term;
 mod tools;
 
-use args::{Image, Request};
+use args::Request;
 use plytrace::api::program::control::{Policy, install_signals};
 use plytrace::api::program::files::{check_target, on_lock_wait};
+use settings::Image;
 use term::{err, print_document, report};
 
 fn main() -> ExitCode {
@@ -51,7 +53,7 @@ fn main() -> ExitCode {
         _ => None,
     };
     let stats = match &settings.stats {
-        Some(args::StatsTarget::File(p)) => Some(p),
+        Some(settings::StatsTarget::File(p)) => Some(p),
         _ => None,
     };
     for p in named.into_iter().chain(&settings.id_image).chain(stats) {

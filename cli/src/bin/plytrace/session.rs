@@ -15,10 +15,10 @@ use plytrace::api::program::parts::note_input;
 use plytrace::api::program::session::{Flow, Host, Interpreter, MAX_SCENE_BYTES, Scene};
 use plytrace::{Error, Result};
 
-use crate::args::{STDIN, SceneSource, Settings, StatsTarget};
 use crate::help::help_request;
 use crate::host::CliHost;
 use crate::repl;
+use crate::settings::{STDIN, SceneSource, Settings, StatsTarget};
 use crate::stats::SceneCounts;
 use crate::term::{err, report};
 
@@ -75,112 +75,137 @@ fn load_scene(interp: &mut Interpreter, host: &mut CliHost, source: &SceneSource
     Ok(flow)
 }
 
+/// The interactive session: statements from the prompt (with line
+/// editing on a terminal) or from piped standard input.
 pub fn interactive(interp: &mut Interpreter, host: &mut CliHost) -> ExitCode {
     let on_terminal = std::io::stdin().is_terminal();
-    let stdin_label = Path::new(STDIN);
-    let mut line_no = 0usize;
-    let mut failed = false;
-    // Runs one line; errors are reported and remembered, the session goes on.
-    let mut execute =
-        |interp: &mut Interpreter, host: &mut CliHost, line: &str, line_no: usize| -> Flow {
-            if let Some(text) = help_request(line) {
-                host.say(text.trim_end());
-                return Flow::Continue;
-            }
-            let result = interp.execute_source(line, stdin_label, Path::new("."), host);
-            print_warnings(interp);
-            match result {
-                Ok(f) => f,
-                Err(Error::Input(mut d)) => {
-                    for loc in std::iter::once(&mut d.location).chain(d.included_from.iter_mut()) {
-                        if loc.file == stdin_label {
-                            loc.line = line_no;
-                        }
-                    }
-                    report(&Error::Input(d));
-                    failed = true;
-                    Flow::Continue
-                }
-                Err(e) => {
-                    report(&e);
-                    failed = true;
-                    Flow::Continue
-                }
-            }
-        };
+    let mut lines = Lines::default();
     if on_terminal {
         host.say(&format!("plytrace - version {}", env!("CARGO_PKG_VERSION")));
-        let Ok(mut editor) = rustyline::Editor::<repl::CommandCompleter, _>::with_history(
-            rustyline::Config::builder()
-                .max_history_size(repl::HISTORY_LINES)
-                .map_or_else(|_| rustyline::Config::default(), |b| b.build()),
-            rustyline::history::FileHistory::new(),
-        ) else {
-            err("error: cannot open the terminal for line editing");
-            return ExitCode::FAILURE;
-        };
-        editor.set_helper(Some(repl::CommandCompleter::new()));
-        let history = repl::history_path();
-        if let Some(p) = &history
-            && let Err(e) = repl::load_history(editor.history_mut(), p)
-        {
-            err(&format!(
-                "warning: the command history in {} was not read: {e}",
-                p.display()
-            ));
+        if let Err(code) = prompt(interp, host, &mut lines) {
+            return code;
         }
-        let mut interrupted = false;
-        loop {
-            match editor.readline("Command: ") {
-                Ok(line) => {
-                    interrupted = false;
-                    line_no += 1;
-                    let _ = editor.add_history_entry(line.as_str());
-                    if execute(interp, host, &line, line_no) == Flow::Quit
-                        || control::ending().is_some()
-                    {
-                        break;
-                    }
-                }
-                // Ctrl-C at the prompt drops the line; twice in a row quits.
-                Err(rustyline::error::ReadlineError::Interrupted) if !interrupted => {
-                    interrupted = true;
-                    err("(press Ctrl-C again, or type quit, to leave)");
-                }
-                Err(_) => break,
-            }
-        }
-        if let Some(p) = &history
-            && let Err(e) = repl::save_history(editor.history(), p)
-        {
-            err(&format!(
-                "warning: the command history was not kept in {}: {e}",
-                p.display()
-            ));
-        }
-    } else {
-        let mut input = std::io::stdin().lock();
-        loop {
-            let line = match read_line(&mut input, line_no + 1) {
-                Ok(Some(line)) => line,
-                Ok(None) => break,
-                Err(message) => {
-                    err(&format!("error: {message}"));
-                    return ExitCode::FAILURE;
-                }
-            };
-            line_no += 1;
-            if execute(interp, host, &line, line_no) == Flow::Quit || control::ending().is_some() {
-                break;
-            }
-        }
+    } else if let Err(code) = piped(interp, host, &mut lines) {
+        return code;
     }
     if let Some(code) = control::ending() {
         ExitCode::from(code)
-    } else if failed && !on_terminal {
+    } else if lines.failed && !on_terminal {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
+    }
+}
+
+/// The lines of an interactive session so far.
+#[derive(Default)]
+struct Lines {
+    /// The last line's number.
+    number: usize,
+    /// A line failed.
+    failed: bool,
+}
+
+impl Lines {
+    /// Runs the next line; errors are reported and remembered, the
+    /// session goes on.
+    fn execute(&mut self, interp: &mut Interpreter, host: &mut CliHost, line: &str) -> Flow {
+        self.number += 1;
+        if let Some(text) = help_request(line) {
+            host.say(text.trim_end());
+            return Flow::Continue;
+        }
+        let stdin_label = Path::new(STDIN);
+        let result = interp.execute_source(line, stdin_label, Path::new("."), host);
+        print_warnings(interp);
+        match result {
+            Ok(f) => f,
+            Err(Error::Input(mut d)) => {
+                for loc in std::iter::once(&mut d.location).chain(d.included_from.iter_mut()) {
+                    if loc.file == stdin_label {
+                        loc.line = self.number;
+                    }
+                }
+                report(&Error::Input(d));
+                self.failed = true;
+                Flow::Continue
+            }
+            Err(e) => {
+                report(&e);
+                self.failed = true;
+                Flow::Continue
+            }
+        }
+    }
+}
+
+/// The prompt `Command:` on a terminal, with line editing, completion and
+/// the history; `Err` with the exit code when the terminal cannot edit.
+fn prompt(interp: &mut Interpreter, host: &mut CliHost, lines: &mut Lines) -> Result<(), ExitCode> {
+    let Ok(mut editor) = rustyline::Editor::<repl::CommandCompleter, _>::with_history(
+        rustyline::Config::builder()
+            .max_history_size(repl::HISTORY_LINES)
+            .map_or_else(|_| rustyline::Config::default(), |b| b.build()),
+        rustyline::history::FileHistory::new(),
+    ) else {
+        err("error: cannot open the terminal for line editing");
+        return Err(ExitCode::FAILURE);
+    };
+    editor.set_helper(Some(repl::CommandCompleter::new()));
+    let history = repl::history_path();
+    if let Some(p) = &history
+        && let Err(e) = repl::load_history(editor.history_mut(), p)
+    {
+        err(&format!(
+            "warning: the command history in {} was not read: {e}",
+            p.display()
+        ));
+    }
+    let mut interrupted = false;
+    loop {
+        match editor.readline("Command: ") {
+            Ok(line) => {
+                interrupted = false;
+                let _ = editor.add_history_entry(line.as_str());
+                if lines.execute(interp, host, &line) == Flow::Quit || control::ending().is_some() {
+                    break;
+                }
+            }
+            // Ctrl-C at the prompt drops the line; twice in a row quits.
+            Err(rustyline::error::ReadlineError::Interrupted) if !interrupted => {
+                interrupted = true;
+                err("(press Ctrl-C again, or type quit, to leave)");
+            }
+            Err(_) => break,
+        }
+    }
+    if let Some(p) = &history
+        && let Err(e) = repl::save_history(editor.history(), p)
+    {
+        err(&format!(
+            "warning: the command history was not kept in {}: {e}",
+            p.display()
+        ));
+    }
+    Ok(())
+}
+
+/// Statements piped to standard input, a line at a time; `Err` with the
+/// exit code on a line that cannot be read.
+fn piped(interp: &mut Interpreter, host: &mut CliHost, lines: &mut Lines) -> Result<(), ExitCode> {
+    let mut input = std::io::stdin().lock();
+    loop {
+        let line = match read_line(&mut input, lines.number + 1) {
+            Ok(Some(line)) => line,
+            Ok(None) => return Ok(()),
+            Err(message) => {
+                err(&format!("error: {message}"));
+                return Err(ExitCode::FAILURE);
+            }
+        };
+        if lines.execute(interp, host, &line) == Flow::Quit || control::ending().is_some() {
+            return Ok(());
+        }
     }
 }
 
