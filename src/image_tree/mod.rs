@@ -178,7 +178,17 @@ pub fn build_profiled<'a>(
             options.shadows.then(|| {
                 let _t = profile.time(Category::Transform);
                 let (objects, lights) = (materials.objects, materials.lights);
-                casters.index(objects, lights, materials.eps, asked_again)
+                let index = casters.index(objects, lights, materials.eps, asked_again);
+                // What the lights cast with is made here, once, not inside
+                // the casts (see `shadow::Casting::warm`).
+                let casting = crate::shadow::Casting {
+                    objects,
+                    index: &index,
+                    profile,
+                    eps: materials.eps,
+                };
+                casting.warm(lights);
+                index
             })
         },
     );

@@ -319,15 +319,13 @@ impl<'a> Builder<'a> {
     /// shadows on).
     fn caster(&self) -> Option<ShadowCaster<'a>> {
         let index = self.casters.clone()?;
-        let caster = ShadowCaster {
+        Some(ShadowCaster {
             materials: self.materials,
             view: self.view,
             profile: self.profile,
             eps: self.eps,
             index,
-        };
-        caster.casting().warm(self.materials.lights);
-        Some(caster)
+        })
     }
 
     /// Adds the shadow `regions` of fragment `c` (see

@@ -101,6 +101,31 @@ fn the_light_faces_cast_the_same_shadows_as_the_world_hierarchy() {
     assert!(total > 200, "only {total} shadow pieces compared");
 }
 
+/// `warm` makes every Point light's faces before any cast, so the casts
+/// above compare them with the world hierarchy (a cast never builds
+/// them: without `warm` both sides would be the world hierarchy).
+#[test]
+fn warming_makes_every_point_lights_faces() {
+    let scene = gallery();
+    let index = CasterIndex::new(&scene.objects, scene.lights.len());
+    let profile = Profile::new(false);
+    let c = casting(&scene, &index, &profile);
+    let tol = FACE_MARGIN * c.eps;
+    let points = scene.lights.iter().enumerate();
+    let points: Vec<usize> = points
+        .filter(|(_, l)| l.kind == crate::model::LightKind::Point)
+        .map(|(j, _)| j)
+        .collect();
+    assert!(
+        points.len() >= 2,
+        "the gallery has {} point lights",
+        points.len()
+    );
+    for j in points {
+        assert!(index.faces(j, tol).is_some(), "light {j} has no faces");
+    }
+}
+
 /// The shadows of every light on every whole polygon of `scene`, cast
 /// with objects inside a shadow volume by their outlines, and by their
 /// polygons: the same pieces, bit for bit. Returns how many pieces
