@@ -38,6 +38,7 @@ mod raster;
 mod raytrace;
 mod render;
 mod rftb;
+mod run;
 mod scene;
 mod shading;
 mod shadow;

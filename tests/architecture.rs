@@ -59,6 +59,8 @@ const STAGES: &[(&str, u8)] = &[
     ("convert", 11),
     ("display", 11),
     ("signals", 11),
+    // A run of the scene language with its files.
+    ("run", 11),
     // The front: the library API (with `api/program`, what the programs
     // use), the last stage: nothing in the library imports it.
     ("api", 12),

@@ -28,5 +28,6 @@ pub mod files;
 pub mod parts;
 pub mod pipeline;
 pub mod rows;
+pub mod run;
 pub mod session;
 pub mod tools;

@@ -10,11 +10,12 @@ use std::time::{Duration, Instant};
 
 use plytrace::api::program::files::{self, AtomicFile};
 use plytrace::api::program::pipeline::{self, Algorithm, RenderOptions};
-use plytrace::api::program::rows::{FrameBuffer, Row, RowSink, part_rows};
+use plytrace::api::program::rows::FrameBuffer;
+use plytrace::api::program::run::{self, PartRun, RunObserver, RunReport, RunSpec};
 use plytrace::api::program::session::printable;
 use plytrace::api::program::session::{Host, Scene};
 use plytrace::api::program::{control, display, parts};
-use plytrace::api::{Antialiasing, Budgets, VectorFormat};
+use plytrace::api::{Antialiasing, Budgets};
 use plytrace::{Error, Result};
 
 use crate::stats::RunStats;
@@ -108,16 +109,29 @@ fn confine(name: &str) -> Result<()> {
     }
 }
 
-/// Passes rows on to `inner` and advances a progress bar, one step a row
-/// (a band of rows at a time, as the scan converter finishes them).
-struct ProgressSink<'a> {
-    inner: &'a mut dyn RowSink,
+/// A progress bar on stderr, one step a row (a band of rows at a time,
+/// as the scan converter finishes them), and the run's warnings.
+struct Progress {
+    show: bool,
     bar: Option<indicatif::ProgressBar>,
+    /// Lines said when the outputs are made and the render begins, each
+    /// on stderr (`true`) or stdout.
+    opening: Vec<(bool, String)>,
 }
 
-impl<'a> ProgressSink<'a> {
-    fn new(inner: &'a mut dyn RowSink, rows: u32, show: bool) -> Self {
-        let bar = show.then(|| {
+impl RunObserver for Progress {
+    fn started(&mut self) {
+        for (to_stderr, line) in self.opening.drain(..) {
+            if to_stderr {
+                err(&line);
+            } else {
+                out(&line);
+            }
+        }
+    }
+
+    fn rows_start(&mut self, rows: u32) {
+        self.bar = self.show.then(|| {
             let bar = indicatif::ProgressBar::new(u64::from(rows));
             if let Ok(style) = indicatif::ProgressStyle::with_template(
                 "Scan conversion [{bar:30}] {pos}/{len} rows (eta {eta})",
@@ -127,28 +141,22 @@ impl<'a> ProgressSink<'a> {
             bar.tick();
             bar
         });
-        ProgressSink { inner, bar }
     }
 
-    fn finish(self) {
-        if let Some(bar) = self.bar {
-            bar.finish_and_clear();
-        }
-    }
-}
-
-impl RowSink for ProgressSink<'_> {
-    fn row(&mut self, row: &Row<'_>) -> Result<()> {
-        control::check_cancel()?;
-        self.inner.row(row)?;
+    fn row_done(&mut self) {
         if let Some(bar) = &self.bar {
             bar.inc(1);
         }
-        Ok(())
     }
 
-    fn wants_pixel_structs(&self) -> bool {
-        self.inner.wants_pixel_structs()
+    fn rows_end(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+    }
+
+    fn warning(&mut self, message: &str) {
+        err(&format!("warning: {message}"));
     }
 }
 
@@ -214,88 +222,30 @@ impl CliHost {
 
     /// Warns once when `--size` stretches the scene's image.
     fn warn_aspect(&mut self, scene: &Scene) {
-        let Some((w, h)) = self.size else { return };
+        if let Some(w) = self.aspect_warning(scene) {
+            err(&w);
+        }
+    }
+
+    /// The warning, once, that `--size` stretches the scene's image.
+    fn aspect_warning(&mut self, scene: &Scene) -> Option<String> {
+        let (w, h) = self.size?;
         let (sw, sh) = (scene.viewport.width(), scene.viewport.height());
         let (a, b) = (f64::from(w) / f64::from(h), f64::from(sw) / f64::from(sh));
-        if !self.aspect_warned && ((a - b) / b).abs() > 0.01 {
-            self.aspect_warned = true;
-            err(&format!(
-                "warning: --size {w}x{h} changes the aspect ratio of the scene's {sw} x {sh} image \
-                 (width/height {} to {}); the picture is stretched",
-                significant(b),
-                significant(a)
-            ));
+        if self.aspect_warned || ((a - b) / b).abs() <= 0.01 {
+            return None;
         }
+        self.aspect_warned = true;
+        Some(format!(
+            "warning: --size {w}x{h} changes the aspect ratio of the scene's {sw} x {sh} image \
+                 (width/height {} to {}); the picture is stretched",
+            significant(b),
+            significant(a)
+        ))
     }
 }
 
 impl CliHost {
-    /// The `--raytrace` render: N x N rays per pixel with `--supersample N`.
-    fn ray_traced(&self, scene: &Scene, shadows: bool) -> Result<pipeline::Rendered> {
-        let samples = match self.aa {
-            Some(Antialiasing::Supersample(n)) => n,
-            _ => 1,
-        };
-        let options = pipeline::RayTraceOptions {
-            size: self.size,
-            samples,
-            shadows,
-            shading: self.shading,
-            threads: self.threads,
-            max_rays: self.budgets.rays,
-        };
-        let (frame, rays) = pipeline::ray_trace(scene, &options)?;
-        Ok(pipeline::Rendered {
-            frame,
-            polygons: Vec::new(),
-            shadows: Vec::new(),
-            tree: None,
-            profile: None,
-            stats: pipeline::RenderStats {
-                max_depth: scene.modes.max_level,
-                paint_time: rays.trace_time,
-                raytrace: Some(rays),
-                ..pipeline::RenderStats::default()
-            },
-        })
-    }
-
-    /// Creates every output of a run (each a temporary file beside its
-    /// place) before anything is rendered; `fname` is checked only where
-    /// it names a file. `disp` is the live display (the manual's
-    /// "attached device"): the image file is written either way.
-    fn create_outputs(&self, scene: &Scene) -> Result<RunOutputs> {
-        let named = self.output.is_none() || scene.modes.output_tree;
-        let stem = if named {
-            self.stem(scene)?
-        } else {
-            String::new()
-        };
-        let path = match &self.output {
-            Some(p) => p.clone(),
-            None => PathBuf::from(format!("{stem}.png")),
-        };
-        let image = Some(AtomicFile::create(&path)?);
-        let id = match &self.id_image {
-            Some(p) => Some(AtomicFile::create(p)?),
-            None => None,
-        };
-        let tree = if scene.modes.output_tree {
-            Some((
-                AtomicFile::create(Path::new(&format!("{stem}.out")))?,
-                AtomicFile::create(Path::new(&format!("{stem}.txt")))?,
-            ))
-        } else {
-            None
-        };
-        Ok(RunOutputs {
-            path,
-            image,
-            id,
-            tree,
-        })
-    }
-
     fn render_options(&self, shadows: bool) -> RenderOptions {
         RenderOptions {
             size: self.size,
@@ -308,145 +258,6 @@ impl CliHost {
             shading: self.shading,
             budgets: self.budgets,
         }
-    }
-
-    /// Renders the picture into the run's image file (staged, not yet
-    /// committed): vector output, PNG bands streamed as they are finished,
-    /// or a whole frame. Returns the render and the image's size.
-    fn picture(
-        &mut self,
-        scene: &Scene,
-        shadows: bool,
-        out: &mut RunOutputs,
-        staged: &mut Vec<files::Staged>,
-    ) -> Result<(pipeline::Rendered, (u32, u32))> {
-        let options = self.render_options(shadows);
-        let (w, h) = self
-            .size
-            .unwrap_or((scene.viewport.width(), scene.viewport.height()));
-        if VectorFormat::from_path(&out.path).is_some() || self.hidden_line {
-            let run =
-                pipeline::render_vector_run(out.image.take(), scene, &options, self.hidden_line)?;
-            staged.extend(run.0);
-            let rendered = pipeline::Rendered {
-                tree: run.2,
-                ..pipeline::Rendered::empty(run.1)
-            };
-            return Ok((rendered, (w, h)));
-        }
-        let streamed = !self.live.wanted()
-            && self.id_image.is_none()
-            && out
-                .path
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-        if !streamed {
-            // The whole frame is kept; the image-space algorithms check
-            // their larger need themselves.
-            self.budgets
-                .check_frame(w, h, pipeline::FRAME_BYTES_PER_PIXEL)
-                .map_err(Error::Invalid)?;
-        }
-        let plan = if self.raytrace {
-            pipeline::Plan::Painted(Box::new(self.ray_traced(scene, shadows)?))
-        } else {
-            pipeline::plan_with(scene, &options, &self.reuse)?
-        };
-        let file = out.image.take().expect("created before the render");
-        match plan {
-            pipeline::Plan::Tree(prepared) if streamed => {
-                let (w, h) = (prepared.scan.width, prepared.scan.height);
-                let rendered = self.streamed(*prepared, file, scene, staged)?;
-                Ok((rendered, (w, h)))
-            }
-            plan => {
-                let rendered = self.whole_frame(plan, w, h)?;
-                staged.push(files::stage_image(file, &rendered.frame, scene.outmode)?);
-                let size = (rendered.frame.width, rendered.frame.height);
-                Ok((rendered, size))
-            }
-        }
-    }
-
-    /// The virtual frame buffer: bands of rows go to the PNG as they are
-    /// finished; the whole image is never in memory.
-    fn streamed(
-        &self,
-        mut prepared: pipeline::Prepared,
-        file: AtomicFile,
-        scene: &Scene,
-        staged: &mut Vec<files::Staged>,
-    ) -> Result<pipeline::Rendered> {
-        prepared.scan.ids = false;
-        let (w, h) = (prepared.scan.width, prepared.scan.height);
-        let mut sink = files::PngSink::from_file(file, w, h, scene.outmode.into())?;
-        let mut progress = ProgressSink::new(&mut sink, h, self.progress);
-        let rendered = pipeline::scan_into(prepared, &mut progress);
-        progress.finish();
-        let rendered = rendered?;
-        let (file, note) = sink.finish()?;
-        if let Some(note) = note {
-            err(&format!("warning: {note}"));
-        }
-        staged.push(file);
-        Ok(rendered)
-    }
-
-    /// A render kept whole in memory, shown level by level in the live
-    /// display when `disp on` opened one.
-    fn whole_frame(&mut self, plan: pipeline::Plan, w: u32, h: u32) -> Result<pipeline::Rendered> {
-        let progress = self.progress;
-        let live = match self.live.observer(w, h) {
-            Ok(o) => o,
-            Err(message) => {
-                err(&format!("warning: {message}"));
-                None
-            }
-        };
-        Ok(match (plan, live) {
-            (pipeline::Plan::Tree(prepared), Some(window)) => {
-                display::scan_levels(*prepared, window)?
-            }
-            (pipeline::Plan::Painted(r), Some(window)) => {
-                display::show_painted(&r, window);
-                *r
-            }
-            (pipeline::Plan::Tree(prepared), None) => {
-                let (w, h) = (prepared.scan.width, prepared.scan.height);
-                let mut frame = FrameBuffer::new(w, h, [0.0; 3]);
-
-                let mut bar = ProgressSink::new(&mut frame, h, progress);
-                let rendered = pipeline::scan_into(*prepared, &mut bar);
-                bar.finish();
-                let mut rendered = rendered?;
-                rendered.frame = frame;
-                rendered
-            }
-            (pipeline::Plan::Painted(r), None) => *r,
-        })
-    }
-
-    /// Stages the tree files (`setmode o`); the message to print once
-    /// they are committed.
-    fn stage_tree(
-        tree: Option<&pipeline::RecordStream>,
-        files: Option<(AtomicFile, AtomicFile)>,
-        staged: &mut Vec<files::Staged>,
-    ) -> Result<Option<String>> {
-        let (Some(tree), Some((mut bin, mut txt))) = (tree, files) else {
-            return Ok(None);
-        };
-        bin.write_all(&tree.to_bytes())?;
-        txt.write_all(tree.to_text().as_bytes())?;
-        let message = format!(
-            "Wrote the virtual image tree ({} polygons) to {} and {}",
-            tree.records.len(),
-            bin.path().display(),
-            txt.path().display()
-        );
-        staged.push(bin.finish()?);
-        staged.push(txt.finish()?);
-        Ok(Some(message))
     }
 
     /// The size of the image a run of `scene` makes, checked against the
@@ -465,8 +276,35 @@ impl CliHost {
         Ok((w, h))
     }
 
-    /// One `run`: checks and creates the outputs, renders, commits them
-    /// all together (or none), then reports.
+    /// What a run of `scene` writes and how it renders.
+    fn run_spec(&self, scene: &Scene, shadows: bool) -> Result<RunSpec> {
+        let named = self.output.is_none() || scene.modes.output_tree || self.part.is_some();
+        let stem = if named {
+            self.stem(scene)?
+        } else {
+            String::new()
+        };
+        let part = self.part.map(|spec| PartRun {
+            spec,
+            whole: PathBuf::from(format!("{stem}.png")),
+            flags: format!("{} shadows {shadows}", self.pixel_flags),
+        });
+        Ok(RunSpec {
+            image: match &self.output {
+                Some(p) => p.clone(),
+                None => PathBuf::from(format!("{stem}.png")),
+            },
+            id_image: self.id_image.clone(),
+            tree_stem: scene.modes.output_tree.then_some(stem),
+            options: self.render_options(shadows),
+            hidden_line: self.hidden_line,
+            raytrace: self.raytrace,
+            part,
+        })
+    }
+
+    /// One `run`: the library checks and creates the outputs, renders and
+    /// commits them all together (or none); this reports.
     fn render(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
         self.runs += 1;
         // From the second run of the session on (skipped frames count),
@@ -475,105 +313,81 @@ impl CliHost {
             crate::allocator::keep_freed_pages();
         }
         let start = Instant::now();
+        if let Some(spec) = self.part
+            && self.runs > 1
+        {
+            return Err(Error::Invalid(format!(
+                "--part {spec}: this scene has more than one `run`, and every run would write \
+                 {}; render one frame at a time with --frames",
+                self.output.as_deref().unwrap_or(Path::new("")).display()
+            )));
+        }
         self.run_size(scene)?;
-        let mut out = self.create_outputs(scene)?;
-        self.warn_aspect(scene);
-        self.say("Building image.");
-        if scene.objects.is_empty() {
-            err("warning: the scene has no objects; the image is the background only");
+        let spec = self.run_spec(scene, shadows)?;
+        // Said once the outputs are made, in this order, as before a render.
+        let mut opening: Vec<(bool, String)> = self
+            .aspect_warning(scene)
+            .map(|w| (true, w))
+            .into_iter()
+            .collect();
+        if !self.quiet {
+            opening.push((self.to_stdout, "Building image.".into()));
         }
-        let mut staged = Vec::new();
-        let (rendered, (w, h)) = self.picture(scene, shadows, &mut out, &mut staged)?;
-        let tree_message = Self::stage_tree(rendered.tree.as_ref(), out.tree, &mut staged)?;
-        if let Some(file) = out.id {
-            staged.push(files::stage_id_png(
-                file,
-                &rendered.frame,
-                &rendered.polygons,
-            )?);
+        if scene.objects.is_empty() && self.part.is_none() {
+            opening.push((
+                true,
+                "warning: the scene has no objects; the image is the background only".into(),
+            ));
         }
-        let paths: Vec<PathBuf> = staged.iter().map(|s| s.path().to_path_buf()).collect();
-        files::commit_all(staged)?;
+        let mut progress = Progress {
+            show: self.progress,
+            bar: None,
+            opening,
+        };
+        let report = run::run(scene, &spec, &self.reuse, &mut self.live, &mut progress)?;
+        let shown = self.tell_written(&spec, &report)?;
+        self.report_stats(scene, &report.rendered);
+        let elapsed = start.elapsed();
+        self.say(&hms(elapsed));
+        self.log_run(&shown, report.size, &report.rendered.stats, elapsed);
+        Ok(())
+    }
+
+    /// Says what a run wrote (and sends `-o -`'s image to stdout); the
+    /// image's name for the log.
+    fn tell_written(&mut self, spec: &RunSpec, report: &RunReport) -> Result<PathBuf> {
+        let (w, h) = report.size;
+        if let (Some(part), Some(rows)) = (&spec.part, &report.rows) {
+            self.written.extend(report.written.iter().cloned());
+            self.say(&format!(
+                "Wrote part {} of {} ({w} x {h}): rows {} to {} in {}",
+                part.spec,
+                part.whole.display(),
+                rows.start,
+                rows.end.saturating_sub(1).max(rows.start),
+                spec.image.display()
+            ));
+            return Ok(spec.image.clone());
+        }
         let shown = if self.to_stdout {
-            crate::stdout_image::send(&out.path)?;
+            crate::stdout_image::send(&spec.image)?;
             PathBuf::from("<stdout>")
         } else {
-            self.written.extend(paths);
-            out.path.clone()
+            self.written.extend(report.written.iter().cloned());
+            spec.image.clone()
         };
         self.say(&format!("Wrote {} ({w} x {h})", shown.display()));
-        if let Some(m) = tree_message {
-            self.say(&m);
+        if let Some((records, bin, txt)) = &report.tree {
+            self.say(&format!(
+                "Wrote the virtual image tree ({records} polygons) to {} and {}",
+                bin.display(),
+                txt.display()
+            ));
         }
         if let Some(p) = &self.id_image {
             self.say(&format!("Wrote the id image {}", p.display()));
         }
-        self.report_stats(scene, &rendered);
-        let elapsed = start.elapsed();
-        self.say(&hms(elapsed));
-        self.log_run(&shown, (w, h), &rendered.stats, elapsed);
-        Ok(())
-    }
-
-    /// One `run` with `--part I/N`: only the part's rows of the image
-    /// are scan converted, into the part file that `-o` names.
-    fn render_part(&mut self, scene: &Scene, shadows: bool, spec: parts::PartSpec) -> Result<()> {
-        self.runs += 1;
-        let start = Instant::now();
-        let path = self.output.clone().expect("--part is checked to have -o");
-        if self.runs > 1 {
-            return Err(Error::Invalid(format!(
-                "--part {spec}: this scene has more than one `run`, and every run would write \
-                 {}; render one frame at a time with --frames",
-                path.display()
-            )));
-        }
-        self.run_size(scene)?;
-        files::check_target(&path)?;
-        let whole = PathBuf::from(format!("{}.png", self.stem(scene)?));
-        let flags = format!("{} shadows {shadows}", self.pixel_flags);
-        self.warn_aspect(scene);
-        self.say("Building image.");
-        let plan = pipeline::plan_with(scene, &self.render_options(shadows), &self.reuse)?;
-        let pipeline::Plan::Tree(prepared) = plan else {
-            return Err(Error::Invalid(format!(
-                "--part {spec}: the {} algorithm paints the image itself; parts are scan \
-                 conversions of the virtual image tree (--visibility depth-sort or nns)",
-                pipeline::chosen_algorithm(scene, &self.render_options(shadows))
-            )));
-        };
-        let mut prepared = *prepared;
-        prepared.scan.ids = false;
-        let (w, h) = (prepared.scan.width, prepared.scan.height);
-        let rows = part_rows(&prepared.picture, &prepared.scan, spec.index, spec.count);
-        let info = parts::PartInfo {
-            part: spec,
-            image: (w, h),
-            first: rows.start,
-            rows: rows.len() as u32,
-            output: whole.display().to_string(),
-            fingerprint: parts::fingerprint("plytrace", &flags),
-        };
-        let mut sink = parts::PartSink::create(&path, info, scene.outmode.into())?;
-        let mut progress = ProgressSink::new(&mut sink, rows.len() as u32, self.progress);
-        let rendered = pipeline::scan_rows_into(prepared, rows.clone(), &mut progress);
-        progress.finish();
-        let rendered = rendered?;
-        let staged = sink.finish()?;
-        files::commit_all(vec![staged])?;
-        self.written.push(path.clone());
-        self.say(&format!(
-            "Wrote part {spec} of {} ({w} x {h}): rows {} to {} in {}",
-            whole.display(),
-            rows.start,
-            rows.end.saturating_sub(1).max(rows.start),
-            path.display()
-        ));
-        self.report_stats(scene, &rendered);
-        let elapsed = start.elapsed();
-        self.say(&hms(elapsed));
-        self.log_run(&path, (w, h), &rendered.stats, elapsed);
-        Ok(())
+        Ok(shown)
     }
 
     /// Appends the run to `plytrace.log` and keeps its statistics.
@@ -735,18 +549,6 @@ fn nns_line(n: &pipeline::NnsStats) -> String {
     )
 }
 
-/// The files of one run, created before it renders.
-struct RunOutputs {
-    /// The image's name.
-    path: PathBuf,
-    /// The image, until the picture takes it.
-    image: Option<AtomicFile>,
-    /// `--id-image`.
-    id: Option<AtomicFile>,
-    /// `setmode o`: FNAME.out and FNAME.txt.
-    tree: Option<(AtomicFile, AtomicFile)>,
-}
-
 impl Host for CliHost {
     fn run(&mut self, scene: &Scene, shadows: bool) -> Result<()> {
         if let Some((a, b)) = self.frames {
@@ -772,10 +574,7 @@ impl Host for CliHost {
         }
         control::reset_cancel();
         control::rendering(true);
-        let result = match self.part {
-            Some(spec) => self.render_part(scene, shadows, spec),
-            None => self.render(scene, shadows),
-        };
+        let result = self.render(scene, shadows);
         control::rendering(false);
         control::reset_cancel();
         result
