@@ -43,6 +43,7 @@ mod scene;
 mod shading;
 mod shadow;
 mod signals;
+mod threads;
 mod tree;
 mod vector;
 mod visibility;

@@ -21,6 +21,7 @@ const STAGES: &[(&str, u8)] = &[
     ("precision", 0),
     ("error", 0),
     ("cancel", 0),
+    ("threads", 0),
     ("budget", 0),
     ("profile", 0),
     ("input_guard", 0),

@@ -200,54 +200,7 @@ impl FrameBuffer {
                     ids[px] = item.id;
                     touched[k] = true;
                 };
-                match (&item.phong, &item.vertex_colors) {
-                    (Some(ph), _) => {
-                        let mut v = vec![0.0f32; ph.stride()];
-                        tiler::for_each_attr_span(
-                            &item.points,
-                            &ph.attrs,
-                            ph.stride(),
-                            lo..hi,
-                            w,
-                            |j, i0, i1, l, r| {
-                                for i in i0..i1 {
-                                    tiler::lerp_at(i, l, r, &mut v);
-                                    put(j, i, ph.shade(&v), item.transparency);
-                                }
-                            },
-                        )
-                    }
-                    (None, Some(vc)) => {
-                        // r, g, b and the vertex transparency.
-                        let kts = item.vertex_transparency.as_deref();
-                        let flat: Vec<f32> = vc
-                            .iter()
-                            .enumerate()
-                            .flat_map(|(q, c)| {
-                                [c[0], c[1], c[2], kts.map_or(item.transparency, |t| t[q])]
-                            })
-                            .collect();
-                        let mut v = [0.0f32; 4];
-                        tiler::for_each_attr_span(
-                            &item.points,
-                            &flat,
-                            4,
-                            lo..hi,
-                            w,
-                            |j, i0, i1, l, r| {
-                                for i in i0..i1 {
-                                    tiler::lerp_at(i, l, r, &mut v);
-                                    put(j, i, [v[0], v[1], v[2]], v[3]);
-                                }
-                            },
-                        )
-                    }
-                    (None, None) => tiler::for_each_span(&item.points, lo..hi, w, |j, i0, i1| {
-                        for i in i0..i1 {
-                            put(j, i, item.color, item.transparency);
-                        }
-                    }),
-                }
+                item_spans(item, lo..hi, w, &mut put);
             }
             for px in 0..n {
                 colors[px] = std::array::from_fn(|c| front[px][c] + passing[px] * colors[px][c]);
@@ -257,6 +210,63 @@ impl FrameBuffer {
         (0..items.len())
             .filter(|&k| touched.iter().any(|t| t[k]))
             .count()
+    }
+}
+
+/// Calls `put(j, i, colour, transparency)` for every pixel `item` covers
+/// in rows `rows` (from the band's bottom), with the colour of its shading:
+/// Phong's attributes, vertex colours, or one colour.
+fn item_spans(
+    item: &PaintItem,
+    rows: std::ops::Range<u32>,
+    w: u32,
+    put: &mut impl FnMut(u32, u32, [f32; 3], f32),
+) {
+    match (&item.phong, &item.vertex_colors) {
+        (Some(ph), _) => {
+            let mut v = vec![0.0f32; ph.stride()];
+            tiler::for_each_attr_span(
+                &item.points,
+                &ph.attrs,
+                ph.stride(),
+                rows.clone(),
+                w,
+                |j, i0, i1, l, r| {
+                    for i in i0..i1 {
+                        tiler::lerp_at(i, l, r, &mut v);
+                        put(j, i, ph.shade(&v), item.transparency);
+                    }
+                },
+            )
+        }
+        (None, Some(vc)) => {
+            // r, g, b and the vertex transparency.
+            let kts = item.vertex_transparency.as_deref();
+            let flat: Vec<f32> = vc
+                .iter()
+                .enumerate()
+                .flat_map(|(q, c)| [c[0], c[1], c[2], kts.map_or(item.transparency, |t| t[q])])
+                .collect();
+            let mut v = [0.0f32; 4];
+            tiler::for_each_attr_span(
+                &item.points,
+                &flat,
+                4,
+                rows.clone(),
+                w,
+                |j, i0, i1, l, r| {
+                    for i in i0..i1 {
+                        tiler::lerp_at(i, l, r, &mut v);
+                        put(j, i, [v[0], v[1], v[2]], v[3]);
+                    }
+                },
+            )
+        }
+        (None, None) => tiler::for_each_span(&item.points, rows.clone(), w, |j, i0, i1| {
+            for i in i0..i1 {
+                put(j, i, item.color, item.transparency);
+            }
+        }),
     }
 }
 

@@ -628,17 +628,8 @@ pub fn render(scene: &Scene, options: &RayTraceOptions) -> Result<(FrameBuffer, 
     stats.build_time = t.elapsed();
     let t = Instant::now();
     let n = options.samples.max(1);
-    let color = if options.threads > 0 {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(options.threads)
-            .build()
-            .map_err(|e| {
-                Error::Invalid(format!("cannot start {} threads: {e}", options.threads))
-            })?;
-        pool.install(|| tracer.image(n, &mut stats))?
-    } else {
-        tracer.image(n, &mut stats)?
-    };
+    let color =
+        crate::threads::Pool::new(options.threads)?.install(|| tracer.image(n, &mut stats))?;
     stats.trace_time = t.elapsed();
     let mut frame = FrameBuffer::new(width, height, [0.0; 3]);
     frame.color = color;

@@ -223,8 +223,8 @@ pub fn plan_with(scene: &Scene, options: &RenderOptions, reuse: &Reuse) -> Resul
             algorithm,
             options,
             stats,
-            &reuse.casters,
-            &reuse.sort_orders,
+            reuse,
+            &crate::threads::Pool::new(options.threads)?,
         );
         crate::cancel::check()?;
         return Ok(Plan::Tree(Box::new(prepared)));

@@ -12,6 +12,7 @@ use crate::model::{Scene, SortOrder};
 use crate::raster::scan::{self, Method, ScanOptions};
 use crate::raytrace::exact::ExactLayer;
 use crate::shading::{Materials, ShadingModel};
+use crate::threads::Pool;
 use crate::tree::RecordStream;
 use crate::visibility::Algorithm;
 
@@ -50,12 +51,12 @@ pub fn prepare(
     algorithm: Algorithm,
     options: &RenderOptions,
     mut stats: RenderStats,
-    casters: &crate::image_tree::CasterReuse,
-    orders: &crate::visibility::nns::PriorOrder,
+    reuse: &super::Reuse,
+    pool: &Pool,
 ) -> Prepared {
+    let (casters, orders) = (&reuse.casters, &reuse.sort_orders);
     let t = Instant::now();
     let profile = crate::profile::Profile::new(options.profile);
-    let pool = thread_pool(options.threads);
     // Every polygon's material, resolved once for the tree and its records.
     let materials = Materials::new(scene);
     let (refraction, said) = refraction_model(scene, &materials, view, options.refraction);
@@ -83,7 +84,7 @@ pub fn prepare(
         profile: &profile,
         casters,
         orders,
-        pool: &pool,
+        pool,
     };
     let tree = builder.build(tree_options);
     stats.sort_time = t.elapsed();
@@ -93,7 +94,7 @@ pub fn prepare(
     // `setmode o`: the tree file in the scene's order and blending.
     let file_how = (scene.modes.output_tree).then_some((scene.sort_order, scene.modes.blend));
     let (picture, sources, file, tree) = records(
-        &materials, file_how, view, tree, options, method, keep, &pool,
+        &materials, file_how, view, tree, options, method, keep, pool,
     );
     stats.shading_time = t.elapsed();
     profile.add(crate::profile::Category::Shading, t.elapsed());
@@ -133,20 +134,6 @@ pub fn prepare(
     }
 }
 
-/// A pool of `threads` threads (`--threads N` bounds the tree's parallel
-/// work too, shadows; the tree does not depend on it); `None` for all
-/// cores.
-fn thread_pool(threads: usize) -> Option<rayon::ThreadPool> {
-    (threads > 0)
-        .then(|| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .ok()
-        })
-        .flatten()
-}
-
 /// The tree's own figures, into the render's.
 fn tree_figures(stats: &mut RenderStats, tree: &VirtualImageTree) {
     stats.geometry = tree.geometry;
@@ -163,13 +150,13 @@ struct Builder<'a> {
     profile: &'a crate::profile::Profile,
     casters: &'a crate::image_tree::CasterReuse,
     orders: &'a crate::visibility::nns::PriorOrder,
-    pool: &'a Option<rayon::ThreadPool>,
+    pool: &'a Pool,
 }
 
 impl Builder<'_> {
     /// The tree of `options`, built on the run's pool.
     fn build(&self, options: TreeOptions) -> VirtualImageTree {
-        within(self.pool, || {
+        self.pool.install(|| {
             crate::image_tree::build_profiled(
                 self.materials,
                 self.view,
@@ -202,9 +189,8 @@ impl Builder<'_> {
             width: self.view.width as u32,
             height: self.view.height as u32,
         };
-        within(self.pool, || {
-            emit::records(self.materials, &tree, how, self.view).0
-        })
+        self.pool
+            .install(|| emit::records(self.materials, &tree, how, self.view).0)
     }
 }
 
@@ -220,7 +206,7 @@ fn records(
     options: &RenderOptions,
     method: Method,
     keep: bool,
-    pool: &Option<rayon::ThreadPool>,
+    pool: &Pool,
 ) -> (
     RecordStream,
     Vec<Source>,
@@ -243,16 +229,14 @@ fn records(
     };
     let file = file_how.map(|(order, blended)| {
         let how = emit(order, blended);
-        within(pool, || emit::records(materials, &tree, how, view).0)
+        pool.install(|| emit::records(materials, &tree, how, view).0)
     });
     // The tree is kept past its records only for exact refraction.
     if keep {
-        let (p, s) = within(pool, || emit::records(materials, &tree, picture_how, view));
+        let (p, s) = pool.install(|| emit::records(materials, &tree, picture_how, view));
         (p, s, file, Some(tree))
     } else {
-        let (p, s) = within(pool, || {
-            emit::records_freeing(materials, tree, picture_how, view)
-        });
+        let (p, s) = pool.install(|| emit::records_freeing(materials, tree, picture_how, view));
         (p, s, file, None)
     }
 }
@@ -326,19 +310,6 @@ fn linear_file_warning(options: &RenderOptions) -> String {
          budget of {} tree fragments (--max-tree-nodes raises it)",
         options.budgets.tree_nodes
     )
-}
-
-/// Runs `f` on a thread of `pool` (`--threads N`), or of rayon's global
-/// pool (`rayon::scope` runs its body there): the tree's many parallel
-/// steps then start from inside the pool. Called from outside, each
-/// step's `join` would be handed to the pool and this thread would wait
-/// for it, and the tree of office2 without shadows took longer on two
-/// threads than on one.
-fn within<R: Send>(pool: &Option<rayon::ThreadPool>, f: impl FnOnce() -> R + Send) -> R {
-    match pool {
-        Some(pool) => pool.install(f),
-        None => rayon::scope(|_| f()),
-    }
 }
 
 /// The refraction model for `scene` (resolving `auto`: exact when the

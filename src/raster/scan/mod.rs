@@ -497,13 +497,7 @@ fn prepare_records(
             None => Ok(records.par_iter().map(one).unzip()),
         }
     };
-    let (prepared, areas) = match options.threads {
-        0 => prepare(),
-        n => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
-            Ok(pool) => pool.install(prepare),
-            Err(_) => prepare(),
-        },
-    }?;
+    let (prepared, areas) = crate::threads::Pool::new(options.threads)?.install(prepare)?;
     Ok((prepared, areas.iter().sum()))
 }
 
